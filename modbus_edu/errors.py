@@ -1,0 +1,146 @@
+"""Every error the library raises on bad input.
+
+All of them derive from :class:`ModbusError`, so ``except mb.ModbusError`` catches anything a malformed
+frame, a wrong setting or a misbehaving device can cause.  The messages are meant to be read by a learner:
+they say *what* was wrong, *where* (the byte offset, when there is one) and *what was expected*.
+"""
+
+from __future__ import annotations
+
+
+class ModbusError(Exception):
+    """Base class of every error modbus_edu raises on bad input."""
+
+
+# --- framing: the application data unit (RTU, ASCII, TCP) --------------------------------------
+class FrameError(ModbusError):
+    """A frame (ADU) is malformed: wrong length, bad delimiter, bad header."""
+
+
+class ChecksumError(FrameError):
+    """A frame's error check does not match the bytes it protects.
+
+    ``received`` is the value the frame carries, ``computed`` the one calculated over its bytes.
+    """
+
+    def __init__(self, message: str, *, received: int, computed: int) -> None:
+        super().__init__(message)
+        self.received = received
+        self.computed = computed
+
+
+class CrcError(ChecksumError):
+    """An RTU frame's CRC-16 does not match its bytes."""
+
+
+class LrcError(ChecksumError):
+    """An ASCII frame's LRC does not match its bytes."""
+
+
+class AsciiFormatError(FrameError):
+    """An ASCII frame lacks its ':' start, its CR LF end, or holds something other than hex digits."""
+
+
+class MbapError(FrameError):
+    """A Modbus/TCP MBAP header is wrong: protocol identifier not 0, or a length that does not fit."""
+
+
+class UnitError(FrameError):
+    """A unit identifier (slave address) is outside the range the mode allows."""
+
+
+class FrameLengthError(FrameError):
+    """A frame is too short or too long to be a Modbus frame of this mode."""
+
+
+# --- the protocol data unit ----------------------------------------------------------------------
+class PduError(ModbusError):
+    """A PDU (function code and data) breaks a rule of the Modbus application protocol."""
+
+
+class UnknownFunctionError(PduError):
+    """The function code is not one this library implements (1, 2, 3, 4, 5, 6, 15, 16)."""
+
+    def __init__(self, message: str, *, function: int | None = None) -> None:
+        super().__init__(message)
+        self.function = function
+
+
+class QuantityError(PduError):
+    """A quantity of coils or registers is outside the limits of its function."""
+
+
+class AddressRangeError(PduError):
+    """Starting address plus quantity runs past the last address, 65535."""
+
+
+class ByteCountError(PduError):
+    """A byte count field disagrees with the quantity or with the bytes that follow."""
+
+
+class ValueRangeError(PduError):
+    """A value does not fit its field (a register outside 0..65535, a coil not FF00/0000, ...)."""
+
+
+class TruncatedError(PduError):
+    """The bytes end before the PDU does."""
+
+
+class TrailingBytesError(PduError):
+    """Bytes remain after the end of a complete PDU."""
+
+
+# --- the data model and values -------------------------------------------------------------------
+class DataModelError(ModbusError):
+    """A data-model problem: an address that is not in the bank, a reference number that is wrong."""
+
+
+class IllegalAddressError(DataModelError):
+    """An address is outside 0..65535 or, in a sparse bank, was never declared."""
+
+
+class ReferenceNumberError(DataModelError):
+    """A reference number such as 40001 or 4x0001 is malformed or out of range."""
+
+
+class ValueFormatError(ModbusError):
+    """A value cannot be converted to or from registers with the given type and word order."""
+
+
+# --- roles: what a master sees -------------------------------------------------------------------
+class ModbusExceptionError(ModbusError):
+    """The slave answered with an exception response.
+
+    ``function`` is the function code of the request, ``code`` the exception code (1 = illegal function,
+    2 = illegal data address, 3 = illegal data value, 4 = server device failure, ...), ``meaning`` the
+    specification's explanation of the code.
+    """
+
+    def __init__(self, function: int, code: int, meaning: str | None = None) -> None:
+        if meaning is None:
+            from .pdu import exception_meaning
+
+            meaning = exception_meaning(code)
+        self.function = function
+        self.code = code
+        self.meaning = meaning
+        super().__init__(
+            f"exception response to function {function} (0x{function:02X}): "
+            f"code {code:02X} {meaning}"
+        )
+
+
+class ModbusTimeoutError(ModbusError):
+    """No valid response arrived before the timeout."""
+
+
+class TransactionMismatchError(ModbusError):
+    """A response does not belong to the request: another transaction id, unit or function."""
+
+
+class LinkError(ModbusError):
+    """A link cannot carry traffic: port not open, connection refused or closed."""
+
+
+class ConfigError(ModbusError):
+    """A setting is not valid (baud rate, parity, mode, role name, ...)."""
