@@ -143,6 +143,23 @@ def test_three_methods_agree(data: bytes) -> None:
     assert 0 <= value <= 0xFFFF
 
 
+@settings(max_examples=100, deadline=None)
+@given(st.binary(min_size=250, max_size=1100))
+def test_long_inputs_agree(data: bytes) -> None:
+    # crc16 may take long inputs two bytes per look-up: odd and even lengths around 256 must agree
+    assert crc16(data) == crc16_bitwise(data) == pymodbus_crc16(data)
+    assert crc16(bytearray(data)) == crc16(memoryview(data)) == crc16(data)
+
+
+@pytest.mark.parametrize("length", [255, 256, 257, 258, 511, 512, 513, 4096, 4097])
+def test_lengths_around_the_word_table_threshold(length: int) -> None:
+    data = bytes((i * 37 + 11) & 0xFF for i in range(length))
+    assert crc16(data) == crc16_bitwise(data) == reference_crc16(data)
+    # the same bytes at an odd offset inside a larger buffer (memoryview of a slice)
+    buffer = b"\x55" + data
+    assert crc16(memoryview(buffer)[1:]) == crc16(data)
+
+
 @SETTINGS
 @given(st.binary(max_size=300))
 def test_agrees_with_pymodbus(data: bytes) -> None:
