@@ -1,0 +1,1031 @@
+"""The protocol data unit (PDU): a function code and its data.
+
+A PDU is the part of a Modbus message that is the same in every mode (RTU, ASCII, TCP)::
+
+    +---------------+-----------------------------+
+    | function code | data (0 to 252 bytes)       |
+    |   1 byte      | layout depends on function  |
+    +---------------+-----------------------------+
+
+The first byte says what to do; for a response with its top bit set (function code + 0x80) it says
+"this is an exception response" instead.  Every field wider than one byte is big-endian (high byte
+first).  This module has one request class and one response class per function code, each documenting
+its byte layout, plus :class:`ExceptionResponse`.  Constructors check every rule of the specification
+(quantity limits, address range, value ranges) and ``decode`` checks the bytes (byte counts, truncated
+and trailing data); a broken rule raises a :class:`~modbus_edu.errors.PduError` subclass whose message
+says what was wrong, at which byte, and what was expected.
+
+Byte offsets in error messages count from the first byte of the PDU (the function code) unless the
+caller passes ``offset`` to :func:`decode_pdu` so that they count from the start of the whole frame.
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+from enum import IntEnum
+from typing import Any, ClassVar
+
+from .errors import (
+    AddressRangeError,
+    ByteCountError,
+    ConfigError,
+    QuantityError,
+    TrailingBytesError,
+    TruncatedError,
+    UnknownFunctionError,
+    ValueRangeError,
+)
+
+MAX_READ_BITS = 2000
+"""Read Coils / Read Discrete Inputs: 1 to 2000 bits per request (250 data bytes in the response)."""
+MAX_READ_REGISTERS = 125
+"""Read Holding / Input Registers: 1 to 125 registers per request (250 data bytes in the response)."""
+MAX_WRITE_COILS = 1968
+"""Write Multiple Coils: 1 to 1968 coils (0x7B0) per request (246 data bytes)."""
+MAX_WRITE_REGISTERS = 123
+"""Write Multiple Registers: 1 to 123 registers (0x7B) per request (246 data bytes)."""
+MAX_PDU_SIZE = 253
+"""A serial ADU is at most 256 bytes: 1 address + 253 PDU + 2 CRC."""
+
+COIL_ON = 0xFF00
+COIL_OFF = 0x0000
+
+
+class FunctionCode(IntEnum):
+    """The eight everyday public function codes."""
+
+    READ_COILS = 0x01
+    READ_DISCRETE_INPUTS = 0x02
+    READ_HOLDING_REGISTERS = 0x03
+    READ_INPUT_REGISTERS = 0x04
+    WRITE_SINGLE_COIL = 0x05
+    WRITE_SINGLE_REGISTER = 0x06
+    WRITE_MULTIPLE_COILS = 0x0F
+    WRITE_MULTIPLE_REGISTERS = 0x10
+
+    @property
+    def title(self) -> str:
+        """The specification's name, e.g. ``"Read Holding Registers"``."""
+        return self.name.replace("_", " ").title()
+
+
+class ExceptionCode(IntEnum):
+    """Exception codes a server puts in an exception response."""
+
+    ILLEGAL_FUNCTION = 0x01
+    ILLEGAL_DATA_ADDRESS = 0x02
+    ILLEGAL_DATA_VALUE = 0x03
+    SERVER_DEVICE_FAILURE = 0x04
+    ACKNOWLEDGE = 0x05
+    SERVER_DEVICE_BUSY = 0x06
+    NEGATIVE_ACKNOWLEDGE = 0x07
+    MEMORY_PARITY_ERROR = 0x08
+    GATEWAY_PATH_UNAVAILABLE = 0x0A
+    GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
+
+    @property
+    def meaning(self) -> str:
+        """The specification's explanation, in one sentence."""
+        return _EXCEPTION_MEANINGS[self]
+
+    @property
+    def title(self) -> str:
+        return self.name.replace("_", " ").lower()
+
+
+_EXCEPTION_MEANINGS = {
+    ExceptionCode.ILLEGAL_FUNCTION: "illegal function: the server does not support this function code",
+    ExceptionCode.ILLEGAL_DATA_ADDRESS: (
+        "illegal data address: the address, or address plus quantity, is not in the server's data"),
+    ExceptionCode.ILLEGAL_DATA_VALUE: (
+        "illegal data value: a value in the request (a quantity, a coil value) is not allowed"),
+    ExceptionCode.SERVER_DEVICE_FAILURE: (
+        "server device failure: an unrecoverable error occurred while the server performed the action"),
+    ExceptionCode.ACKNOWLEDGE: "acknowledge: the request was accepted but will take a long time",
+    ExceptionCode.SERVER_DEVICE_BUSY: (
+        "server device busy: the server is busy with a long command, retry later"),
+    ExceptionCode.NEGATIVE_ACKNOWLEDGE: (
+        "negative acknowledge: the server cannot perform the program function"),
+    ExceptionCode.MEMORY_PARITY_ERROR: "memory parity error: the server found a parity error in its memory",
+    ExceptionCode.GATEWAY_PATH_UNAVAILABLE: (
+        "gateway path unavailable: the gateway could not set up a path to the target"),
+    ExceptionCode.GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND: (
+        "gateway target device failed to respond: no response came from the target device"),
+}
+
+
+def exception_meaning(code: int) -> str:
+    """The meaning of an exception code, also for codes the specification does not define."""
+    try:
+        return ExceptionCode(code).meaning
+    except ValueError:
+        return f"code 0x{code:02X} is not defined by the specification (vendor specific?)"
+
+
+def function_title(function: int) -> str:
+    """``"Read Holding Registers"`` for 3; a neutral name for codes this library does not implement."""
+    try:
+        return FunctionCode(function).title
+    except ValueError:
+        return f"function 0x{function:02X}"
+
+
+@dataclass(frozen=True)
+class Field:
+    """One field of a PDU, for dissection tables: where it is, its bytes, its name, value and meaning."""
+
+    offset: int
+    raw: bytes
+    name: str
+    value: Any
+    meaning: str
+
+
+# --- checks shared by the classes -------------------------------------------------------------------
+
+def _check_int(value: Any, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueRangeError(f"{name} must be an integer, got {value!r}")
+    return value
+
+
+def _check_address(address: Any) -> int:
+    address = _check_int(address, "address")
+    if not 0 <= address <= 0xFFFF:
+        raise ValueRangeError(f"address {address} is outside 0..65535 (a 16-bit field)")
+    return address
+
+
+def _check_quantity(count: Any, limit: int, what: str, name: str = "count") -> int:
+    count = _check_int(count, name)
+    if not 1 <= count <= limit:
+        raise QuantityError(f"quantity of {what} is {count}, expected 1 to {limit}")
+    return count
+
+
+def _check_span(address: int, count: int, what: str) -> None:
+    if address + count > 0x10000:
+        raise AddressRangeError(
+            f"address {address} + quantity {count} = {address + count} runs past the last {what} address "
+            f"65535 (address + quantity must be <= 65536)")
+
+
+def _check_register(value: Any, index: int | None = None) -> int:
+    label = "register value" if index is None else f"register value #{index}"
+    value = _check_int(value, label)
+    if not 0 <= value <= 0xFFFF:
+        raise ValueRangeError(f"{label} {value} is outside 0..65535 (registers are unsigned 16-bit)")
+    return value
+
+
+def _check_bits(values: Any, name: str) -> tuple[bool, ...]:
+    try:
+        items = tuple(values)
+    except TypeError:
+        raise ValueRangeError(f"{name} must be a sequence of booleans, got {values!r}") from None
+    for index, item in enumerate(items):
+        if item not in (0, 1) or not isinstance(item, (bool, int)):
+            raise ValueRangeError(f"{name}[{index}] is {item!r}, expected True/False (or 1/0)")
+    return tuple(bool(item) for item in items)
+
+
+def _check_registers(values: Any, name: str) -> tuple[int, ...]:
+    try:
+        items = tuple(values)
+    except TypeError:
+        raise ValueRangeError(f"{name} must be a sequence of integers, got {values!r}") from None
+    if all(type(item) is int and 0 <= item <= 0xFFFF for item in items):
+        return items
+    return tuple(_check_register(item, index) for index, item in enumerate(items))
+
+
+def pack_bits(bits: tuple[bool, ...]) -> bytes:
+    """Pack bits eight to a byte, the first bit in the least significant position; pad with zeros."""
+    out = bytearray((len(bits) + 7) // 8)
+    for index, bit in enumerate(bits):
+        if bit:
+            out[index >> 3] |= 1 << (index & 7)
+    return bytes(out)
+
+
+def unpack_bits(data: bytes) -> tuple[bool, ...]:
+    """Every bit of ``data``, least significant bit of the first byte first (8 per byte)."""
+    return tuple(bool(byte >> bit & 1) for byte in data for bit in range(8))
+
+
+def _expect_length(data: bytes, length: int, name: str, base: int) -> None:
+    if len(data) < length:
+        raise TruncatedError(
+            f"{name} is truncated: {len(data)} bytes at bytes {base}-{base + len(data) - 1}, "
+            f"expected {length} bytes (the PDU ends at byte {base + length - 1})")
+    if len(data) > length:
+        raise TrailingBytesError(
+            f"{name} has {len(data) - length} trailing byte(s) from byte {base + length}: "
+            f"expected exactly {length} bytes")
+
+
+def _hex(data: bytes) -> str:
+    return data.hex(" ").upper()
+
+
+# --- the classes -----------------------------------------------------------------------------------
+
+class Pdu:
+    """Base of every PDU class.
+
+    ``function_code`` is the first byte, ``role`` says whether the class is a request or a response.
+    ``encode()`` gives the bytes (function code first); ``decode(data)`` is the inverse and is strict.
+    """
+
+    function_code: ClassVar[int]
+    role: ClassVar[str]
+    __slots__ = ()
+
+    @property
+    def title(self) -> str:
+        return function_title(self.function_code)
+
+    def encode(self) -> bytes:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0) -> Pdu:  # pragma: no cover
+        raise NotImplementedError
+
+    def fields(self) -> list[Field]:  # pragma: no cover
+        raise NotImplementedError
+
+    def _function_field(self, raw: bytes) -> Field:
+        return Field(0, raw[:1], "function code", self.function_code,
+                     f"{function_title(self.function_code)} ({self.role})")
+
+    @classmethod
+    def _from_wire(cls, *values: Any) -> Pdu:
+        """Build an instance from fields that ``decode`` has already checked, skipping the checks again."""
+        obj = object.__new__(cls)
+        for name, value in zip(cls.__dataclass_fields__, values):
+            object.__setattr__(obj, name, value)
+        return obj
+
+    def summary(self) -> str:
+        """One line such as ``Read Holding Registers request: address 0, count 1``."""
+        parts = [f"{name} {value}" for name, value in self._summary_items()]
+        return f"{self.title} {self.role}" + (": " + ", ".join(parts) if parts else "")
+
+    def _summary_items(self) -> list[tuple[str, Any]]:  # pragma: no cover
+        return []
+
+
+@dataclass(frozen=True, slots=True)
+class _ReadRequest(Pdu):
+    address: int
+    count: int
+
+    role: ClassVar[str] = "request"
+    limit: ClassVar[int]
+    what: ClassVar[str]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        object.__setattr__(self, "count", _check_quantity(self.count, self.limit, self.what))
+        _check_span(self.address, self.count, self.what[:-1] if self.what.endswith("s") else self.what)
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", self.function_code, self.address, self.count)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, f"{function_title(cls.function_code)} request", offset)
+        _fc, address, count = struct.unpack(">BHH", data)
+        try:
+            return cls(address, count)
+        except QuantityError as exc:
+            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: {exc}") from None
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [
+            self._function_field(raw),
+            Field(1, raw[1:3], "starting address", self.address,
+                  f"0-based {self.what[:-1] if self.what.endswith('s') else self.what} address"),
+            Field(3, raw[3:5], "quantity", self.count, f"number of {self.what} to read (1-{self.limit})"),
+        ]
+
+    def _summary_items(self):
+        return [("address", self.address), ("count", self.count)]
+
+
+@dataclass(frozen=True, slots=True)
+class _ReadBitsResponse(Pdu):
+    bits: tuple[bool, ...]
+
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        bits = _check_bits(self.bits, "bits")
+        if not 1 <= len(bits) <= 8 * 250:
+            raise QuantityError(f"a read-bits response carries 1 to 2000 bits (250 bytes), got {len(bits)}")
+        object.__setattr__(self, "bits", bits)
+
+    @property
+    def byte_count(self) -> int:
+        return (len(self.bits) + 7) // 8
+
+    def encode(self) -> bytes:
+        return bytes((self.function_code, self.byte_count)) + pack_bits(self.bits)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        name = f"{function_title(cls.function_code)} response"
+        _expect_minimum(data, 2, name, offset)
+        byte_count = data[1]
+        if not 1 <= byte_count <= 250:
+            raise ByteCountError(
+                f"at byte {offset + 1}: byte count {byte_count}, expected 1 to 250 (ceil(quantity / 8))")
+        _expect_byte_count(data, 2, byte_count, name, offset)
+        return cls(unpack_bits(data[2:]))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:2], "byte count", self.byte_count, "number of data bytes that follow")]
+        for index in range(self.byte_count):
+            chunk = self.bits[index * 8:index * 8 + 8]
+            shown = "".join("1" if bit else "0" for bit in reversed(chunk))
+            rows.append(Field(2 + index, raw[2 + index:3 + index], f"bits {index * 8}-{index * 8 + 7}",
+                              shown, "first bit in the least significant position (rightmost)"))
+        return rows
+
+    def _summary_items(self):
+        return [("bits", "".join("1" if bit else "0" for bit in self.bits))]
+
+
+@dataclass(frozen=True, slots=True)
+class _ReadRegistersResponse(Pdu):
+    registers: tuple[int, ...]
+
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        registers = _check_registers(self.registers, "registers")
+        if not 1 <= len(registers) <= MAX_READ_REGISTERS:
+            raise QuantityError(f"a read-registers response carries 1 to 125 registers, got {len(registers)}")
+        object.__setattr__(self, "registers", registers)
+
+    @property
+    def byte_count(self) -> int:
+        return 2 * len(self.registers)
+
+    def encode(self) -> bytes:
+        count = len(self.registers)
+        return struct.pack(f">BB{count}H", self.function_code, 2 * count, *self.registers)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        name = f"{function_title(cls.function_code)} response"
+        _expect_minimum(data, 2, name, offset)
+        byte_count = data[1]
+        if byte_count % 2 or not 2 <= byte_count <= 250:
+            raise ByteCountError(
+                f"at byte {offset + 1}: byte count {byte_count}, expected an even number from 2 to 250 "
+                f"(2 bytes per register)")
+        _expect_byte_count(data, 2, byte_count, name, offset)
+        return cls._from_wire(struct.unpack(f">{byte_count // 2}H", data[2:]))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:2], "byte count", self.byte_count, "2 bytes per register")]
+        for index, value in enumerate(self.registers):
+            at = 2 + 2 * index
+            rows.append(Field(at, raw[at:at + 2], f"register {index}", value,
+                              f"0x{value:04X} = {value} (high byte first)"))
+        return rows
+
+    def _summary_items(self):
+        return [("registers", list(self.registers))]
+
+
+def _expect_minimum(data: bytes, length: int, name: str, base: int) -> None:
+    if len(data) < length:
+        raise TruncatedError(
+            f"{name} is truncated: {len(data)} byte(s), expected at least {length} "
+            f"(bytes {base}-{base + length - 1})")
+
+
+def _expect_byte_count(data: bytes, header: int, byte_count: int, name: str, base: int) -> None:
+    present = len(data) - header
+    if present < byte_count:
+        raise TruncatedError(
+            f"{name} is truncated: byte count at byte {base + header - 1} announces {byte_count} data bytes, "
+            f"only {present} follow")
+    if present > byte_count:
+        raise TrailingBytesError(
+            f"{name} has {present - byte_count} trailing byte(s) from byte {base + header + byte_count}: "
+            f"the byte count announces {byte_count} data bytes")
+
+
+@dataclass(frozen=True, slots=True)
+class ReadCoilsRequest(_ReadRequest):
+    """Read Coils (FC 01) request: read 1 to 2000 contiguous coils::
+
+        offset  size  field
+        0       1     function code 0x01
+        1       2     starting address (0x0000-0xFFFF)
+        3       2     quantity of coils (1-2000)
+    """
+
+    function_code: ClassVar[int] = 0x01
+    limit: ClassVar[int] = MAX_READ_BITS
+    what: ClassVar[str] = "coils"
+
+
+@dataclass(frozen=True, slots=True)
+class ReadCoilsResponse(_ReadBitsResponse):
+    """Read Coils (FC 01) response::
+
+        offset  size  field
+        0       1     function code 0x01
+        1       1     byte count N = ceil(quantity / 8)
+        2       N     coil status, 8 coils per byte, first coil in the least significant bit;
+                      unused high bits of the last byte are 0
+
+    Decoded from bytes alone, ``bits`` holds all 8 x N bits, padding included (the response does not
+    say how many coils were asked for; the request does).
+    """
+
+    function_code: ClassVar[int] = 0x01
+
+
+@dataclass(frozen=True, slots=True)
+class ReadDiscreteInputsRequest(_ReadRequest):
+    """Read Discrete Inputs (FC 02) request::
+
+        offset  size  field
+        0       1     function code 0x02
+        1       2     starting address (0x0000-0xFFFF)
+        3       2     quantity of inputs (1-2000)
+    """
+
+    function_code: ClassVar[int] = 0x02
+    limit: ClassVar[int] = MAX_READ_BITS
+    what: ClassVar[str] = "discrete inputs"
+
+
+@dataclass(frozen=True, slots=True)
+class ReadDiscreteInputsResponse(_ReadBitsResponse):
+    """Read Discrete Inputs (FC 02) response::
+
+        offset  size  field
+        0       1     function code 0x02
+        1       1     byte count N = ceil(quantity / 8)
+        2       N     input status, 8 per byte, first input in the least significant bit
+    """
+
+    function_code: ClassVar[int] = 0x02
+
+
+@dataclass(frozen=True, slots=True)
+class ReadHoldingRegistersRequest(_ReadRequest):
+    """Read Holding Registers (FC 03) request::
+
+        offset  size  field
+        0       1     function code 0x03
+        1       2     starting address (0x0000-0xFFFF)
+        3       2     quantity of registers (1-125)
+
+    Example: ``03 00 6B 00 03`` reads 3 registers from address 107 (reference numbers 40108-40110).
+    """
+
+    function_code: ClassVar[int] = 0x03
+    limit: ClassVar[int] = MAX_READ_REGISTERS
+    what: ClassVar[str] = "registers"
+
+
+@dataclass(frozen=True, slots=True)
+class ReadHoldingRegistersResponse(_ReadRegistersResponse):
+    """Read Holding Registers (FC 03) response::
+
+        offset  size  field
+        0       1     function code 0x03
+        1       1     byte count 2 x N
+        2       2N    register values, each high byte first
+    """
+
+    function_code: ClassVar[int] = 0x03
+
+
+@dataclass(frozen=True, slots=True)
+class ReadInputRegistersRequest(_ReadRequest):
+    """Read Input Registers (FC 04) request::
+
+        offset  size  field
+        0       1     function code 0x04
+        1       2     starting address (0x0000-0xFFFF)
+        3       2     quantity of input registers (1-125)
+    """
+
+    function_code: ClassVar[int] = 0x04
+    limit: ClassVar[int] = MAX_READ_REGISTERS
+    what: ClassVar[str] = "input registers"
+
+
+@dataclass(frozen=True, slots=True)
+class ReadInputRegistersResponse(_ReadRegistersResponse):
+    """Read Input Registers (FC 04) response::
+
+        offset  size  field
+        0       1     function code 0x04
+        1       1     byte count 2 x N
+        2       2N    input register values, each high byte first
+    """
+
+    function_code: ClassVar[int] = 0x04
+
+
+@dataclass(frozen=True, slots=True)
+class _WriteSingleCoil(Pdu):
+    address: int
+    value: bool
+
+    function_code: ClassVar[int] = 0x05
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        if self.value not in (0, 1) or not isinstance(self.value, (bool, int)):
+            raise ValueRangeError(f"coil value {self.value!r} must be True (ON) or False (OFF)")
+        object.__setattr__(self, "value", bool(self.value))
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", 0x05, self.address, COIL_ON if self.value else COIL_OFF)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, f"Write Single Coil {cls.role}", offset)
+        _fc, address, raw = struct.unpack(">BHH", data)
+        if raw not in (COIL_ON, COIL_OFF):
+            raise ValueRangeError(
+                f"at bytes {offset + 3}-{offset + 4}: coil value 0x{raw:04X}, expected 0xFF00 (ON) or "
+                f"0x0000 (OFF)")
+        return cls(address, raw == COIL_ON)
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "output address", self.address, "0-based coil address"),
+                Field(3, raw[3:5], "output value", "ON" if self.value else "OFF",
+                      "0xFF00 = ON, 0x0000 = OFF (no other value is allowed)")]
+
+    def _summary_items(self):
+        return [("address", self.address), ("value", "ON" if self.value else "OFF")]
+
+
+@dataclass(frozen=True, slots=True)
+class WriteSingleCoilRequest(_WriteSingleCoil):
+    """Write Single Coil (FC 05) request::
+
+        offset  size  field
+        0       1     function code 0x05
+        1       2     output address (0x0000-0xFFFF)
+        3       2     output value: FF 00 = ON, 00 00 = OFF
+
+    ``value`` is a bool.  Example: ``05 00 AC FF 00`` switches coil 172 ON.
+    """
+
+    role: ClassVar[str] = "request"
+
+
+@dataclass(frozen=True, slots=True)
+class WriteSingleCoilResponse(_WriteSingleCoil):
+    """Write Single Coil (FC 05) response: an echo of the request::
+
+        offset  size  field
+        0       1     function code 0x05
+        1       2     output address
+        3       2     output value: FF 00 = ON, 00 00 = OFF
+    """
+
+    role: ClassVar[str] = "response"
+
+
+@dataclass(frozen=True, slots=True)
+class _WriteSingleRegister(Pdu):
+    address: int
+    value: int
+
+    function_code: ClassVar[int] = 0x06
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        object.__setattr__(self, "value", _check_register(self.value))
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", 0x06, self.address, self.value)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, f"Write Single Register {cls.role}", offset)
+        _fc, address, value = struct.unpack(">BHH", data)
+        return cls(address, value)
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "register address", self.address, "0-based holding register address"),
+                Field(3, raw[3:5], "register value", self.value, f"0x{self.value:04X} = {self.value}")]
+
+    def _summary_items(self):
+        return [("address", self.address), ("value", self.value)]
+
+
+@dataclass(frozen=True, slots=True)
+class WriteSingleRegisterRequest(_WriteSingleRegister):
+    """Write Single Register (FC 06) request::
+
+        offset  size  field
+        0       1     function code 0x06
+        1       2     register address (0x0000-0xFFFF)
+        3       2     register value (0x0000-0xFFFF)
+    """
+
+    role: ClassVar[str] = "request"
+
+
+@dataclass(frozen=True, slots=True)
+class WriteSingleRegisterResponse(_WriteSingleRegister):
+    """Write Single Register (FC 06) response: an echo of the request::
+
+        offset  size  field
+        0       1     function code 0x06
+        1       2     register address
+        3       2     register value
+    """
+
+    role: ClassVar[str] = "response"
+
+
+@dataclass(frozen=True, slots=True)
+class WriteMultipleCoilsRequest(Pdu):
+    """Write Multiple Coils (FC 15) request::
+
+        offset  size  field
+        0       1     function code 0x0F
+        1       2     starting address
+        3       2     quantity of outputs (1-1968)
+        5       1     byte count N = ceil(quantity / 8)
+        6       N     output values, 8 per byte, first coil in the least significant bit,
+                      unused high bits of the last byte 0
+
+    Example: ``0F 00 13 00 0A 02 CD 01`` writes 10 coils from address 19.
+    """
+
+    address: int
+    values: tuple[bool, ...]
+
+    function_code: ClassVar[int] = 0x0F
+    role: ClassVar[str] = "request"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        values = _check_bits(self.values, "values")
+        _check_quantity(len(values), MAX_WRITE_COILS, "coils", "len(values)")
+        _check_span(self.address, len(values), "coil")
+        object.__setattr__(self, "values", values)
+
+    def encode(self) -> bytes:
+        packed = pack_bits(self.values)
+        return struct.pack(">BHHB", 0x0F, self.address, len(self.values), len(packed)) + packed
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        name = "Write Multiple Coils request"
+        _expect_minimum(data, 6, name, offset)
+        _fc, address, count, byte_count = struct.unpack(">BHHB", data[:6])
+        if not 1 <= count <= MAX_WRITE_COILS:
+            raise QuantityError(
+                f"at bytes {offset + 3}-{offset + 4}: quantity of coils is {count}, expected 1 to 1968")
+        expected = (count + 7) // 8
+        if byte_count != expected:
+            raise ByteCountError(
+                f"at byte {offset + 5}: byte count {byte_count}, expected {expected} for {count} coils "
+                f"(ceil({count} / 8))")
+        _expect_byte_count(data, 6, byte_count, name, offset)
+        bits = unpack_bits(data[6:])
+        if any(bits[count:]):
+            raise ValueRangeError(
+                f"at byte {offset + 5 + byte_count}: padding bits above coil {count - 1} are not 0 "
+                f"(last data byte 0x{data[-1]:02X}); unused bits must be zero")
+        try:
+            return cls(address, bits[:count])
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:3], "starting address", self.address, "0-based coil address"),
+                Field(3, raw[3:5], "quantity of outputs", len(self.values), "number of coils (1-1968)"),
+                Field(5, raw[5:6], "byte count", raw[5], "ceil(quantity / 8)")]
+        for index in range(raw[5]):
+            chunk = self.values[index * 8:index * 8 + 8]
+            shown = "".join("1" if bit else "0" for bit in reversed(chunk))
+            name = f"coils {index * 8}-{index * 8 + len(chunk) - 1}"
+            rows.append(Field(6 + index, raw[6 + index:7 + index], name, shown,
+                              "first coil in the least significant position (rightmost)"))
+        return rows
+
+    def _summary_items(self):
+        return [("address", self.address), ("values", "".join("1" if v else "0" for v in self.values))]
+
+
+@dataclass(frozen=True, slots=True)
+class _WriteMultipleResponse(Pdu):
+    address: int
+    count: int
+
+    role: ClassVar[str] = "response"
+    limit: ClassVar[int]
+    what: ClassVar[str]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        object.__setattr__(self, "count", _check_quantity(self.count, self.limit, self.what))
+        _check_span(self.address, self.count, self.what[:-1])
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", self.function_code, self.address, self.count)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, f"{function_title(cls.function_code)} response", offset)
+        _fc, address, count = struct.unpack(">BHH", data)
+        try:
+            return cls(address, count)
+        except QuantityError as exc:
+            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: {exc}") from None
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "starting address", self.address, f"0-based {self.what[:-1]} address"),
+                Field(3, raw[3:5], "quantity", self.count, f"number of {self.what} written")]
+
+    def _summary_items(self):
+        return [("address", self.address), ("count", self.count)]
+
+
+@dataclass(frozen=True, slots=True)
+class WriteMultipleCoilsResponse(_WriteMultipleResponse):
+    """Write Multiple Coils (FC 15) response::
+
+        offset  size  field
+        0       1     function code 0x0F
+        1       2     starting address
+        3       2     quantity of outputs written (1-1968)
+    """
+
+    function_code: ClassVar[int] = 0x0F
+    limit: ClassVar[int] = MAX_WRITE_COILS
+    what: ClassVar[str] = "coils"
+
+
+@dataclass(frozen=True, slots=True)
+class WriteMultipleRegistersRequest(Pdu):
+    """Write Multiple Registers (FC 16) request::
+
+        offset  size  field
+        0       1     function code 0x10
+        1       2     starting address
+        3       2     quantity of registers (1-123)
+        5       1     byte count 2 x N
+        6       2N    register values, each high byte first
+
+    Example: ``10 00 01 00 02 04 00 0A 01 02`` writes 0x000A and 0x0102 from address 1.
+    """
+
+    address: int
+    values: tuple[int, ...]
+
+    function_code: ClassVar[int] = 0x10
+    role: ClassVar[str] = "request"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        values = _check_registers(self.values, "values")
+        _check_quantity(len(values), MAX_WRITE_REGISTERS, "registers", "len(values)")
+        _check_span(self.address, len(values), "register")
+        object.__setattr__(self, "values", values)
+
+    def encode(self) -> bytes:
+        count = len(self.values)
+        return struct.pack(f">BHHB{count}H", 0x10, self.address, count, 2 * count, *self.values)
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        name = "Write Multiple Registers request"
+        _expect_minimum(data, 6, name, offset)
+        _fc, address, count, byte_count = struct.unpack(">BHHB", data[:6])
+        if not 1 <= count <= MAX_WRITE_REGISTERS:
+            raise QuantityError(
+                f"at bytes {offset + 3}-{offset + 4}: quantity of registers is {count}, expected 1 to 123")
+        if byte_count != 2 * count:
+            raise ByteCountError(
+                f"at byte {offset + 5}: byte count {byte_count}, expected {2 * count} for {count} registers")
+        _expect_byte_count(data, 6, byte_count, name, offset)
+        try:
+            return cls(address, struct.unpack(f">{count}H", data[6:]))
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:3], "starting address", self.address, "0-based holding register address"),
+                Field(3, raw[3:5], "quantity of registers", len(self.values), "1-123"),
+                Field(5, raw[5:6], "byte count", raw[5], "2 bytes per register")]
+        for index, value in enumerate(self.values):
+            at = 6 + 2 * index
+            rows.append(Field(at, raw[at:at + 2], f"register {index}", value,
+                              f"0x{value:04X} = {value} (high byte first)"))
+        return rows
+
+    def _summary_items(self):
+        return [("address", self.address), ("values", list(self.values))]
+
+
+@dataclass(frozen=True, slots=True)
+class WriteMultipleRegistersResponse(_WriteMultipleResponse):
+    """Write Multiple Registers (FC 16) response::
+
+        offset  size  field
+        0       1     function code 0x10
+        1       2     starting address
+        3       2     quantity of registers written (1-123)
+    """
+
+    function_code: ClassVar[int] = 0x10
+    limit: ClassVar[int] = MAX_WRITE_REGISTERS
+    what: ClassVar[str] = "registers"
+
+
+@dataclass(frozen=True, slots=True)
+class ExceptionResponse(Pdu):
+    """Exception response: the server could not carry out the request::
+
+        offset  size  field
+        0       1     function code of the request + 0x80 (its most significant bit set)
+        1       1     exception code (01 illegal function, 02 illegal data address,
+                      03 illegal data value, 04 server device failure, ...)
+
+    ``function`` is the request's function code (1-127); ``function_code`` is the byte on the wire.
+    Example: ``83 02`` answers a Read Holding Registers request whose addresses do not exist.
+    """
+
+    function: int
+    code: int
+
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        function = _check_int(self.function, "function")
+        if function & 0x80 and 0x81 <= function <= 0xFF:
+            function &= 0x7F
+        if not 1 <= function <= 0x7F:
+            raise ValueRangeError(f"exception response for function {function}: expected a code 1 to 127")
+        code = _check_int(self.code, "exception code")
+        if not 1 <= code <= 0xFF:
+            raise ValueRangeError(f"exception code {code} is outside 1..255")
+        object.__setattr__(self, "function", function)
+        object.__setattr__(self, "code", code)
+
+    @property
+    def function_code(self) -> int:  # type: ignore[override]
+        return self.function | 0x80
+
+    @property
+    def title(self) -> str:
+        return f"Exception ({function_title(self.function)})"
+
+    @property
+    def meaning(self) -> str:
+        return exception_meaning(self.code)
+
+    def encode(self) -> bytes:
+        return bytes((self.function | 0x80, self.code))
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 2, "exception response", offset)
+        if not data[0] & 0x80:
+            raise UnknownFunctionError(
+                f"at byte {offset}: 0x{data[0]:02X} is not an exception function code (expected 0x81-0xFF)",
+                function=data[0])
+        if data[1] == 0:
+            raise ValueRangeError(f"at byte {offset + 1}: exception code 0x00, expected 0x01-0xFF")
+        return cls(data[0] & 0x7F, data[1])
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [Field(0, raw[:1], "function code", raw[0],
+                      f"0x{self.function:02X} + 0x80: exception response to {function_title(self.function)}"),
+                Field(1, raw[1:2], "exception code", self.code, self.meaning)]
+
+    def summary(self) -> str:
+        return f"Exception response to {function_title(self.function)}: code {self.code:02X}, {self.meaning}"
+
+
+REQUEST_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
+    ReadCoilsRequest, ReadDiscreteInputsRequest, ReadHoldingRegistersRequest, ReadInputRegistersRequest,
+    WriteSingleCoilRequest, WriteSingleRegisterRequest, WriteMultipleCoilsRequest,
+    WriteMultipleRegistersRequest)}
+RESPONSE_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
+    ReadCoilsResponse, ReadDiscreteInputsResponse, ReadHoldingRegistersResponse, ReadInputRegistersResponse,
+    WriteSingleCoilResponse, WriteSingleRegisterResponse, WriteMultipleCoilsResponse,
+    WriteMultipleRegistersResponse)}
+
+ROLES = ("request", "response")
+
+
+def _check_role(role: str) -> str:
+    if role not in ROLES:
+        raise ConfigError(f"role must be 'request' or 'response', got {role!r}")
+    return role
+
+
+def _unknown(function: int, offset: int, role: str) -> UnknownFunctionError:
+    known = ", ".join(str(int(code)) for code in FunctionCode)
+    hint = ""
+    if function >= 0x80:
+        hint = " (codes 128-255 are exception responses, never requests)" if role == "request" else ""
+    elif function == 0:
+        hint = " (0 is not a valid function code)"
+    return UnknownFunctionError(
+        f"at byte {offset}: function code 0x{function:02X} ({function}) is not supported; "
+        f"this library implements {known}{hint}", function=function)
+
+
+def request_class(function: int) -> type[Pdu]:
+    """The request class of a function code; UnknownFunctionError for codes not implemented."""
+    try:
+        return REQUEST_CLASSES[function]
+    except (KeyError, TypeError):
+        raise _unknown(int(function) if isinstance(function, int) else -1, 0, "request") from None
+
+
+def response_class(function: int) -> type[Pdu]:
+    """The (normal) response class of a function code."""
+    try:
+        return RESPONSE_CLASSES[function]
+    except (KeyError, TypeError):
+        raise _unknown(int(function) if isinstance(function, int) else -1, 0, "response") from None
+
+
+def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
+    """Decode PDU bytes (function code first) as a request or a response.
+
+    In a response, a function code with its top bit set is an :class:`ExceptionResponse`.  ``offset`` is
+    added to the byte positions in error messages (the PDU's place in the frame).
+    """
+    _check_role(role)
+    data = bytes(data)
+    if not data:
+        raise TruncatedError(f"empty PDU at byte {offset}: expected at least a function code")
+    function = data[0]
+    if role == "response" and function & 0x80:
+        return ExceptionResponse.decode(data, offset)
+    table = REQUEST_CLASSES if role == "request" else RESPONSE_CLASSES
+    cls = table.get(function)
+    if cls is None:
+        raise _unknown(function, offset, role)
+    return cls.decode(data, offset)
+
+
+def pdu_length(data: bytes, role: str) -> int | None:
+    """The total length of the PDU that starts ``data``, or None if more bytes are needed to know.
+
+    Requests of functions 1-6 are 5 bytes; FC 15 and 16 requests are 6 + byte count.  Responses of
+    functions 1-4 are 2 + byte count; of 5, 6, 15, 16 five bytes; exception responses two.  This is how
+    a receiver finds the end of an RTU frame without relying on silence on the line.
+    """
+    _check_role(role)
+    if not data:
+        return None
+    function = data[0]
+    if role == "response":
+        if function & 0x80:
+            return 2
+        if function in (1, 2, 3, 4):
+            return 2 + data[1] if len(data) >= 2 else None
+        if function in (5, 6, 15, 16):
+            return 5
+    else:
+        if function in (1, 2, 3, 4, 5, 6):
+            return 5
+        if function in (15, 16):
+            return 6 + data[5] if len(data) >= 6 else None
+    raise _unknown(function, 0, role)
