@@ -1,0 +1,13 @@
+"""Links: the wires a master talks over.
+
+* :class:`~modbus_edu.links.base.Link` -- the interface every link implements;
+* :func:`loopback_serial` -- a virtual RS-232/RS-485 line with exact character timing, on a virtual clock;
+* :func:`loopback_tcp` -- a virtual Modbus/TCP connection, on a virtual clock;
+* :mod:`modbus_edu.links.tcp` and :mod:`modbus_edu.links.serial` -- real sockets and serial ports.
+"""
+
+from __future__ import annotations
+
+from .base import Link
+
+__all__ = ["Link"]
