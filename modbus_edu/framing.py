@@ -1,0 +1,811 @@
+"""Frames (application data units) of the three Modbus modes, and splitters that cut them from a stream.
+
+A Modbus *PDU* (function code + data, see :mod:`modbus_edu.pdu`) never travels alone.  Each mode wraps
+it in an *ADU* that says who it is for and, on serial lines, protects it with an error check:
+
+=======  ===========================================================  ===========================
+mode     frame                                                        error check
+=======  ===========================================================  ===========================
+RTU      unit, PDU, CRC (2 bytes, low byte first)                     CRC-16/MODBUS
+ASCII    ``:``, the same bytes as uppercase hex, LRC as hex, CR LF    LRC (8-bit)
+TCP      MBAP header (transaction, protocol, length, unit), PDU       none: TCP already checks
+=======  ===========================================================  ===========================
+
+The frame classes (:class:`RtuFrame`, :class:`AsciiFrame`, :class:`TcpFrame`) build and check complete
+frames.  Their ``decode`` is strict: every rule of the mode is checked and a broken rule raises a
+:class:`~modbus_edu.errors.FrameError` subclass whose message says what was wrong, at which byte
+(or character) and what was expected.  Problems inside the PDU raise the
+:class:`~modbus_edu.errors.PduError` subclasses of :func:`modbus_edu.pdu.decode_pdu`; their byte
+offsets count from the start of the frame.
+
+The splitters (:class:`RtuSplitter`, :class:`AsciiSplitter`, :class:`TcpSplitter`) solve the other half
+of the problem: bytes arrive from a wire in arbitrary pieces, and a receiver has to find where each frame
+starts and ends.  They are sans-I/O: feed them bytes, they hand back complete raw frames.
+
+Serial words and TCP words: on a serial line the course says *master* and *slave* and the address byte is
+the *slave address*; on TCP the spec says *client* and *server* and the same byte is the *unit
+identifier*.  In this module the field is called ``unit`` in all three modes.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import ClassVar
+
+from . import pdu as _pdu
+from .crc import crc16, lrc
+from .errors import (
+    AsciiFormatError,
+    ConfigError,
+    CrcError,
+    FrameError,
+    FrameLengthError,
+    LrcError,
+    MbapError,
+    ModbusError,
+    PduError,
+    UnitError,
+)
+
+__all__ = [
+    "MODES",
+    "ROLES",
+    "RTU_MAX_FRAME",
+    "ASCII_MAX_FRAME",
+    "TCP_MAX_FRAME",
+    "MBAP_HEADER_SIZE",
+    "BROADCAST",
+    "MAX_SERIAL_UNIT",
+    "RtuFrame",
+    "AsciiFrame",
+    "TcpFrame",
+    "Frame",
+    "frame_class",
+    "make_frame",
+    "encode_frame",
+    "decode_frame",
+    "detect_mode",
+    "parse_hex",
+    "RtuSplitter",
+    "AsciiSplitter",
+    "TcpSplitter",
+    "splitter_for",
+]
+
+MODES: tuple[str, ...] = ("rtu", "ascii", "tcp")
+"""The three transmission modes, by the names used everywhere in the library."""
+
+ROLES: tuple[str, ...] = ("request", "response")
+"""Which way a frame travels: master to slave (request) or slave to master (response)."""
+
+RTU_MAX_FRAME = 256
+"""Largest RTU frame: unit (1) + PDU (at most 253) + CRC (2)."""
+
+ASCII_MAX_FRAME = 513
+"""Largest ASCII frame in characters: ':' (1) + 2 hex digits for each of unit, 253 PDU bytes and the LRC
+(2 x 255 = 510) + CR LF (2)."""
+
+TCP_MAX_FRAME = 260
+"""Largest Modbus/TCP frame: MBAP header (7) + PDU (at most 253)."""
+
+MBAP_HEADER_SIZE = 7
+"""The MBAP header: transaction id (2) + protocol id (2) + length (2) + unit id (1)."""
+
+BROADCAST = 0
+"""Serial unit address 0: every slave acts on the request (writes only) and none answers."""
+
+MAX_SERIAL_UNIT = 247
+"""Highest slave address on a serial line; 248..255 are reserved."""
+
+_MIN_LENGTH_FIELD = 2  # unit id + function code
+_MAX_LENGTH_FIELD = 1 + _pdu.MAX_PDU_SIZE  # 254
+
+
+# --- small helpers ---------------------------------------------------------------------------------
+def _hex(data: bytes) -> str:
+    """``01 03 00`` style hex of some bytes."""
+    return " ".join(f"{b:02X}" for b in data)
+
+
+def _span(first: int, last: int) -> str:
+    """'byte 3' or 'bytes 3-5'."""
+    return f"byte {first}" if first == last else f"bytes {first}-{last}"
+
+
+def _char_span(first: int, last: int) -> str:
+    return f"char {first}" if first == last else f"chars {first}-{last}"
+
+
+def _as_bytes(data: object, what: str) -> bytes:
+    """Accept bytes, bytearray, memoryview (or a list of ints); anything else is a FrameError."""
+    if isinstance(data, bytes):
+        return data
+    if isinstance(data, (bytearray, memoryview)):
+        return bytes(data)
+    if isinstance(data, str):
+        raise FrameError(
+            f"{what} expects bytes, got the text {data[:40]!r}; turn hex text into bytes with "
+            f"parse_hex(), e.g. parse_hex('01 03 00 00 00 01 84 0A')"
+        )
+    try:
+        return bytes(data)  # type: ignore[call-overload]
+    except (TypeError, ValueError):
+        raise FrameError(f"{what} expects bytes (values 0..255), got {type(data).__name__}") from None
+
+
+def _check_role(role: object) -> str:
+    if role not in ROLES:
+        raise ConfigError(f"role must be 'request' or 'response', got {role!r}")
+    return role  # type: ignore[return-value]
+
+
+def _check_mode(mode: object) -> str:
+    if isinstance(mode, str) and mode.lower() in MODES:
+        return mode.lower()
+    raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
+
+
+def _check_unit(unit: object, highest: int, mode: str) -> int:
+    """Validate a unit given to a constructor."""
+    if isinstance(unit, bool) or not isinstance(unit, int):
+        raise UnitError(f"{mode} unit must be an int, got {unit!r}")
+    if not 0 <= unit <= highest:
+        if mode == "TCP":
+            raise UnitError(f"TCP unit identifier {unit} does not fit its one byte: expected 0..255")
+        raise UnitError(
+            f"{mode} unit {unit} is not a slave address: expected 0 (broadcast) or 1..247 "
+            f"(248..255 are reserved)"
+        )
+    return unit
+
+
+def _check_serial_unit_byte(unit: int, offset: str, mode: str) -> None:
+    """Validate a received serial address byte (0..255)."""
+    if unit > MAX_SERIAL_UNIT:
+        raise UnitError(
+            f"{mode} unit {unit} (0x{unit:02X}) at {offset} is reserved: a slave address is 0 "
+            f"(broadcast) or 1..247; 248..255 are reserved"
+        )
+
+
+def _check_pdu(pdu: object, cls_name: str) -> None:
+    if not isinstance(pdu, _pdu.Pdu):
+        raise FrameError(
+            f"{cls_name}.pdu must be a PDU object such as ReadHoldingRegistersRequest(address=0, count=1), "
+            f"got {type(pdu).__name__}"
+        )
+
+
+def _decode_pdu(data: bytes, role: str, first: int, ascii_chars: bool = False) -> _pdu.Pdu:
+    """Decode the PDU part of a frame, whose function code is byte ``first`` of the frame.
+
+    :func:`pdu.decode_pdu` counts the offsets in its messages from ``first``, so they are frame offsets.
+    In ASCII those are offsets in the decoded bytes; a note says which characters they are.
+    """
+    try:
+        return _pdu.decode_pdu(data, role, first)
+    except PduError as exc:
+        if ascii_chars and exc.args and isinstance(exc.args[0], str):
+            exc.args = (f"{exc.args[0]} (bytes of the decoded ASCII frame: byte k is written in chars "
+                        f"2k+1 and 2k+2)", *exc.args[1:])
+        raise
+
+
+# --- the frames --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class RtuFrame:
+    """A Modbus RTU frame: the unit address, the PDU, and a CRC-16 over both.
+
+    Layout (the read-one-register request ``01 03 00 00 00 01 84 0A``)::
+
+        offset  size  field                       example
+        0       1     unit (slave address)        01
+        1       1     function code               03
+        2..n-3  n-3   data of the PDU             00 00 00 01
+        n-2     1     CRC low byte                84
+        n-1     1     CRC high byte               0A      (crc16 = 0x0A84, low byte first)
+
+    The CRC covers bytes 0..n-3 (unit and PDU).  A frame has 4..256 bytes.  Unit 0 is broadcast (every
+    slave acts, none answers), 1..247 are slave addresses, 248..255 are reserved.  On the wire the frame
+    is delimited by silence (3.5 character times); when reading a stream without timing, the
+    :class:`RtuSplitter` finds the end from the function code instead.
+    """
+
+    unit: int
+    pdu: _pdu.Pdu
+
+    mode: ClassVar[str] = "rtu"
+
+    def __post_init__(self) -> None:
+        _check_unit(self.unit, MAX_SERIAL_UNIT, "RTU")
+        _check_pdu(self.pdu, "RtuFrame")
+
+    def encode(self) -> bytes:
+        """The frame in wire order: unit, PDU, CRC low byte, CRC high byte."""
+        body = bytes([self.unit]) + self.pdu.encode()
+        return body + crc16(body).to_bytes(2, "little")
+
+    @classmethod
+    def decode(cls, data: bytes, role: str = "request") -> RtuFrame:
+        """Check and decode one complete RTU frame.
+
+        Checks, in the order a receiving device makes them: length (4..256 bytes), CRC, unit address
+        (0..247), then the PDU (``pdu.decode_pdu(role)``).  Raises :class:`FrameLengthError`,
+        :class:`CrcError`, :class:`UnitError` or a :class:`PduError` subclass.
+        """
+        data = _as_bytes(data, "RtuFrame.decode")
+        role = _check_role(role)
+        n = len(data)
+        if n < 4:
+            raise FrameLengthError(
+                f"RTU frame too short: {n} byte{'s' if n != 1 else ''}; expected at least 4 "
+                f"(unit at byte 0, function code at byte 1, CRC at bytes 2-3)"
+            )
+        if n > RTU_MAX_FRAME:
+            raise FrameLengthError(
+                f"RTU frame too long: {n} bytes; expected at most {RTU_MAX_FRAME} "
+                f"(unit 1 + PDU at most {_pdu.MAX_PDU_SIZE} + CRC 2)"
+            )
+        body, carried = data[:-2], int.from_bytes(data[-2:], "little")
+        computed = crc16(body)
+        if carried != computed:
+            raise CrcError(
+                f"CRC mismatch: frame carries 0x{carried:04X}, computed 0x{computed:04X} over "
+                f"{_span(0, n - 3)} (the CRC is {_span(n - 2, n - 1)}, low byte first: "
+                f"expected {_hex(computed.to_bytes(2, 'little'))}, found {_hex(data[-2:])})",
+                received=carried,
+                computed=computed,
+            )
+        _check_serial_unit_byte(data[0], "byte 0", "RTU")
+        return cls(data[0], _decode_pdu(data[1:-2], role, 1))
+
+
+@dataclass(frozen=True)
+class AsciiFrame:
+    """A Modbus ASCII frame: ``:``, unit + PDU + LRC written as hex digits, CR LF.
+
+    Layout (unit 5 writes 0x0200 into register 0x1001: ``:050610010200E2`` CR LF)::
+
+        chars    field                               example
+        0        start                               ':'  (0x3A)
+        1-2      unit (slave address), 2 hex digits  05
+        3-4      function code                       06
+        5..m-5   data of the PDU, 2 digits a byte     10 01 02 00
+        m-4..m-3 LRC, 2 hex digits                   E2
+        m-2..m-1 end                                 CR LF (0x0D 0x0A)
+
+    Every byte becomes two characters, so a frame is twice as long as in RTU (plus 3).  The LRC is the
+    two's complement of the 8-bit sum of the *bytes* (not the characters) of unit and PDU.  A frame has
+    9..513 characters.  :meth:`encode` writes uppercase digits; :meth:`decode` also accepts lowercase.
+    """
+
+    unit: int
+    pdu: _pdu.Pdu
+
+    mode: ClassVar[str] = "ascii"
+
+    def __post_init__(self) -> None:
+        _check_unit(self.unit, MAX_SERIAL_UNIT, "ASCII")
+        _check_pdu(self.pdu, "AsciiFrame")
+
+    def encode(self) -> bytes:
+        """The frame as ASCII bytes: ``b":" + HEX(unit + PDU + LRC) + b"\\r\\n"``."""
+        body = bytes([self.unit]) + self.pdu.encode()
+        return b":" + (body + bytes([lrc(body)])).hex().upper().encode("ascii") + b"\r\n"
+
+    @classmethod
+    def decode(cls, data: bytes | str, role: str = "request") -> AsciiFrame:
+        """Check and decode one complete ASCII frame (the ASCII characters, CR LF included).
+
+        Text (``str``) is accepted too.  Checks, in order: length (at most 513 characters), the ':'
+        start, the CR LF end, hex digits, an even number of them, at least 3 bytes (unit, function code,
+        LRC), the LRC, the unit address (0..247), then the PDU.  Offsets in messages are character
+        positions in the frame, with the byte index of the decoded bytes where it helps.
+        """
+        if isinstance(data, str):
+            try:
+                data = data.encode("ascii")
+            except UnicodeEncodeError as exc:
+                raise AsciiFormatError(
+                    f"ASCII frame holds the non-ASCII character {data[exc.start]!r} at char {exc.start}; "
+                    f"expected ':' then hex digits 0-9 A-F then CR LF"
+                ) from None
+        data = _as_bytes(data, "AsciiFrame.decode")
+        role = _check_role(role)
+        n = len(data)
+        if n == 0:
+            raise FrameLengthError("ASCII frame is empty; expected ':' + hex digits + CR LF (9..513 chars)")
+        if n > ASCII_MAX_FRAME:
+            raise FrameLengthError(
+                f"ASCII frame too long: {n} chars; expected at most {ASCII_MAX_FRAME} "
+                f"(':' + 2 x 255 hex digits + CR LF)"
+            )
+        if data[0] != 0x3A:
+            raise AsciiFormatError(
+                f"ASCII frame must start with ':' (0x3A) at char 0, found {_describe_char(data[0])}"
+            )
+        if not data.endswith(b"\r\n"):
+            found = _hex(data[-2:]) if n >= 2 else _hex(data[-1:])
+            raise AsciiFormatError(
+                f"ASCII frame must end with CR LF (0D 0A) at {_char_span(max(n - 2, 0), n - 1)}, "
+                f"found {found}"
+            )
+        digits = data[1:-2]
+        for i, ch in enumerate(digits):
+            if ch not in _HEX_DIGITS:
+                raise AsciiFormatError(
+                    f"ASCII frame: {_describe_char(ch)} at char {i + 1} is not a hex digit; between ':' "
+                    f"and CR LF only 0-9 and A-F are allowed"
+                )
+        if len(digits) % 2:
+            raise AsciiFormatError(
+                f"ASCII frame has an odd number of hex digits ({len(digits)}, chars 1-{len(digits)}): each "
+                f"byte is written as two digits, so the count must be even"
+            )
+        raw = bytes.fromhex(digits.decode("ascii"))
+        if len(raw) < 3:
+            raise FrameLengthError(
+                f"ASCII frame too short: {len(raw)} byte{'s' if len(raw) != 1 else ''} "
+                f"({len(digits)} hex digits); expected at least 3 (unit, function code, LRC), 9 chars "
+                f"in all"
+            )
+        body, carried = raw[:-1], raw[-1]
+        computed = lrc(body)
+        if carried != computed:
+            m = len(raw)
+            raise LrcError(
+                f"LRC mismatch: frame carries 0x{carried:02X} (chars {2 * m - 1}-{2 * m}), computed "
+                f"0x{computed:02X} over {_span(0, m - 2)} of the decoded bytes ({_hex(body)})",
+                received=carried,
+                computed=computed,
+            )
+        _check_serial_unit_byte(raw[0], "chars 1-2", "ASCII")
+        return cls(raw[0], _decode_pdu(raw[1:-1], role, 1, ascii_chars=True))
+
+
+@dataclass(frozen=True)
+class TcpFrame:
+    """A Modbus/TCP frame: the 7-byte MBAP header, then the PDU.  No checksum: TCP already has one.
+
+    Layout (``01 18 00 00 00 06 01 03 00 00 00 01``, transaction 280 reads one register)::
+
+        offset  size  field                    example   note
+        0-1     2     transaction identifier   01 18     chosen by the client, echoed by the server
+        2-3     2     protocol identifier      00 00     always 0 for Modbus
+        4-5     2     length                   00 06     bytes that follow: unit (1) + PDU
+        6       1     unit identifier          01        a device behind a gateway; often 1 or 255
+        7..     n-7   PDU                      03 00 00 00 01
+
+    Every MBAP field is big-endian (high byte first), unlike the RTU CRC.  The length is 2..254, so a
+    frame has 8..260 bytes.  The unit identifier is any of 0..255.
+    """
+
+    transaction_id: int
+    unit: int
+    pdu: _pdu.Pdu
+    protocol_id: int = 0
+
+    mode: ClassVar[str] = "tcp"
+
+    def __post_init__(self) -> None:
+        tid = self.transaction_id
+        if isinstance(tid, bool) or not isinstance(tid, int) or not 0 <= tid <= 0xFFFF:
+            raise MbapError(f"transaction_id {tid!r} does not fit the MBAP's two bytes: expected 0..65535")
+        if self.protocol_id != 0:
+            raise MbapError(f"protocol_id {self.protocol_id!r}: the MBAP protocol identifier of Modbus is 0")
+        _check_unit(self.unit, 255, "TCP")
+        _check_pdu(self.pdu, "TcpFrame")
+
+    def encode(self) -> bytes:
+        """MBAP header (big-endian fields) followed by the PDU."""
+        body = self.pdu.encode()
+        return (
+            self.transaction_id.to_bytes(2, "big")
+            + self.protocol_id.to_bytes(2, "big")
+            + (1 + len(body)).to_bytes(2, "big")
+            + bytes([self.unit])
+            + body
+        )
+
+    @classmethod
+    def decode(cls, data: bytes, role: str = "request") -> TcpFrame:
+        """Check and decode one complete Modbus/TCP frame.
+
+        Checks, in order: length (8..260 bytes), protocol identifier (0), the length field (2..254 and
+        equal to the bytes that follow it), then the PDU.  Raises :class:`FrameLengthError`,
+        :class:`MbapError` or a :class:`PduError` subclass.
+        """
+        data = _as_bytes(data, "TcpFrame.decode")
+        role = _check_role(role)
+        n = len(data)
+        if n < MBAP_HEADER_SIZE + 1:
+            raise FrameLengthError(
+                f"TCP frame too short: {n} byte{'s' if n != 1 else ''}; expected at least 8 "
+                f"(the MBAP header is bytes 0-6, the function code byte 7)"
+            )
+        if n > TCP_MAX_FRAME:
+            raise FrameLengthError(
+                f"TCP frame too long: {n} bytes; expected at most {TCP_MAX_FRAME} "
+                f"(MBAP header 7 + PDU at most {_pdu.MAX_PDU_SIZE})"
+            )
+        protocol = int.from_bytes(data[2:4], "big")
+        if protocol != 0:
+            raise MbapError(
+                f"MBAP protocol identifier at bytes 2-3 is {protocol} (0x{protocol:04X}, {_hex(data[2:4])}); "
+                f"expected 0 (00 00) for Modbus"
+            )
+        length = int.from_bytes(data[4:6], "big")
+        if not _MIN_LENGTH_FIELD <= length <= _MAX_LENGTH_FIELD:
+            raise MbapError(
+                f"MBAP length at bytes 4-5 is {length} ({_hex(data[4:6])}); expected 2..254 "
+                f"(unit identifier + a PDU of 1..{_pdu.MAX_PDU_SIZE} bytes)"
+            )
+        if length != n - 6:
+            raise MbapError(
+                f"MBAP length at bytes 4-5 is {length} ({_hex(data[4:6])}) but {n - 6} bytes follow it "
+                f"({_span(6, n - 1)}); expected {n - 6} = unit identifier (1) + PDU ({n - 7}), big-endian "
+                f"{_hex((n - 6).to_bytes(2, 'big'))}"
+            )
+        return cls(int.from_bytes(data[0:2], "big"), data[6], _decode_pdu(data[7:], role, 7))
+
+
+Frame = RtuFrame | AsciiFrame | TcpFrame
+"""Any of the three frame types."""
+
+_FRAME_CLASSES: dict[str, type] = {"rtu": RtuFrame, "ascii": AsciiFrame, "tcp": TcpFrame}
+_HEX_DIGITS = frozenset(b"0123456789ABCDEFabcdef")
+
+
+def _describe_char(ch: int) -> str:
+    """How to name one received byte in a message: 0x41 'A', 0x0D (CR)."""
+    names = {0x0D: "CR", 0x0A: "LF", 0x20: "space", 0x3A: "':'"}
+    if ch in names:
+        return f"0x{ch:02X} ({names[ch]})"
+    if 0x21 <= ch < 0x7F:
+        return f"0x{ch:02X} '{chr(ch)}'"
+    return f"0x{ch:02X}"
+
+
+def frame_class(mode: str) -> type:
+    """The frame class of a mode: ``frame_class("rtu") is RtuFrame``."""
+    return _FRAME_CLASSES[_check_mode(mode)]
+
+
+def make_frame(mode: str, unit: int, pdu: _pdu.Pdu, transaction_id: int = 0) -> Frame:
+    """Wrap a PDU in the frame of a mode (``transaction_id`` is used by TCP only)."""
+    mode = _check_mode(mode)
+    if mode == "tcp":
+        return TcpFrame(transaction_id=transaction_id, unit=unit, pdu=pdu)
+    return _FRAME_CLASSES[mode](unit=unit, pdu=pdu)
+
+
+def encode_frame(mode: str, unit: int, pdu: _pdu.Pdu, transaction_id: int = 0) -> bytes:
+    """The bytes of a PDU framed for a mode: ``encode_frame("rtu", 1, ReadHoldingRegistersRequest(0, 1))``."""
+    return make_frame(mode, unit, pdu, transaction_id).encode()
+
+
+def decode_frame(data: bytes, mode: str, role: str = "request") -> Frame:
+    """Decode a complete frame of the given mode; see the ``decode`` of each frame class."""
+    return _FRAME_CLASSES[_check_mode(mode)].decode(data, role)
+
+
+def _looks_like_mbap(data: bytes) -> bool:
+    if len(data) < MBAP_HEADER_SIZE + 1 or data[2:4] != b"\x00\x00":
+        return False
+    length = int.from_bytes(data[4:6], "big")
+    return _MIN_LENGTH_FIELD <= length <= _MAX_LENGTH_FIELD and length == len(data) - 6
+
+
+def detect_mode(data: bytes) -> str:
+    """Best guess of a raw frame's mode: ``"ascii"``, ``"tcp"`` or ``"rtu"``.
+
+    * it starts with ``:``: ASCII (unless it is really an RTU frame for unit 58, 0x3A: characters that
+      are not hex digits and a correct RTU CRC);
+    * its first 6 bytes are a valid MBAP header (protocol 0, a length of 2..254 equal to the bytes that
+      follow): TCP, unless the last two bytes are also a correct RTU CRC (then RTU);
+    * anything else: RTU (the mode without a marker).
+
+    Text is accepted too: it is ASCII when it starts with ':', else RTU.
+    """
+    if isinstance(data, str):
+        return "ascii" if data.lstrip().startswith(":") else "rtu"
+    try:
+        data = _as_bytes(data, "detect_mode")
+    except FrameError:
+        return "rtu"
+    rtu_crc_ok = len(data) >= 4 and crc16(data[:-2]) == int.from_bytes(data[-2:], "little")
+    if data.startswith(b":"):
+        body = data[1:-2] if data.endswith(b"\r\n") else data[1:]
+        if rtu_crc_ok and not all(ch in _HEX_DIGITS for ch in body):
+            return "rtu"
+        return "ascii"
+    if _looks_like_mbap(data) and not rtu_crc_ok:
+        return "tcp"
+    return "rtu"
+
+
+_TOKEN = re.compile(r"[^\s,;\-]+")
+
+
+def parse_hex(text: str | bytes) -> bytes:
+    """Turn hex as people write it into bytes.
+
+    Accepted: ``"01 03 00 00"``, ``"01030000"``, ``"0x01,0x03"``, ``"01-03"``, ``"0x1, 0x3"`` (a lone
+    digit is one byte), any mix of upper and lower case; separators are spaces, tabs, newlines, commas,
+    semicolons and dashes.  Text that starts with ``:`` is an ASCII frame and is returned as its ASCII
+    characters, with CR LF appended when missing (a typed ``\\r\\n`` is understood as CR LF too).
+
+    >>> parse_hex("01 03 00 00 00 01 84 0A")
+    b'\\x01\\x03\\x00\\x00\\x00\\x01\\x84\\n'
+
+    A character that is not a hex digit raises :class:`AsciiFormatError` naming its position.
+    """
+    if isinstance(text, (bytes, bytearray, memoryview)):
+        try:
+            text = bytes(text).decode("ascii")
+        except UnicodeDecodeError as exc:
+            raise AsciiFormatError(
+                f"hex text holds the non-ASCII byte 0x{bytes(text)[exc.start]:02X} at position {exc.start}"
+            ) from None
+    if not isinstance(text, str):
+        raise AsciiFormatError(
+            f"parse_hex expects text such as '01 03 00 00 00 01', got {type(text).__name__}"
+        )
+    stripped = text.strip()
+    if stripped.startswith(":"):
+        frame = stripped
+        for typed in ("\\r\\n", "\\n", "\\r"):
+            if frame.endswith(typed):
+                frame = frame[: -len(typed)]
+                break
+        frame = frame.rstrip("\r\n")
+        try:
+            raw = frame.encode("ascii")
+        except UnicodeEncodeError as exc:
+            pos = text.index(stripped) + exc.start
+            raise AsciiFormatError(
+                f"ASCII frame holds the non-ASCII character {frame[exc.start]!r} at position {pos}; "
+                f"expected ':' then hex digits then CR LF"
+            ) from None
+        return raw + b"\r\n"
+    out = bytearray()
+    for match in _TOKEN.finditer(text):
+        token, start = match.group(), match.start()
+        digits_at = start
+        if token[:2] in ("0x", "0X"):
+            token, digits_at = token[2:], start + 2
+            if not token:
+                raise AsciiFormatError(f"'0x' at position {start} is not followed by hex digits in {text!r}")
+        for i, ch in enumerate(token):
+            if ch not in "0123456789abcdefABCDEF":
+                raise AsciiFormatError(
+                    f"not a hex digit: {ch!r} at position {digits_at + i} in {text!r}; expected 0-9 or A-F "
+                    f"(bytes separated by spaces, commas or dashes, optionally written 0x..)"
+                )
+        if len(token) == 1:
+            token = "0" + token
+        elif len(token) % 2:
+            raise AsciiFormatError(
+                f"odd number of hex digits ({len(token)}) in {token!r} at position {digits_at} of {text!r}; "
+                f"each byte is two digits"
+            )
+        out += bytes.fromhex(token)
+    return bytes(out)
+
+
+# --- stream splitters -------------------------------------------------------------------------------
+class _Splitter:
+    """Common state of the splitters: the buffer and the count of dropped bytes."""
+
+    mode: ClassVar[str] = ""
+
+    def __init__(self) -> None:
+        self._buffer = bytearray()
+        self.discarded = 0
+        """Junk bytes dropped so far (bytes that could not start or belong to a frame)."""
+
+    @property
+    def pending(self) -> bytes:
+        """The bytes received but not yet part of a complete frame (``len(s.pending)`` counts them)."""
+        return bytes(self._buffer)
+
+    def reset(self) -> None:
+        """Forget buffered bytes and the discarded count (a new connection, a reopened port)."""
+        self._buffer.clear()
+        self.discarded = 0
+
+    def _drop(self, count: int) -> None:
+        del self._buffer[:count]
+        self.discarded += count
+
+    def feed(self, chunk: bytes) -> list[bytes]:
+        """Add received bytes; return the complete raw frames they finish (possibly none)."""
+        self._buffer += _as_bytes(chunk, f"{type(self).__name__}.feed")
+        return self._cut()
+
+    def flush(self) -> list[bytes]:
+        """The stream has ended (or the line gone silent): nothing will complete the pending bytes.
+
+        Returns any frames that can still be cut; what remains is counted as discarded.
+        """
+        frames = self._cut()
+        self._drop(len(self._buffer))
+        return frames
+
+    def _cut(self) -> list[bytes]:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+
+class RtuSplitter(_Splitter):
+    """Cut RTU frames out of a byte stream by their expected length.
+
+    A real RTU receiver ends a frame after 3.5 character times of silence.  Without timing (a pipe, a
+    recording, a TCP tunnel) the length has to come from the content: the function code, and for some
+    functions a byte count, say how long the PDU is (:func:`modbus_edu.pdu.pdu_length`).  That depends on
+    the direction, hence ``role``: ``"request"`` for what a slave hears, ``"response"`` for a master.
+
+    Resynchronising: when the first buffered byte cannot start a frame (a unit address above 247, an
+    unknown function code, an impossible length) or the CRC at the expected length is wrong, the splitter
+    drops that one byte, counts it in :attr:`discarded`, and tries again from the next byte.  A valid
+    frame behind junk is therefore found as soon as it is complete.  ``feed`` never raises for any bytes.
+    Frames are returned as cut, CRC verified; decode them with :meth:`RtuFrame.decode`.
+
+    :meth:`flush` is the silence: it tells the splitter that the pending bytes will not be continued, so
+    a frame that junk made look longer than it is can still be found.
+    """
+
+    mode: ClassVar[str] = "rtu"
+
+    def __init__(self, role: str = "request") -> None:
+        super().__init__()
+        self.role = _check_role(role)
+
+    def _frame_length(self, start: int) -> int | None:
+        """Expected frame length at ``start``: an int, None (need more bytes) or -1 (cannot be a frame)."""
+        buf = self._buffer
+        if buf[start] > MAX_SERIAL_UNIT:
+            return -1
+        if len(buf) - start < 2:
+            return None
+        try:
+            size = _pdu.pdu_length(bytes(buf[start + 1 :]), self.role)
+        except ModbusError:
+            return -1
+        if size is None:
+            return None
+        if not 1 <= size <= _pdu.MAX_PDU_SIZE:
+            return -1
+        return 1 + size + 2
+
+    def _cut(self, final: bool = False) -> list[bytes]:
+        frames: list[bytes] = []
+        buf = self._buffer
+        while buf:
+            total = self._frame_length(0)
+            if total is None or (total > 0 and total > len(buf)):
+                if not final:
+                    break
+                self._drop(1)  # no more bytes will come: this start cannot be completed
+                continue
+            if total < 0:
+                self._drop(1)
+                continue
+            if crc16(bytes(buf[: total - 2])) != int.from_bytes(buf[total - 2 : total], "little"):
+                self._drop(1)
+                continue
+            frames.append(bytes(buf[:total]))
+            del buf[:total]
+        return frames
+
+    def flush(self) -> list[bytes]:
+        """End of frame by silence: cut what can be cut from the pending bytes, discard the rest."""
+        return self._cut(final=True)
+
+
+class AsciiSplitter(_Splitter):
+    """Cut ASCII frames out of a character stream: from ``:`` to CR LF.
+
+    Anything before a ``:`` is junk and dropped; a new ``:`` before the CR LF restarts the frame (the
+    spec's rule: the start character always begins a new message), and the half frame is dropped; a
+    frame that reaches 513 characters without its CR LF is dropped.  Dropped bytes are counted in
+    :attr:`discarded`.
+
+    By default frames are returned **as cut**, without looking inside: decode them with
+    :meth:`AsciiFrame.decode` to check hex digits and the LRC and get a teaching error.  With
+    ``strict=True`` the splitter checks hex digits and the LRC itself and drops (and counts) frames
+    that fail.  ``feed`` never raises for any bytes.
+    """
+
+    mode: ClassVar[str] = "ascii"
+
+    def __init__(self, strict: bool = False) -> None:
+        super().__init__()
+        self.strict = strict
+
+    def _cut(self) -> list[bytes]:
+        frames: list[bytes] = []
+        buf = self._buffer
+        while buf:
+            start = buf.find(b":")
+            if start < 0:
+                self._drop(len(buf))
+                break
+            if start > 0:
+                self._drop(start)
+            end = buf.find(b"\r\n")
+            restart = buf.find(b":", 1)
+            if restart > 0 and (end < 0 or restart < end):
+                self._drop(restart)  # a new ':' begins a new frame
+                continue
+            if end < 0:
+                if len(buf) >= ASCII_MAX_FRAME:
+                    self._drop(len(buf))  # cannot end within 513 characters
+                break
+            size = end + 2
+            if size > ASCII_MAX_FRAME:
+                self._drop(size)
+                continue
+            frame = bytes(buf[:size])
+            if self.strict and not _ascii_frame_checks(frame):
+                self._drop(size)
+                continue
+            frames.append(frame)
+            del buf[:size]
+        return frames
+
+
+def _ascii_frame_checks(frame: bytes) -> bool:
+    """True when an ASCII frame's digits are hex, even in number, at least 3 bytes, and the LRC agrees."""
+    digits = frame[1:-2]
+    if len(digits) < 6 or len(digits) % 2 or any(ch not in _HEX_DIGITS for ch in digits):
+        return False
+    raw = bytes.fromhex(digits.decode("ascii"))
+    return lrc(raw[:-1]) == raw[-1]
+
+
+class TcpSplitter(_Splitter):
+    """Cut Modbus/TCP frames out of a TCP byte stream by the MBAP length field.
+
+    TCP delivers a stream, not messages: one ``recv`` may hold half a frame or three frames.  The MBAP
+    length (bytes 4-5) says how many bytes follow it, so a frame is 6 + length bytes.
+
+    A header with a protocol identifier other than 0 or a length outside 2..254 cannot start a frame.
+    This splitter then drops one byte, counts it in :attr:`discarded` and looks for a valid header at the
+    next byte, which lets it read captures and recordings with junk in them.  A real Modbus/TCP server
+    does not guess like this: on a stream it cannot frame it closes the connection, because after one
+    wrong length it can no longer know where any later frame starts.  ``feed`` never raises for any bytes.
+    """
+
+    mode: ClassVar[str] = "tcp"
+
+    def _cut(self) -> list[bytes]:
+        frames: list[bytes] = []
+        buf = self._buffer
+        while len(buf) >= 3:
+            if buf[2] != 0 or (len(buf) >= 4 and buf[3] != 0):
+                self._drop(1)
+                continue
+            if len(buf) < 6:
+                break
+            length = int.from_bytes(buf[4:6], "big")
+            if not _MIN_LENGTH_FIELD <= length <= _MAX_LENGTH_FIELD:
+                self._drop(1)
+                continue
+            if len(buf) < 6 + length:
+                break
+            frames.append(bytes(buf[: 6 + length]))
+            del buf[: 6 + length]
+        return frames
+
+
+_SPLITTERS: dict[str, type] = {"rtu": RtuSplitter, "ascii": AsciiSplitter, "tcp": TcpSplitter}
+
+
+def splitter_for(mode: str, role: str = "request") -> RtuSplitter | AsciiSplitter | TcpSplitter:
+    """A fresh splitter for a mode (``role`` matters to RTU only, which cuts by expected length)."""
+    mode = _check_mode(mode)
+    if mode == "rtu":
+        return RtuSplitter(role)
+    _check_role(role)
+    return _SPLITTERS[mode]()
