@@ -25,7 +25,7 @@ test: $(STAMP)
 
 ## notebooks: re-execute every notebook in place, in order, from a fresh kernel
 notebooks: $(STAMP)
-	$(BIN)/python -m modbus_edu.tools.execute_notebooks notebooks
+	$(BIN)/python -m modbus_edu.course execute notebooks
 
 ## bench: the benchmarks against pymodbus (ratios > 1 mean modbus_edu is faster)
 bench: $(STAMP)

@@ -1,0 +1,155 @@
+"""Keeping the course's notebooks runnable and well formed.
+
+``python -m modbus_edu.course execute [NOTEBOOK ...]`` re-executes notebooks in place, in order, each
+from a fresh ``python3`` kernel started in the notebooks folder, so their stored outputs are what strict
+nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the course's conventions:
+
+* the kernelspec is ``python3`` and execution counts run 1, 2, 3, ... with no gaps;
+* the first cell is a title with "What you will learn" (3 to 5 points) and "What you need";
+* the notebook closes with a summary, at least two exercises (cells calling ``check(``) and a link to
+  the next notebook (except the last one);
+* every link to another notebook points to a file that exists.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+NOTEBOOK_PATTERN = re.compile(r"^\d\d_[a-z0-9_]+\.ipynb$")
+LINK_PATTERN = re.compile(r"\]\(((?:\.?/)?(?:solutions/)?[^)\s#]+\.ipynb)(?:#[^)]*)?\)")
+
+
+def course_notebooks(folder: Path | str) -> list[Path]:
+    """The course's notebooks in order: ``NN_name.ipynb`` files of ``folder``."""
+    return sorted(p for p in Path(folder).iterdir() if NOTEBOOK_PATTERN.match(p.name))
+
+
+def execute(path: Path | str, timeout: int = 120) -> float:
+    """Execute one notebook in place from a fresh kernel; return the seconds it took."""
+    import nbformat
+    from nbclient import NotebookClient
+
+    path = Path(path)
+    notebook = nbformat.read(path, as_version=4)
+    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3 (ipykernel)",
+                                       "language": "python"}
+    start = time.perf_counter()
+    client = NotebookClient(notebook, timeout=timeout, kernel_name="python3",
+                            resources={"metadata": {"path": str(path.parent.resolve())}})
+    client.execute()
+    elapsed = time.perf_counter() - start
+    for cell in notebook.cells:
+        cell.metadata.pop("execution", None)
+    nbformat.write(notebook, path)
+    return elapsed
+
+
+@dataclass(frozen=True)
+class Problem:
+    notebook: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"{self.notebook}: {self.message}"
+
+
+def _text(cell) -> str:
+    return cell.source if isinstance(cell.source, str) else "".join(cell.source)
+
+
+def check_notebook(path: Path | str, last: bool = False) -> list[Problem]:
+    """Everything in one notebook that breaks the course's conventions (empty list: none)."""
+    import nbformat
+
+    path = Path(path)
+    name = path.name
+    notebook = nbformat.read(path, as_version=4)
+    problems: list[Problem] = []
+
+    def problem(message: str) -> None:
+        problems.append(Problem(name, message))
+
+    kernel = notebook.metadata.get("kernelspec", {}).get("name")
+    if kernel != "python3":
+        problem(f"kernelspec is {kernel!r}, expected 'python3'")
+
+    counts = [cell.get("execution_count") for cell in notebook.cells if cell.cell_type == "code"]
+    if counts != list(range(1, len(counts) + 1)):
+        problem(f"execution counts are {counts}, expected 1..{len(counts)} in order: re-execute it")
+
+    markdown = [_text(cell) for cell in notebook.cells if cell.cell_type == "markdown"]
+    if not markdown or not markdown[0].lstrip().startswith("# "):
+        problem("the first cell must be a markdown title ('# ...')")
+    opening = markdown[0] if markdown else ""
+    learn = re.search(r"what you will learn(.*?)(?:\n#|\Z)", opening, re.I | re.S)
+    if not learn:
+        problem("the opening cell has no 'What you will learn' section")
+    else:
+        points = [line for line in learn.group(1).splitlines() if re.match(r"\s*([-*]|\d+\.)\s", line)]
+        if not 3 <= len(points) <= 5:
+            problem(f"'What you will learn' has {len(points)} points, expected 3 to 5")
+    if not re.search(r"what you need", opening, re.I):
+        problem("the opening cell has no 'What you need' section")
+
+    everything = "\n".join(markdown)
+    if not re.search(r"^#+\s*summary", everything, re.I | re.M):
+        problem("there is no 'Summary' heading")
+    if not re.search(r"^#+\s*exercises", everything, re.I | re.M):
+        problem("there is no 'Exercises' heading")
+    checks = sum(1 for cell in notebook.cells if cell.cell_type == "code" and "check(" in _text(cell))
+    if checks < 2:
+        problem(f"{checks} exercise cell(s) call check(), expected at least 2")
+
+    links = LINK_PATTERN.findall(everything)
+    for link in links:
+        if not (path.parent / link).exists():
+            problem(f"link to {link} points to a notebook that does not exist")
+    if not last and not re.search(r"next[^\n]*\]\(\d\d_[a-z0-9_]+\.ipynb\)", markdown[-1] if markdown else "",
+                                  re.I):
+        problem("the last cell must link to the next notebook ('Next: [title](NN_name.ipynb)')")
+    return problems
+
+
+def check_course(folder: Path | str) -> list[Problem]:
+    """Check every notebook of the course; also that they are numbered 00, 01, 02, ... without gaps."""
+    notebooks = course_notebooks(folder)
+    problems: list[Problem] = []
+    numbers = [int(p.name[:2]) for p in notebooks]
+    if numbers != list(range(len(numbers))):
+        problems.append(Problem(str(folder), f"notebooks are numbered {numbers}, expected 0..{len(numbers) - 1}"))
+    for index, path in enumerate(notebooks):
+        problems.extend(check_notebook(path, last=index == len(notebooks) - 1))
+    return problems
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m modbus_edu.course", description=__doc__.split("\n\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("execute", help="re-execute notebooks in place (default: the whole course)")
+    run.add_argument("paths", nargs="*", default=["notebooks"])
+    run.add_argument("--timeout", type=int, default=120, help="seconds per cell")
+    check = sub.add_parser("check", help="check the course's conventions")
+    check.add_argument("folder", nargs="?", default="notebooks")
+    args = parser.parse_args(argv)
+    if args.command == "execute":
+        paths: list[Path] = []
+        for item in map(Path, args.paths):
+            paths.extend(course_notebooks(item) if item.is_dir() else [item])
+        for path in paths:
+            print(f"{path} ... ", end="", flush=True)
+            print(f"{execute(path, args.timeout):.1f} s")
+        return 0
+    problems = check_course(args.folder)
+    for item in problems:
+        print(item)
+    print("course conventions: OK" if not problems else f"{len(problems)} problem(s)")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
