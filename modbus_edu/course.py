@@ -121,7 +121,8 @@ def check_course(folder: Path | str) -> list[Problem]:
     problems: list[Problem] = []
     numbers = [int(p.name[:2]) for p in notebooks]
     if numbers != list(range(len(numbers))):
-        problems.append(Problem(str(folder), f"notebooks are numbered {numbers}, expected 0..{len(numbers) - 1}"))
+        expected = f"0..{len(numbers) - 1}"
+        problems.append(Problem(str(folder), f"notebooks are numbered {numbers}, expected {expected}"))
     for index, path in enumerate(notebooks):
         problems.extend(check_notebook(path, last=index == len(notebooks) - 1))
     return problems
