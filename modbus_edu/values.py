@@ -205,8 +205,10 @@ def encode_value(value: int | float, type: str = "uint16", order: str = "ABCD") 
     if info.is_float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             try:
+                if isinstance(value, (str, bytes, bytearray)):
+                    raise TypeError  # text is not a number, even "1.5": parse it first
                 value = float(value)  # e.g. numpy floats, Decimal
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 raise ValueFormatError(
                     f"{info.name} holds a number, got {_type_name(value)} {value!r}"
                 ) from None
