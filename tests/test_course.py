@@ -1,0 +1,110 @@
+"""The course itself: notebook conventions, exercises and their checkers, and the pinned environment."""
+
+from __future__ import annotations
+
+import re
+import runpy
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+
+from modbus_edu import course, exercises
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = ROOT / "notebooks"
+SOLUTIONS = NOTEBOOKS / "solutions"
+NOTEBOOK_FILES = course.course_notebooks(NOTEBOOKS)
+
+
+def test_fourteen_notebooks_in_order():
+    numbers = [int(path.name[:2]) for path in NOTEBOOK_FILES]
+    assert numbers == list(range(14))
+
+
+@pytest.mark.parametrize("path", NOTEBOOK_FILES, ids=lambda p: p.name)
+def test_notebook_conventions(path):
+    problems = course.check_notebook(path, last=path == NOTEBOOK_FILES[-1])
+    assert not problems, "\n".join(map(str, problems))
+
+
+def test_course_check_reports_a_broken_notebook(tmp_path):
+    import nbformat
+
+    notebook = nbformat.v4.new_notebook()
+    notebook.cells = [nbformat.v4.new_markdown_cell("Intro without a title"),
+                      nbformat.v4.new_code_cell("1 + 1", execution_count=2),
+                      nbformat.v4.new_markdown_cell("[gone](99_missing.ipynb)")]
+    notebook.metadata["kernelspec"] = {"name": "other"}
+    path = tmp_path / "00_broken.ipynb"
+    nbformat.write(notebook, path)
+    messages = "\n".join(str(problem) for problem in course.check_notebook(path))
+    for expected in ("kernelspec", "execution counts", "title", "What you will learn", "What you need",
+                     "Summary", "Exercises", "check()", "99_missing.ipynb", "next notebook"):
+        assert expected in messages
+
+
+def _used_keys() -> dict[str, str]:
+    import nbformat
+
+    used = {}
+    for path in NOTEBOOK_FILES:
+        for cell in nbformat.read(path, as_version=4).cells:
+            if cell.cell_type == "code":
+                for key in re.findall(r"check\(\s*[\"'](\d\d\.\d+)[\"']", cell.source):
+                    used[key] = path.name
+    return used
+
+
+def test_every_exercise_is_used_and_every_used_exercise_exists():
+    used = _used_keys()
+    assert set(used) == set(exercises.EXERCISES), (
+        f"registered but unused: {sorted(set(exercises.EXERCISES) - set(used))}; "
+        f"used but unregistered: {sorted(set(used) - set(exercises.EXERCISES))}")
+
+
+def test_every_notebook_has_two_exercises():
+    per_notebook: dict[str, int] = {}
+    for key in exercises.EXERCISES:
+        per_notebook[key[:2]] = per_notebook.get(key[:2], 0) + 1
+    assert {path.name[:2] for path in NOTEBOOK_FILES} == set(per_notebook)
+    assert all(count >= 2 for count in per_notebook.values()), per_notebook
+
+
+@pytest.mark.parametrize("key", sorted(exercises.EXERCISES))
+def test_solution_passes_and_wrong_answer_fails(key):
+    path = SOLUTIONS / f"{key.replace('.', '_')}.py"
+    assert path.exists(), f"no solution file {path.name}"
+    answer = runpy.run_path(str(path))["answer"]
+    result = exercises.evaluate(key, answer)
+    assert result.ok is True, result.message
+    wrong = exercises.evaluate(key, exercises.EXERCISES[key].wrong)
+    assert wrong.ok is False, f"the checker of {key} accepted a wrong answer"
+    assert wrong.message.startswith("Not yet:")
+
+
+def test_unanswered_exercise_prints_a_hint_and_raises_nothing(capsys):
+    key = sorted(exercises.EXERCISES)[0]
+    result = exercises.check(key, ...)
+    assert result.ok is None and not result
+    assert "Hint:" in capsys.readouterr().out
+
+
+def test_unknown_exercise_key_is_reported():
+    assert exercises.evaluate("99.9", 1).ok is False
+
+
+def test_environment_matches_the_binder_pins():
+    """The suite runs in an environment built from binder/requirements.txt alone, as Binder builds it."""
+    lines = (ROOT / "binder" / "requirements.txt").read_text().splitlines()
+    assert lines[0] == "-e ."
+    pins = {}
+    for line in lines[1:]:
+        line = line.split("#")[0].strip()
+        if line:
+            name, version = line.split("==")
+            pins[name] = version
+    assert pins["pymodbus"].startswith("3.16.")
+    for name in ("pymodbus", "jupyterlab", "ipywidgets", "nbval", "pyserial", "matplotlib"):
+        assert metadata.version(name) == pins[name], f"{name} is not the pinned version"
+    assert (ROOT / "binder" / "runtime.txt").read_text().strip().startswith("python-3.")
