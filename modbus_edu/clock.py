@@ -16,6 +16,7 @@ for its timeouts and its turnaround delay) works with either.
 >>> _ = clock.call_later(0.002, seen.append, "second")
 >>> _ = clock.call_later(0.001, seen.append, "first")
 >>> clock.run_until(0.005)
+False
 >>> seen, clock.now
 (['first', 'second'], 0.005)
 """

@@ -1,0 +1,361 @@
+"""The Modbus slave (a *server* in the words of Modbus/TCP): a request in, a response out.
+
+A slave owns a :class:`~modbus_edu.datamodel.DataBank`, the four tables a master can read and write.
+It never speaks first.  For each frame that reaches it, in this order (the order of a real device):
+
+1. **Check the frame.**  A wrong CRC (RTU) or LRC (ASCII), or a frame that does not follow the rules of
+   its mode, gets *no answer at all*: the slave cannot trust any byte of it, not even the address.  The
+   master will time out.  Counted in ``counters.checksum_errors`` / ``counters.bad_frames``.
+2. **Check the unit.**  A request for another unit is none of its business: silence
+   (``counters.other_unit``).  On a serial bus every slave hears every frame, so this is normal.
+   Unit 0 is the **broadcast** address: every slave carries out the write, and none answers
+   (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
+3. **Carry out the request** on the bank and answer, or answer an **exception response** (the function
+   code with its top bit set, and an exception code):
+
+   ==  =========================  ===============================================================
+   01  illegal function           the function code is not one this slave implements
+   02  illegal data address       the addresses are outside the bank (or not declared in a sparse one)
+   03  illegal data value         a bad quantity, a value that does not fit, a byte count or a length
+                                  that disagrees with the rest of the request
+   04  server device failure      the device failed while doing it (here: a user hook raised)
+   ==  =========================  ===============================================================
+
+Units: a ``Slave(unit=5)`` answers unit 5 only, in every mode.  ``Slave(unit=None)`` answers any unit
+(1..247 on a serial line, 1..255 on TCP): handy as the only device behind a Modbus/TCP server, where the
+unit identifier often does not matter (clients send 1, 0xFF, ...).  In this library unit 0 is broadcast
+in every mode, TCP included: acted on, never answered.
+
+Hooks let a simulated device come alive: ``on_read(slave, table_kind, address, count)`` runs *before* a
+read (update the values there: a meter measures when asked), ``on_write(slave, table_kind, address,
+values)`` *after* a write (react to a set-point).  Subclasses may override :meth:`before_read` and
+:meth:`after_write` instead.  A hook that raises makes the slave answer exception 04; a hook that raises
+:class:`~modbus_edu.errors.ModbusExceptionError` chooses the exception code itself (06 "busy", say).
+
+Time: a slave takes :meth:`response_delay` seconds to answer (``processing_time`` by default, 0).  Links
+with a clock use it; a device with a slow main loop overrides it.
+
+Sans-I/O: :meth:`handle` takes the bytes of one frame and returns the bytes of the answer (or None).
+It never touches a socket, a port or a clock; the links do.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, fields
+from typing import Any
+
+from . import pdu as _pdu
+from .datamodel import DataBank, table_kind
+from .errors import (
+    AddressRangeError,
+    ChecksumError,
+    ConfigError,
+    FrameError,
+    IllegalAddressError,
+    ModbusError,
+    ModbusExceptionError,
+    PduError,
+    UnknownFunctionError,
+)
+from .framing import MODES, decode_frame, make_frame
+from .pdu import ExceptionCode, ExceptionResponse, Pdu
+from .traffic import TrafficLog
+
+__all__ = ["Slave", "SlaveCounters", "dispatch"]
+
+ReadHook = Callable[["Slave", str, int, int], Any]
+WriteHook = Callable[["Slave", str, int, list], Any]
+
+_WRITE_FUNCTIONS = frozenset({5, 6, 15, 16})
+
+
+@dataclass
+class SlaveCounters:
+    """What a slave has seen (the diagnostic counters of a real device, simplified).
+
+    ``requests``         requests carried out or answered: for this unit, or broadcast
+    ``responses``        responses sent, exception responses included
+    ``exceptions``       exception responses sent
+    ``checksum_errors``  frames dropped because the CRC / LRC did not match
+    ``bad_frames``       frames dropped because they broke the rules of their mode (length, ':' and
+                         CR LF, MBAP header, reserved unit 248..255, function code 0 or 128..255)
+    ``broadcasts``       broadcast requests (unit 0) received: carried out, never answered
+    ``other_unit``       valid frames for another unit, ignored
+    """
+
+    requests: int = 0
+    responses: int = 0
+    exceptions: int = 0
+    checksum_errors: int = 0
+    bad_frames: int = 0
+    broadcasts: int = 0
+    other_unit: int = 0
+
+    def reset(self) -> None:
+        """Set every counter back to 0."""
+        for f in fields(self):
+            setattr(self, f.name, 0)
+
+    def as_dict(self) -> dict[str, int]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def _check_mode(mode: str) -> str:
+    if mode not in MODES:
+        raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
+    return mode
+
+
+def _peek_unit_function(data: bytes, mode: str) -> tuple[int, int]:
+    """Unit and function code of a frame whose envelope (length, checksum, header) is known good."""
+    if mode == "tcp":
+        return data[6], data[7]
+    if mode == "ascii":
+        return int(data[1:3], 16), int(data[3:5], 16)
+    return data[0], data[1]
+
+
+class Slave:
+    """A Modbus slave: a :class:`~modbus_edu.datamodel.DataBank` that answers requests.
+
+    ``Slave(unit=1, bank=None)`` -- ``bank`` defaults to a dense ``DataBank()`` (every address exists
+    and holds 0).  Keywords: ``processing_time`` (seconds before the answer starts, on links with a
+    clock), ``on_read`` / ``on_write`` hooks, ``name`` (for logs).
+
+    >>> from modbus_edu.framing import RtuFrame
+    >>> from modbus_edu.pdu import ReadHoldingRegistersRequest
+    >>> slave = Slave(unit=1)
+    >>> slave.bank.holding_registers[0] = 1234
+    >>> request = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
+    >>> slave.handle(request, "rtu").hex(" ")
+    '01 03 02 04 d2 3a d9'
+    """
+
+    def __init__(
+        self,
+        unit: int | None = 1,
+        bank: DataBank | None = None,
+        *,
+        processing_time: float = 0.0,
+        on_read: ReadHook | None = None,
+        on_write: WriteHook | None = None,
+        name: str | None = None,
+    ) -> None:
+        if unit is not None and (isinstance(unit, bool) or not isinstance(unit, int) or not 1 <= unit <= 255):
+            raise ConfigError(
+                f"a slave's unit must be 1..247 (serial) or 1..255 (TCP), or None for 'any unit'; got "
+                f"{unit!r} (0 is the broadcast address: no slave owns it)"
+            )
+        try:
+            processing_time = float(processing_time)
+        except (TypeError, ValueError):
+            raise ConfigError(
+                f"processing_time must be a number of seconds, got {processing_time!r}"
+            ) from None
+        if not processing_time >= 0:
+            raise ConfigError(f"processing_time must be >= 0 s, got {processing_time!r}")
+        self.unit = unit
+        self.bank = bank if bank is not None else DataBank()
+        self.processing_time = processing_time
+        self.on_read = on_read
+        self.on_write = on_write
+        self.name = name or (f"slave {unit}" if unit is not None else "slave (any unit)")
+        self.counters = SlaveCounters()
+        self.log = TrafficLog(maxlen=1000)
+        """The newest 1000 frames this slave received (``rx``) and sent (``tx``)."""
+        self.clock: Any = None
+        """A clock for the log's time stamps, set by the link the slave is attached to (or None: 0.0)."""
+        self.last_error: BaseException | None = None
+        """The exception a hook raised last (the cause of an exception 04), for debugging."""
+
+    def __repr__(self) -> str:
+        unit = "any" if self.unit is None else self.unit
+        return f"<{type(self).__name__} {self.name!r} unit={unit} {self.counters.as_dict()}>"
+
+    # -- time -----------------------------------------------------------------------------------
+    def response_delay(self, arrival_time: float) -> float:
+        """Seconds between the end of a request (at ``arrival_time``) and the start of the answer.
+
+        ``processing_time`` by default.  A device overrides this: a slave whose main loop runs every
+        50 ms only sees a request at its next loop, so its delay depends on when the request came.
+        """
+        return self.processing_time
+
+    def _now(self) -> float:
+        clock = self.clock
+        return clock.now if clock is not None else 0.0
+
+    # -- units ----------------------------------------------------------------------------------
+    def accepts(self, unit: int) -> bool:
+        """True if a request for ``unit`` is for this slave (broadcast 0 aside: every slave acts on it)."""
+        return unit != 0 and (self.unit is None or unit == self.unit)
+
+    # -- frames ---------------------------------------------------------------------------------
+    def handle(self, frame: bytes, mode: str = "rtu") -> bytes | None:
+        """Process one received frame; return the bytes of the answer, or ``None`` for no answer.
+
+        ``mode`` is ``"rtu"``, ``"ascii"`` or ``"tcp"``.  No answer when the frame is corrupt or
+        malformed, for another unit, or a broadcast.  A TCP response carries the request's transaction
+        identifier.
+        """
+        mode = _check_mode(mode)
+        if not isinstance(frame, (bytes, bytearray, memoryview)):
+            raise FrameError(f"Slave.handle expects the bytes of one frame, got {type(frame).__name__}")
+        data = bytes(frame)
+        counters = self.counters
+        self.log.add(self._now(), "rx", mode, data, source="master", dest=self.name, role="request")
+        try:
+            decoded = decode_frame(data, mode, "request")
+        except ChecksumError as exc:
+            counters.checksum_errors += 1
+            self._note_drop(f"dropped: {exc}")
+            return None
+        except FrameError as exc:
+            counters.bad_frames += 1
+            self._note_drop(f"dropped: {exc}")
+            return None
+        except PduError as exc:
+            # The envelope was good (framing checks it before the PDU): unit and function are known.
+            unit, function = _peek_unit_function(data, mode)
+            if unit == 0:
+                counters.broadcasts += 1
+                counters.requests += 1
+                self._note_drop(f"broadcast not carried out: {exc}")
+                return None
+            if not self.accepts(unit):
+                counters.other_unit += 1
+                return None
+            if function == 0 or function >= 0x80:
+                counters.bad_frames += 1
+                self._note_drop(f"dropped: function code {function} cannot be requested")
+                return None
+            if isinstance(exc, UnknownFunctionError):
+                code = ExceptionCode.ILLEGAL_FUNCTION
+            elif isinstance(exc, AddressRangeError):
+                code = ExceptionCode.ILLEGAL_DATA_ADDRESS
+            else:  # quantity, value, byte count, implied length: the spec's exception 03
+                code = ExceptionCode.ILLEGAL_DATA_VALUE
+            self.last_error = exc
+            counters.requests += 1
+            return self._answer(mode, unit, ExceptionResponse(function, int(code)), data)
+        unit = decoded.unit
+        if unit == 0:
+            counters.broadcasts += 1
+            counters.requests += 1
+            if decoded.pdu.function_code in _WRITE_FUNCTIONS:
+                self.process(decoded.pdu)
+            return None
+        if not self.accepts(unit):
+            counters.other_unit += 1
+            return None
+        counters.requests += 1
+        return self._answer(mode, unit, self.process(decoded.pdu), data)
+
+    def _answer(self, mode: str, unit: int, response: Pdu, request: bytes) -> bytes:
+        counters = self.counters
+        counters.responses += 1
+        if isinstance(response, ExceptionResponse):
+            counters.exceptions += 1
+        tid = int.from_bytes(request[0:2], "big") if mode == "tcp" else 0
+        out = make_frame(mode, unit, response, tid).encode()
+        self.log.add(self._now(), "tx", mode, out, source=self.name, dest="master", role="response",
+                     note=response.summary() if hasattr(response, "summary") else "")
+        return out
+
+    def _note_drop(self, note: str) -> None:
+        """Replace the last rx log entry by one that says why it got no answer."""
+        log = self.log
+        if len(log):
+            last = log._entries.pop()
+            log.add(last.time, last.direction, last.mode, last.data, source=last.source, dest=last.dest,
+                    role=last.role, note=note)
+
+    # -- PDUs -----------------------------------------------------------------------------------
+    def handle_pdu(self, request: Pdu) -> Pdu:
+        """Carry out a request PDU and return the response PDU (an ExceptionResponse if it failed).
+
+        Counts the request and the response, like :meth:`handle`.
+        """
+        counters = self.counters
+        counters.requests += 1
+        response = self.process(request)
+        counters.responses += 1
+        if isinstance(response, ExceptionResponse):
+            counters.exceptions += 1
+        return response
+
+    def process(self, request: Pdu) -> Pdu:
+        """The heart of the slave: the bank read or written, the response built.  Counts nothing.
+
+        Never raises for a protocol problem: every failure becomes an exception response.
+        """
+        function = getattr(request, "function_code", 0)
+        if getattr(request, "role", None) != "request" or function not in _pdu.REQUEST_CLASSES:
+            function = function & 0x7F if isinstance(function, int) and function & 0x7F else 1
+            return ExceptionResponse(function, int(ExceptionCode.ILLEGAL_FUNCTION))
+        try:
+            return self._execute(request)
+        except ModbusExceptionError as exc:
+            self.last_error = exc
+            try:
+                return ExceptionResponse(function, exc.code)
+            except ModbusError:  # a hook chose an impossible code: that is a device failure
+                return ExceptionResponse(function, int(ExceptionCode.SERVER_DEVICE_FAILURE))
+        except (IllegalAddressError, AddressRangeError) as exc:
+            self.last_error = exc
+            return ExceptionResponse(function, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
+        except PduError as exc:
+            self.last_error = exc
+            return ExceptionResponse(function, int(ExceptionCode.ILLEGAL_DATA_VALUE))
+        except Exception as exc:  # noqa: BLE001 - a failing hook or device is exception 04
+            self.last_error = exc
+            return ExceptionResponse(function, int(ExceptionCode.SERVER_DEVICE_FAILURE))
+
+    def _execute(self, request: Any) -> Pdu:
+        function = request.function_code
+        kind = table_kind(function)
+        table = self.bank.table(kind)
+        if function in (1, 2, 3, 4):
+            self.before_read(kind, request.address, request.count)
+            values = table.read(request.address, request.count)
+            cls = _pdu.RESPONSE_CLASSES[function]
+            if function in (1, 2):
+                return cls(bits=tuple(values))
+            return cls(registers=tuple(values))
+        if function in (5, 6):
+            values = [request.value]
+            table.write(request.address, values)
+            self.after_write(kind, request.address, values)
+            return _pdu.RESPONSE_CLASSES[function](address=request.address, value=request.value)
+        values = list(request.values)
+        table.write(request.address, values)
+        self.after_write(kind, request.address, values)
+        return _pdu.RESPONSE_CLASSES[function](address=request.address, count=len(values))
+
+    # -- hooks ----------------------------------------------------------------------------------
+    def before_read(self, table_kind: str, address: int, count: int) -> None:
+        """Called before every read; calls ``on_read``.  Override to compute values on demand."""
+        if self.on_read is not None:
+            self.on_read(self, table_kind, address, count)
+
+    def after_write(self, table_kind: str, address: int, values: list) -> None:
+        """Called after every write; calls ``on_write``.  Override to react to what was written."""
+        if self.on_write is not None:
+            self.on_write(self, table_kind, address, values)
+
+
+def dispatch(slaves: Slave | Iterable[Slave], frame: bytes, mode: str = "rtu") -> list[bytes]:
+    """Give one frame to every slave (as a shared serial bus does) and collect their answers.
+
+    Each slave filters by unit itself, so normally at most one answers.  Two slaves with the same
+    unit would both answer: on a real bus their responses collide.
+    """
+    if isinstance(slaves, Slave):
+        slaves = [slaves]
+    answers = []
+    for slave in slaves:
+        answer = slave.handle(frame, mode)
+        if answer is not None:
+            answers.append(answer)
+    return answers

@@ -1,0 +1,236 @@
+"""Traffic logs: every frame a master, a slave or a wire monitor saw, with its time and direction.
+
+A :class:`TrafficLog` is a list of :class:`Traffic` entries.  The master logs what it sends (``"tx"``)
+and receives (``"rx"``); a loopback wire's monitor logs everything on the line, marking what the master
+sent ``"tx"`` and what a slave sent ``"rx"``.  Times are on the clock of the link (virtual seconds on
+a loopback wire), so a log replays identically every time.
+
+>>> log = TrafficLog()
+>>> log.append(Traffic(0.0, "tx", "rtu", bytes.fromhex("010300000001840A"), source="master", dest="unit 1"))
+>>> print(log.to_text())
+      time  dir  mode  bytes                    note
+  0.000000  tx   rtu   01 03 00 00 00 01 84 0A  master -> unit 1
+"""
+
+from __future__ import annotations
+
+import html
+from collections import deque
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import ConfigError, ModbusError
+
+__all__ = ["Traffic", "TrafficLog"]
+
+DIRECTIONS = ("tx", "rx")
+
+
+@dataclass(frozen=True)
+class Traffic:
+    """One frame seen by a master, a slave or a monitor.
+
+    ``time``       seconds on the link's clock when the frame was sent or completely received
+                   (on a wire monitor: when its first bit went on the line; ``duration`` is how long
+                   the line was busy with it)
+    ``direction``  ``"tx"`` sent by the logging party (by the master, on a monitor) or ``"rx"``
+                   received by it (sent by a slave, on a monitor)
+    ``mode``       ``"rtu"``, ``"ascii"`` or ``"tcp"``
+    ``data``       the raw bytes, exactly as on the wire
+    ``source``, ``dest``   who sent it, and to whom (labels such as ``"master"``, ``"unit 3"``)
+    ``note``       what happened to it: ``"CRC error"``, ``"2 bits flipped"``, ``"ignored: unit 2"``
+    ``role``       ``"request"`` or ``"response"`` when known (``None``: guess from ``direction``)
+    """
+
+    time: float
+    direction: str
+    mode: str
+    data: bytes
+    source: str = ""
+    dest: str = ""
+    note: str = ""
+    role: str | None = None
+    duration: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.direction not in DIRECTIONS:
+            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {self.direction!r}")
+        object.__setattr__(self, "data", bytes(self.data))
+
+    @property
+    def hex(self) -> str:
+        """The bytes as spaced uppercase hex (an ASCII frame too: its characters' codes)."""
+        return self.data.hex(" ").upper()
+
+    @property
+    def text(self) -> str:
+        """The bytes as people read them: an ASCII frame as its characters, anything else as hex."""
+        if self.mode == "ascii" and self.data[:1] == b":":
+            return self.data.decode("ascii", "replace").replace("\r", "\\r").replace("\n", "\\n")
+        return self.hex
+
+    @property
+    def unit(self) -> int | None:
+        """The unit id the frame carries (``None`` if the frame is too short to have one)."""
+        data = self.data
+        try:
+            if self.mode == "tcp":
+                return data[6] if len(data) > 6 else None
+            if self.mode == "ascii":
+                return int(data[1:3], 16) if len(data) >= 3 and data[:1] == b":" else None
+            return data[0] if data else None
+        except ValueError:
+            return None
+
+    @property
+    def function(self) -> int | None:
+        """The function code byte (128+ for an exception response), or ``None``."""
+        data = self.data
+        try:
+            if self.mode == "tcp":
+                return data[7] if len(data) > 7 else None
+            if self.mode == "ascii":
+                return int(data[3:5], 16) if len(data) >= 5 and data[:1] == b":" else None
+            return data[1] if len(data) > 1 else None
+        except ValueError:
+            return None
+
+    @property
+    def guessed_role(self) -> str:
+        """``role`` if known, else ``"request"`` for ``tx`` and ``"response"`` for ``rx``."""
+        if self.role:
+            return self.role
+        return "request" if self.direction == "tx" else "response"
+
+    def label(self) -> str:
+        """``"master -> unit 1"``, or just the note's parties that are known."""
+        if self.source or self.dest:
+            return f"{self.source or '?'} -> {self.dest or '?'}"
+        return ""
+
+    def __str__(self) -> str:
+        parts = [f"{self.time:10.6f}", f"{self.direction:<3}", f"{self.mode:<4}", self.text]
+        extra = "; ".join(p for p in (self.label(), self.note) if p)
+        return "  ".join(parts) + (f"  {extra}" if extra else "")
+
+
+class TrafficLog:
+    """A list of :class:`Traffic` entries, with search, text and HTML views.
+
+    ``maxlen`` keeps only the newest entries (``None``: keep all).  Index it like a list: ``log[-1]`` is
+    the newest entry.
+    """
+
+    def __init__(self, entries: list[Traffic] | None = None, maxlen: int | None = None) -> None:
+        self._entries: deque[Traffic] = deque(entries or (), maxlen=maxlen)
+
+    @property
+    def maxlen(self) -> int | None:
+        return self._entries.maxlen
+
+    def append(self, entry: Traffic) -> None:
+        """Add an entry at the end (the oldest one goes if the log is full)."""
+        self._entries.append(entry)
+
+    def add(self, time: float, direction: str, mode: str, data: bytes, **kwargs: Any) -> Traffic:
+        """Build a :class:`Traffic` from its fields, append it and return it."""
+        entry = Traffic(time, direction, mode, data, **kwargs)
+        self._entries.append(entry)
+        return entry
+
+    def clear(self) -> None:
+        """Forget every entry."""
+        self._entries.clear()
+
+    def __iter__(self) -> Iterator[Traffic]:
+        return iter(list(self._entries))
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def __getitem__(self, index: int) -> Traffic:
+        try:
+            return self._entries[index]
+        except IndexError:
+            raise ModbusError(
+                f"traffic log index {index} is out of range: the log holds {len(self._entries)} entries"
+            ) from None
+
+    def __repr__(self) -> str:
+        return f"<TrafficLog: {len(self)} entries>"
+
+    # -- finding --------------------------------------------------------------------------------
+    def search(
+        self,
+        unit: int | None = None,
+        function: int | None = None,
+        text: str | None = None,
+        direction: str | None = None,
+    ) -> TrafficLog:
+        """The entries that match every criterion given, as a new log.
+
+        ``unit``: the unit id in the frame; ``function``: the function code (an exception response to
+        function 3 matches both 3 and 0x83); ``text``: case-insensitive, in the hex (``"84 0a"``), in
+        the ASCII text of an ASCII frame, in the note or the source/destination labels;
+        ``direction``: ``"tx"`` or ``"rx"``.
+        """
+        needle = text.strip().lower() if text else None
+        found = []
+        for entry in self._entries:
+            if unit is not None and entry.unit != unit:
+                continue
+            if function is not None:
+                fc = entry.function
+                if fc is None or (fc != function and (fc & 0x7F) != function):
+                    continue
+            if direction is not None and entry.direction != direction:
+                continue
+            if needle:
+                haystack = " ".join(
+                    (entry.hex, entry.data.hex(), entry.text, entry.note, entry.source, entry.dest)
+                ).lower()
+                if needle not in haystack:
+                    continue
+            found.append(entry)
+        return TrafficLog(found)
+
+    def explain(self, index: int) -> Any:
+        """The field-by-field dissection of entry ``index`` (see :func:`modbus_edu.explain.explain`)."""
+        from .explain import explain
+
+        entry = self[index]
+        return explain(entry.data, entry.mode, entry.guessed_role)
+
+    # -- showing --------------------------------------------------------------------------------
+    def to_text(self, newest_first: bool = False) -> str:
+        """An aligned table: time, direction, mode, bytes, and who/what."""
+        entries = list(self._entries)
+        if newest_first:
+            entries.reverse()
+        width = max([len(e.text) for e in entries] + [5])
+        lines = [f"{'time':>10}  dir  mode  {'bytes':<{width}}  note"]
+        for e in entries:
+            extra = "; ".join(p for p in (e.label(), e.note) if p)
+            line = f"{e.time:10.6f}  {e.direction:<3}  {e.mode:<4}  {e.text:<{width}}  {extra}"
+            lines.append(line.rstrip())
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.to_text()
+
+    def _repr_html_(self) -> str:
+        rows = []
+        for i, e in enumerate(self._entries):
+            colour = "#e8f0fe" if e.direction == "tx" else "#e6f4ea"
+            rows.append(
+                f'<tr style="background:{colour}"><td>{i}</td><td>{e.time:.6f}</td><td>{e.direction}</td>'
+                f"<td>{e.mode}</td><td>{html.escape(e.label())}</td>"
+                f'<td style="font-family:monospace">{html.escape(e.text)}</td>'
+                f"<td>{html.escape(e.note)}</td></tr>"
+            )
+        head = (
+            "<tr><th>#</th><th>time (s)</th><th>dir</th><th>mode</th><th>from -> to</th>"
+            "<th>bytes</th><th>note</th></tr>"
+        )
+        return f'<table class="modbus-traffic">{head}{"".join(rows)}</table>'
