@@ -339,7 +339,7 @@ class _ReadBitsResponse(Pdu):
 
     @classmethod
     def decode(cls, data: bytes, offset: int = 0):
-        name = f"{function_title(cls.function_code)} response"
+        name = cls  # named in a message only if a check fails
         _expect_minimum(data, 2, name, offset)
         byte_count = data[1]
         if not 1 <= byte_count <= 250:
@@ -385,7 +385,7 @@ class _ReadRegistersResponse(Pdu):
 
     @classmethod
     def decode(cls, data: bytes, offset: int = 0):
-        name = f"{function_title(cls.function_code)} response"
+        name = cls  # named in a message only if a check fails
         _expect_minimum(data, 2, name, offset)
         byte_count = data[1]
         if byte_count % 2 or not 2 <= byte_count <= 250:
@@ -409,23 +409,29 @@ class _ReadRegistersResponse(Pdu):
         return [("registers", list(self.registers))]
 
 
-def _expect_minimum(data: bytes, length: int, name: str, base: int) -> None:
+def _label(name: str | type[Pdu]) -> str:
+    """A PDU's name for a message: the string itself, or "<Function Title> <role>" of a class."""
+    return name if isinstance(name, str) else f"{function_title(name.function_code)} {name.role}"
+
+
+def _expect_minimum(data: bytes, length: int, name: str | type[Pdu], base: int) -> None:
     if len(data) < length:
         raise TruncatedError(
-            f"{name} is truncated: {len(data)} byte(s), expected at least {length} "
+            f"{_label(name)} is truncated: {len(data)} byte(s), expected at least {length} "
             f"(bytes {base}-{base + length - 1})")
 
 
-def _expect_byte_count(data: bytes, header: int, byte_count: int, name: str, base: int) -> None:
+def _expect_byte_count(data: bytes, header: int, byte_count: int, name: str | type[Pdu],
+                       base: int) -> None:
     present = len(data) - header
     if present < byte_count:
         raise TruncatedError(
-            f"{name} is truncated: byte count at byte {base + header - 1} announces {byte_count} data bytes, "
-            f"only {present} follow")
+            f"{_label(name)} is truncated: byte count at byte {base + header - 1} announces "
+            f"{byte_count} data bytes, only {present} follow")
     if present > byte_count:
         raise TrailingBytesError(
-            f"{name} has {present - byte_count} trailing byte(s) from byte {base + header + byte_count}: "
-            f"the byte count announces {byte_count} data bytes")
+            f"{_label(name)} has {present - byte_count} trailing byte(s) from byte "
+            f"{base + header + byte_count}: the byte count announces {byte_count} data bytes")
 
 
 @dataclass(frozen=True, slots=True)
