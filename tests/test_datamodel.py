@@ -471,3 +471,20 @@ def test_table_write_read_never_leaks_python_errors(kind, address, values):
         return
     expected = [bool(v) for v in values] if t.is_bits else values
     assert t.read(address, len(values)) == expected
+
+
+def test_small_corners():
+    bank = DataBank()
+    t = bank.holding_registers
+    assert repr(t) == "<Table holding_registers (dense, 65536 addresses)>"
+    assert repr(bank) == "<DataBank dense: 4 tables x 65536 addresses>"
+    assert t != "table" and bank != "bank"
+    assert len(t.snapshot(nonzero_only=False)) == 65536
+    with pytest.raises(DataModelError, match="slice stop"):
+        t[0:"3"]
+    with pytest.raises(DataModelError, match="count"):
+        t.read(0, True)
+    with pytest.raises(ReferenceNumberError, match="must be an int"):
+        Reference("coils", 1.0)
+    with pytest.raises(IllegalAddressError, match=r"holding register address 70000 is outside"):
+        t.declare(70000)
