@@ -1,0 +1,82 @@
+"""Drive a JupyterLab page with playwright: open a notebook, run all its cells, wait for the kernel.
+
+Only stable JupyterLab 4 hooks are used: command ids on menu items (``data-command``), the notebook's
+execution indicator (``data-status``) and the cells' input prompts ("[3]:" once a cell has run).
+"""
+
+from __future__ import annotations
+
+import re
+import time
+
+BROWSER_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+CHROMIUM = "/usr/bin/chromium"
+
+
+def wait_kernel_idle(page, timeout_ms: int = 60_000) -> None:
+    """Wait until the notebook's kernel reports idle."""
+    page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=timeout_ms)
+
+
+def open_notebook(page, url: str, timeout_ms: int = 60_000) -> None:
+    """Load JupyterLab at the notebook's URL and wait for the notebook and its kernel."""
+    page.goto(url, wait_until="domcontentloaded", timeout=timeout_ms)
+    page.wait_for_selector(".jp-NotebookPanel .jp-Cell", timeout=timeout_ms)
+    wait_kernel_idle(page, timeout_ms)
+
+
+def _prompts(page) -> list[str]:
+    return [p.strip() for p in page.locator(".jp-CodeCell .jp-InputArea-prompt").all_inner_texts()]
+
+
+def run_all_cells(page, attempts: int = 4) -> None:
+    """Run every cell through the Run menu: Run > Run All Cells (command ``runmenu:run-all``).
+
+    Right after the page loads the command can still be disabled (the notebook's session is not wired
+    yet): then the menu is closed again and the click retried, until some cell shows "[*]" or a number.
+    """
+    for _ in range(attempts):
+        page.locator(".lm-MenuBar-item", has_text=re.compile(r"^Run$")).first.click()
+        item = page.locator('.lm-Menu-item[data-command="runmenu:run-all"]')
+        item.wait_for(state="visible", timeout=10_000)
+        if "lm-mod-disabled" in (item.get_attribute("class") or ""):
+            page.keyboard.press("Escape")
+            page.wait_for_timeout(500)
+            continue
+        item.click()
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            if any(re.fullmatch(r"\[(\*|\d+)\]:", p) for p in _prompts(page)):
+                return
+            page.wait_for_timeout(100)
+    raise TimeoutError("Run > Run All Cells did not start the cells")
+
+
+def wait_all_cells_ran(page, timeout_s: float = 60.0) -> list[str]:
+    """Wait until every code cell shows an execution count ("[n]:"), then for the kernel to be idle.
+
+    Returns the prompts it saw.
+    """
+    deadline = time.monotonic() + timeout_s
+    prompts: list[str] = []
+    while time.monotonic() < deadline:
+        prompts = _prompts(page)
+        if prompts and all(re.fullmatch(r"\[\d+\]:", p) for p in prompts):
+            wait_kernel_idle(page, int(max(1.0, deadline - time.monotonic()) * 1000))
+            return prompts
+        time.sleep(0.2)
+    raise TimeoutError(f"cells did not finish running; prompts: {prompts}")
+
+
+def cell_errors(page) -> list[str]:
+    """Texts of any error outputs (tracebacks) in the notebook."""
+    return page.locator('.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.stderr"], '
+                        '.jp-RenderedText[data-mime-type="application/vnd.jupyter.error"]').all_inner_texts()
