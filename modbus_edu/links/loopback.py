@@ -1,0 +1,400 @@
+"""In-process links on a virtual clock: a serial bus and a TCP connection, with slaves at the far end.
+
+:func:`loopback_serial` builds a virtual RS-232/RS-485 line (see :mod:`modbus_edu.links.wire` for its
+timing rules) with one or several :class:`~modbus_edu.slave.Slave` objects on it, and returns the
+master's end as a :class:`~modbus_edu.links.base.Link`.  :func:`loopback_tcp` does the same for
+Modbus/TCP, with a configurable network latency.
+
+Everything runs on ``link.clock``, a :class:`~modbus_edu.clock.VirtualClock`: ``receive(timeout)`` runs
+the simulation until a frame arrives or the timeout passes, and returns at once in real time.  With a
+slave's processing time of 0, one FC3 transaction for 1 register at 9600 baud 8N1 advances
+``link.clock.now`` by exactly (8 + 3.5 + 7 + 3.5) x 10 / 9600 s = 22.92 ms.
+
+>>> import modbus_edu as mb
+>>> from modbus_edu.slave import Slave
+>>> link = loopback_serial(Slave(unit=1), baudrate=9600)
+>>> frame = bytes.fromhex("01 03 00 00 00 01 84 0A")
+>>> link.send(frame)
+>>> link.receive(timeout=1.0).hex(" ")
+'01 03 02 00 00 b8 44'
+>>> round(link.clock.now * 1000, 2)
+22.92
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable
+
+from ..clock import VirtualClock
+from ..errors import ConfigError, LinkError
+from ..framing import TcpSplitter
+from ..slave import Slave
+from ..traffic import TrafficLog
+from .base import Link
+from .faults import Faults
+from .wire import BusStats, SerialBus, SerialTiming
+
+__all__ = ["LoopbackSerialLink", "LoopbackTcpLink", "loopback_serial", "loopback_tcp"]
+
+
+def _slave_list(slaves: Slave | Iterable[Slave] | None) -> list[Slave]:
+    if slaves is None:
+        return []
+    if isinstance(slaves, Slave):
+        return [slaves]
+    if isinstance(slaves, dict):
+        slaves = slaves.values()
+    try:
+        result = list(slaves)
+    except TypeError:
+        raise ConfigError(f"expected a Slave or a list of Slaves, got {type(slaves).__name__}") from None
+    for s in result:
+        if not isinstance(s, Slave):
+            raise ConfigError(f"expected Slave objects, got {type(s).__name__} {s!r}")
+    return result
+
+
+def _check_timeout(timeout: float) -> float:
+    try:
+        timeout = float(timeout)
+    except (TypeError, ValueError):
+        raise ConfigError(f"timeout must be a number of seconds, got {timeout!r}") from None
+    if not timeout >= 0:
+        raise ConfigError(f"timeout must be >= 0 s, got {timeout!r}")
+    return timeout
+
+
+def _rewrite_unit(frame: bytes, mode: str, unit: int) -> bytes:
+    """The same response with another unit id (checksum recomputed): the ``answer_as`` fault."""
+    from ..crc import crc16, lrc
+
+    if mode == "tcp":
+        return frame[:6] + bytes([unit]) + frame[7:]
+    if mode == "ascii":
+        body = bytes([unit]) + bytes.fromhex(frame[3:-4].decode("ascii"))
+        return b":" + (body + bytes([lrc(body)])).hex().upper().encode("ascii") + b"\r\n"
+    body = bytes([unit]) + frame[1:-2]
+    return body + crc16(body).to_bytes(2, "little")
+
+
+class _LoopbackLink(Link):
+    """What both loopback links share: the clock, the inbox, ``receive``, the slaves, the faults."""
+
+    clock: VirtualClock
+
+    def __init__(self, mode: str, clock: VirtualClock | None, seed: int | None) -> None:
+        self.mode = mode
+        self.clock = clock if clock is not None else VirtualClock()
+        self.faults = Faults(seed)
+        self.monitor = TrafficLog()
+        self._inbox: deque[bytes] = deque()
+        self._slaves: list[Slave] = []
+
+    @property
+    def slaves(self) -> list[Slave]:
+        """The slaves at the far end (a copy of the list: use :meth:`attach` / :meth:`detach`)."""
+        return list(self._slaves)
+
+    def receive(self, timeout: float) -> bytes | None:
+        """Run the virtual clock until a complete frame has arrived (then return it) or ``timeout`` passes."""
+        self._check_open()
+        timeout = _check_timeout(timeout)
+        inbox = self._inbox
+        if not inbox:
+            self.clock.run_until(self.clock.now + timeout, inbox.__len__)
+        return inbox.popleft() if inbox else None
+
+    def run(self, seconds: float) -> None:
+        """Let ``seconds`` of virtual time pass (slaves keep working; frames that arrive are kept)."""
+        self.clock.advance(seconds)
+
+    def close(self) -> None:
+        self.closed = True
+        self._inbox.clear()
+
+    def _check_open(self) -> None:
+        if self.closed:
+            raise LinkError(f"{self.description}: the link is closed; create a new one")
+
+
+class LoopbackSerialLink(_LoopbackLink):
+    """The master's end of a virtual serial line with slaves on it.  Build it with :func:`loopback_serial`.
+
+    ``timing`` (a :class:`~modbus_edu.links.wire.SerialTiming`) holds the line settings and the derived
+    character time, t1.5 and t3.5; ``bus`` is the :class:`~modbus_edu.links.wire.SerialBus`;
+    ``monitor`` a :class:`~modbus_edu.traffic.TrafficLog` of everything on the line; ``faults`` the
+    :class:`~modbus_edu.links.faults.Faults` injected; ``stats`` what the line saw.
+    """
+
+    def __init__(
+        self,
+        slaves: Slave | Iterable[Slave] | None = None,
+        *,
+        baudrate: int = 9600,
+        parity: str = "N",
+        stopbits: float = 1,
+        mode: str = "rtu",
+        bytesize: int | None = None,
+        seed: int | None = 0,
+        clock: VirtualClock | None = None,
+        ascii_timeout: float = 1.0,
+    ) -> None:
+        if mode not in ("rtu", "ascii"):
+            raise ConfigError(f"a serial line carries 'rtu' or 'ascii' frames, got mode {mode!r}")
+        if bytesize is None:
+            bytesize = 8 if mode == "rtu" else 7
+        super().__init__(mode, clock, seed)
+        self.timing = SerialTiming(baudrate, parity, stopbits, bytesize, mode, ascii_timeout)
+        self.bus = SerialBus(self.timing, self.clock, self.faults, self.monitor)
+        self._node = self.bus.attach("master", self._on_frame, is_master=True)
+        self._slave_nodes: dict[int, object] = {}
+        for slave in _slave_list(slaves):
+            self.attach(slave)
+
+    # -- the bus ------------------------------------------------------------------------------------
+    def attach(self, slave: Slave) -> None:
+        """Connect one more slave to the bus (RS-485 multidrop)."""
+        if not isinstance(slave, Slave):
+            raise ConfigError(f"expected a Slave, got {type(slave).__name__}")
+        if id(slave) in self._slave_nodes:
+            return
+        node = self.bus.attach(slave.name, lambda frame, t, s=slave: self._slave_hears(s, frame, t))
+        self._slave_nodes[id(slave)] = node
+        self._slaves.append(slave)
+        if slave.clock is None:
+            slave.clock = self.clock
+
+    def detach(self, slave: Slave) -> None:
+        """Disconnect a slave from the bus."""
+        node = self._slave_nodes.pop(id(slave), None)
+        if node is not None:
+            self.bus.detach(node)  # type: ignore[arg-type]
+            self._slaves.remove(slave)
+
+    @property
+    def stats(self) -> BusStats:
+        """What the line saw: frames, broken frames, discarded frames, ..."""
+        return self.bus.stats
+
+    def _slave_hears(self, slave: Slave, frame: bytes, when: float) -> None:
+        faults = self.faults
+        if faults.is_silenced(slave.unit):
+            self._annotate(f"{slave.name} is silenced: it does not hear this frame")
+            return
+        answer = slave.handle(frame, self.mode)
+        if answer is None:
+            return
+        other = faults.wrong_unit(slave.unit)
+        if other is not None:
+            answer = _rewrite_unit(answer, self.mode, other)
+        delay = slave.response_delay(when) + faults.extra_delay(slave.unit)
+        node = self._slave_nodes[id(slave)]
+        if delay > 0:
+            self.clock.call_at(when + delay, node.transmit, answer, "master")  # type: ignore[attr-defined]
+        else:
+            node.transmit(answer, "master")  # type: ignore[attr-defined]
+
+    def _annotate(self, text: str) -> None:
+        self.bus._note(text)
+
+    def _on_frame(self, frame: bytes, when: float) -> None:
+        self._inbox.append(frame)
+
+    # -- the Link interface ---------------------------------------------------------------------------
+    def send(self, frame: bytes) -> None:
+        """Put one frame on the line (now, or as soon as the line is free)."""
+        self._check_open()
+        if not isinstance(frame, (bytes, bytearray, memoryview)):
+            raise LinkError(f"send() takes the bytes of one frame, got {type(frame).__name__}")
+        data = bytes(frame)
+        dest = ""
+        if data:
+            unit = data[0] if self.mode == "rtu" else None
+            if self.mode == "ascii" and len(data) >= 3:
+                try:
+                    unit = int(data[1:3], 16)
+                except ValueError:
+                    unit = None
+            if unit is not None:
+                dest = "broadcast" if unit == 0 else f"unit {unit}"
+        self._node.transmit(data, dest)
+
+    def flush(self) -> None:
+        """Run the clock until the line is free: what was sent has arrived and its 3.5-char silence passed."""
+        self._check_open()
+        free = self.bus.free_at
+        if free > self.clock.now:
+            self.clock.run_until(free)
+
+    @property
+    def description(self) -> str:
+        n = len(self._slaves)
+        kind = "RS-485 bus" if n > 1 else "serial line"
+        return f"virtual {kind}, {self.timing}, {self.mode.upper()}, {n} slave{'s' if n != 1 else ''}"
+
+
+class LoopbackTcpLink(_LoopbackLink):
+    """The client's end of a virtual Modbus/TCP connection to a server holding slaves.
+
+    Build it with :func:`loopback_tcp`.  Each direction takes ``latency`` seconds.  The server handles
+    one request at a time, in order (like most real servers on one connection): a request that arrives
+    while the previous one is still being answered waits its turn.  Unit 0 is broadcast (every slave
+    acts, none answers); other units reach the slave with that unit, and no answer comes back if there is
+    none.  ``monitor`` logs both directions as the server sees them.
+    """
+
+    def __init__(
+        self,
+        slaves: Slave | Iterable[Slave] | None = None,
+        *,
+        latency: float = 0.0,
+        seed: int | None = 0,
+        clock: VirtualClock | None = None,
+    ) -> None:
+        super().__init__("tcp", clock, seed)
+        try:
+            latency = float(latency)
+        except (TypeError, ValueError):
+            raise ConfigError(f"latency must be a number of seconds, got {latency!r}") from None
+        if not latency >= 0:
+            raise ConfigError(f"latency must be >= 0 s, got {latency!r}")
+        self.latency = latency
+        self._server_splitter = TcpSplitter()
+        self._client_splitter = TcpSplitter()
+        self._server_busy_until = float("-inf")
+        self._in_flight_until = float("-inf")
+        for slave in _slave_list(slaves):
+            self.attach(slave)
+
+    def attach(self, slave: Slave) -> None:
+        """Put one more slave behind the server."""
+        if not isinstance(slave, Slave):
+            raise ConfigError(f"expected a Slave, got {type(slave).__name__}")
+        if slave not in self._slaves:
+            self._slaves.append(slave)
+            if slave.clock is None:
+                slave.clock = self.clock
+
+    def detach(self, slave: Slave) -> None:
+        if slave in self._slaves:
+            self._slaves.remove(slave)
+
+    def send(self, frame: bytes) -> None:
+        """Send bytes to the server; they arrive ``latency`` seconds later."""
+        self._check_open()
+        if not isinstance(frame, (bytes, bytearray, memoryview)):
+            raise LinkError(f"send() takes the bytes of one frame, got {type(frame).__name__}")
+        data = bytes(frame)
+        if self.faults.touches_wire:
+            raise ConfigError(
+                "bit errors and lost bytes are serial-line faults: TCP checks and retransmits its "
+                "segments, so a Modbus/TCP frame arrives whole or not at all; use delay/silence/answer_as"
+            )
+        arrival = self.clock.now + self.latency
+        self._in_flight_until = max(self._in_flight_until, arrival)
+        self.clock.call_at(arrival, self._server_receives, data)
+
+    def flush(self) -> None:
+        """Run the clock until every request sent so far has reached the server and been handled."""
+        self._check_open()
+        until = max(self._in_flight_until, self._server_busy_until)
+        if until > self.clock.now:
+            self.clock.run_until(until)
+
+    def _server_receives(self, data: bytes) -> None:
+        for frame in self._server_splitter.feed(data):
+            start = max(self.clock.now, self._server_busy_until)
+            if start > self.clock.now:
+                self._server_busy_until = start  # queued behind the request being answered
+                self.clock.call_at(start, self._serve, frame)
+            else:
+                self._serve(frame)
+
+    def _serve(self, frame: bytes) -> None:
+        now = self.clock.now
+        self.monitor.add(now, "tx", "tcp", frame, source="client", dest=self._dest(frame), role="request")
+        unit = frame[6] if len(frame) > 6 else None
+        faults = self.faults
+        replies: list[tuple[float, bytes, Slave]] = []
+        for slave in self._slaves:
+            if unit is not None and unit != 0 and not slave.accepts(unit):
+                continue
+            if faults.is_silenced(slave.unit):
+                self._annotate(f"{slave.name} is silenced: it does not see this request")
+                continue
+            answer = slave.handle(frame, "tcp")
+            if answer is None:
+                continue
+            other = faults.wrong_unit(slave.unit)
+            if other is not None:
+                answer = _rewrite_unit(answer, "tcp", other)
+            delay = slave.response_delay(now) + faults.extra_delay(slave.unit)
+            replies.append((delay, answer, slave))
+            break  # one slave per unit id: the first one that answers
+        for delay, answer, slave in replies:
+            done = now + delay
+            self._server_busy_until = max(self._server_busy_until, done)
+            self.clock.call_at(done, self._server_sends, answer, slave.name)
+
+    def _server_sends(self, answer: bytes, name: str) -> None:
+        self.monitor.add(self.clock.now, "rx", "tcp", answer, source=name, dest="client", role="response")
+        self.clock.call_at(self.clock.now + self.latency, self._client_receives, answer)
+
+    def _client_receives(self, data: bytes) -> None:
+        self._inbox.extend(self._client_splitter.feed(data))
+
+    def _annotate(self, text: str) -> None:
+        log = self.monitor
+        if len(log):
+            last = log._entries.pop()
+            note = f"{last.note}; {text}" if last.note else text
+            log.add(last.time, last.direction, last.mode, last.data, source=last.source, dest=last.dest,
+                    note=note, role=last.role, duration=last.duration)
+
+    @staticmethod
+    def _dest(frame: bytes) -> str:
+        if len(frame) < 7:
+            return "server"
+        return "broadcast" if frame[6] == 0 else f"unit {frame[6]}"
+
+    @property
+    def description(self) -> str:
+        n = len(self._slaves)
+        lat = f", latency {self.latency * 1000:g} ms" if self.latency else ""
+        return f"virtual Modbus/TCP connection{lat}, {n} slave{'s' if n != 1 else ''}"
+
+
+def loopback_serial(
+    slaves: Slave | Iterable[Slave] | None = None,
+    baudrate: int = 9600,
+    parity: str = "N",
+    stopbits: float = 1,
+    mode: str = "rtu",
+    bytesize: int | None = None,
+    seed: int | None = 0,
+    *,
+    clock: VirtualClock | None = None,
+    ascii_timeout: float = 1.0,
+) -> LoopbackSerialLink:
+    """A virtual serial line (RS-232 with one slave, RS-485 multidrop with several), as a master's Link.
+
+    ``slaves``: one :class:`~modbus_edu.slave.Slave` or a list.  ``mode``: ``"rtu"`` (8 data bits) or
+    ``"ascii"`` (7 data bits unless ``bytesize=8``).  ``seed`` seeds the fault injector.  The link's
+    ``clock`` is a :class:`~modbus_edu.clock.VirtualClock`; ``link.clock.now`` is its time in seconds.
+    """
+    return LoopbackSerialLink(
+        slaves, baudrate=baudrate, parity=parity, stopbits=stopbits, mode=mode, bytesize=bytesize,
+        seed=seed, clock=clock, ascii_timeout=ascii_timeout,
+    )
+
+
+def loopback_tcp(
+    slaves: Slave | Iterable[Slave] | None = None,
+    latency: float = 0.0,
+    seed: int | None = 0,
+    *,
+    clock: VirtualClock | None = None,
+) -> LoopbackTcpLink:
+    """A virtual Modbus/TCP connection to a server holding ``slaves`` (selected by unit id)."""
+    return LoopbackTcpLink(slaves, latency=latency, seed=seed, clock=clock)

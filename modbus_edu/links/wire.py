@@ -1,0 +1,373 @@
+"""The virtual serial line: character timing, the silence that ends an RTU frame, a multidrop bus.
+
+**One character** on an asynchronous serial line is a start bit, the data bits (8 in RTU, 7 or 8 in
+ASCII), a parity bit if parity is even or odd, and 1 or 2 stop bits: 10 or 11 bits in RTU.  At ``B``
+baud it takes ``bits / B`` seconds: 1.0417 ms for 8N1 at 9600 baud.
+
+**RTU frames are delimited by silence.**  A frame ends when the line has been quiet for 3.5 character
+times (``t3.5``); inside a frame the characters must follow each other with at most 1.5 character times
+of silence (``t1.5``).  Above 19200 baud the specification fixes ``t1.5 = 0.750 ms`` and
+``t3.5 = 1.750 ms`` (the character-based values would be too short for a PC's timers).
+
+What the receivers of this virtual line do (the state machine of the serial line specification):
+
+* a silence of **3.5 character times or more** after a byte ends the frame; the frame is handed to every
+  other node on the bus at that moment (``last byte + t3.5``);
+* a silence of **more than 1.5 but less than 3.5** character times inside a frame makes the frame
+  *broken*: the receiver keeps taking the bytes that follow (they belong to the same frame, since the
+  line never went quiet for 3.5), and when the 3.5 silence finally comes it **discards the whole
+  frame**, both pieces.  Nobody receives it: a request broken this way gets no answer, a response broken
+  this way never reaches the master.  Counted in ``stats.broken_frames``.
+* a silence of **3.5 or more** inside what the sender meant as one frame simply cuts it in two frames;
+  each piece is delivered on its own and fails its CRC check at the receiver.
+
+**ASCII frames are delimited by characters**: ``:`` starts a frame (and restarts it if one was in
+progress: the half frame is discarded), CR LF ends it, and it is delivered the moment the LF arrives.
+Bytes outside a frame are discarded.  Inside a frame a silence of more than 1 second (configurable)
+discards the frame.
+
+**Who may talk.**  Each node transmits whole frames, byte after byte without pause (unless a fault
+inserts one).  A node that wants to transmit while the line is busy waits until it is free (for RTU:
+until the 3.5-character silence after the last frame has passed).  A real RS-485 bus would garble two
+simultaneous transmissions instead; here they are queued, which keeps the simulation simple and makes
+the timing of a well-behaved bus exact.  A node never hears itself; a node does not hear a frame that
+started before its own transmission ended (half duplex: it was talking).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, fields
+
+from ..clock import Timer, VirtualClock
+from ..errors import ConfigError
+from ..traffic import TrafficLog
+from .faults import Faults
+
+__all__ = ["SerialTiming", "SerialBus", "BusStats", "character_time"]
+
+PARITIES = {"N": 0, "E": 1, "O": 1}
+_EPS = 1e-9  # one nanosecond: tolerance when comparing silences computed in floating point
+
+
+def _parity(parity: str) -> str:
+    value = str(parity).upper()[:1]
+    if value not in PARITIES:
+        raise ConfigError(f"parity must be 'N' (none), 'E' (even) or 'O' (odd), got {parity!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class SerialTiming:
+    """The timing of a serial line: ``SerialTiming(9600, "N", 1, 8)``.
+
+    >>> t = SerialTiming(baudrate=9600)
+    >>> t.bits_per_char, round(t.char_time * 1000, 4), round(t.t35 * 1000, 4)
+    (10, 1.0417, 3.6458)
+    >>> SerialTiming(baudrate=115200).t35   # fixed above 19200 baud
+    0.00175
+    """
+
+    baudrate: int = 9600
+    parity: str = "N"
+    stopbits: float = 1
+    bytesize: int = 8
+    mode: str = "rtu"
+    ascii_timeout: float = 1.0
+
+    def __post_init__(self) -> None:
+        baud = self.baudrate
+        if isinstance(baud, bool) or not isinstance(baud, (int, float)) or not baud > 0:
+            raise ConfigError(f"baudrate must be a positive number of bits per second, got {self.baudrate!r}")
+        object.__setattr__(self, "parity", _parity(self.parity))
+        if self.stopbits not in (1, 1.5, 2):
+            raise ConfigError(f"stopbits must be 1, 1.5 or 2, got {self.stopbits!r}")
+        if self.mode not in ("rtu", "ascii"):
+            raise ConfigError(f"a serial line carries 'rtu' or 'ascii' frames, got mode {self.mode!r}")
+        if self.bytesize not in (7, 8):
+            raise ConfigError(f"bytesize must be 7 or 8 data bits, got {self.bytesize!r}")
+        if self.mode == "rtu" and self.bytesize != 8:
+            raise ConfigError("RTU needs 8 data bits: every byte of the frame is sent as it is")
+        if not self.ascii_timeout > 0:
+            raise ConfigError(f"ascii_timeout must be > 0 s, got {self.ascii_timeout!r}")
+
+    @property
+    def bits_per_char(self) -> float:
+        """Start bit + data bits + parity bit (E/O) + stop bits."""
+        stop = self.stopbits
+        return 1 + self.bytesize + PARITIES[self.parity] + (int(stop) if stop == int(stop) else stop)
+
+    @property
+    def char_time(self) -> float:
+        """Seconds one character occupies the line."""
+        return self.bits_per_char / self.baudrate
+
+    @property
+    def t15(self) -> float:
+        """Longest allowed silence inside an RTU frame: 1.5 characters, or 0.750 ms above 19200 baud."""
+        return 0.000750 if self.baudrate > 19200 else 1.5 * self.char_time
+
+    @property
+    def t35(self) -> float:
+        """Silence that ends an RTU frame: 3.5 characters, or 1.750 ms above 19200 baud."""
+        return 0.001750 if self.baudrate > 19200 else 3.5 * self.char_time
+
+    @property
+    def frame_gap(self) -> float:
+        """Silence between two frames: ``t35`` in RTU, none in ASCII (its frames end with CR LF)."""
+        return self.t35 if self.mode == "rtu" else 0.0
+
+    def frame_time(self, nbytes: int) -> float:
+        """Seconds ``nbytes`` characters take on the line, back to back."""
+        return nbytes * self.char_time
+
+    def transaction_time(
+        self, request_bytes: int, response_bytes: int, processing_time: float = 0.0
+    ) -> float:
+        """One request and its response, until the next request may start.
+
+        RTU: request + t3.5 + processing + response + t3.5 (the silence that ends the response is the one
+        that must precede the next request: it is not counted twice).  ASCII: request + processing +
+        response (the frames carry their own delimiters).
+        """
+        return (request_bytes + response_bytes) * self.char_time + 2 * self.frame_gap + processing_time
+
+    def __str__(self) -> str:
+        stop = f"{self.stopbits:g}"
+        return f"{self.baudrate:g} baud {self.bytesize}{self.parity}{stop}"
+
+
+def character_time(baudrate: int, parity: str = "N", stopbits: float = 1, bytesize: int = 8) -> float:
+    """Seconds one character takes on a serial line: ``character_time(9600) == 10 / 9600``."""
+    return SerialTiming(baudrate, parity, stopbits, bytesize, "rtu" if bytesize == 8 else "ascii").char_time
+
+
+@dataclass
+class BusStats:
+    """What the line itself saw.
+
+    ``frames``            frames delivered to the receivers
+    ``broken_frames``     RTU frames discarded because of a silence of more than 1.5 characters inside
+    ``discarded_frames``  ASCII frames discarded (restarted by ':', inter-character timeout, too long)
+    ``junk_bytes``        ASCII bytes outside any frame
+    ``ignored_frames``    frames a node did not hear because it was transmitting (half duplex)
+    ``waits``             transmissions that had to wait for the line to be free
+    """
+
+    frames: int = 0
+    broken_frames: int = 0
+    discarded_frames: int = 0
+    junk_bytes: int = 0
+    ignored_frames: int = 0
+    waits: int = 0
+
+    def reset(self) -> None:
+        for f in fields(self):
+            setattr(self, f.name, 0)
+
+    def as_dict(self) -> dict[str, int]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+class Node:
+    """One transceiver on the bus.  ``on_frame(frame, first_byte_time, end_time)`` receives frames."""
+
+    def __init__(self, bus: SerialBus, name: str, is_master: bool,
+                 on_frame: Callable[[bytes, float], None]) -> None:
+        self.bus = bus
+        self.name = name
+        self.is_master = is_master
+        self.on_frame = on_frame
+        self.tx_end = float("-inf")
+        """When this node's latest transmission leaves the line (its last bit)."""
+
+    def transmit(self, data: bytes, dest: str = "") -> float:
+        """Queue ``data`` for transmission now (or when the line is free); return when it will end."""
+        return self.bus.transmit(self, data, dest)
+
+    def __repr__(self) -> str:
+        return f"<Node {self.name}>"
+
+
+class SerialBus:
+    """A half-duplex serial line shared by a master node and slave nodes, on a :class:`VirtualClock`.
+
+    See the module's documentation for the rules.  The ``monitor`` (a :class:`TrafficLog`) records every
+    transmission: time of its first bit, its bytes as they went on the line, who sent it, and what the
+    fault injector did to it.
+    """
+
+    def __init__(self, timing: SerialTiming, clock: VirtualClock, faults: Faults | None = None,
+                 monitor: TrafficLog | None = None) -> None:
+        self.timing = timing
+        self.clock = clock
+        self.faults = faults if faults is not None else Faults()
+        self.monitor = monitor if monitor is not None else TrafficLog()
+        self.stats = BusStats()
+        self.nodes: list[Node] = []
+        self.free_at = float("-inf")
+        """When the line is next free for a new frame (after the inter-frame silence)."""
+        # receiver state, shared by every node: they all hear the same bytes at the same moments
+        self._buf = bytearray()
+        self._first = 0.0
+        self._last = float("-inf")
+        self._sender: Node | None = None
+        self._broken = False
+        self._done: Timer | None = None
+
+    def attach(self, name: str, on_frame: Callable[[bytes, float], None], is_master: bool = False) -> Node:
+        node = Node(self, name, is_master, on_frame)
+        self.nodes.append(node)
+        return node
+
+    def detach(self, node: Node) -> None:
+        if node in self.nodes:
+            self.nodes.remove(node)
+
+    # -- transmitting -------------------------------------------------------------------------------
+    def transmit(self, node: Node, data: bytes, dest: str = "") -> float:
+        timing, clock = self.timing, self.clock
+        now = clock.now
+        start = now
+        if self.free_at > now + _EPS:
+            start = self.free_at
+            self.stats.waits += 1
+        role = "request" if node.is_master else "response"
+        notes: list[str] = []
+        gaps: dict[int, float] = {}
+        if self.faults.touches_wire:
+            data, gaps, notes = self.faults.corrupt(data, role, timing.bytesize)
+        c = timing.char_time
+        times = []
+        t = start
+        for index in range(len(data)):
+            if index in gaps:
+                t += gaps[index] * c
+            t += c
+            times.append(t)
+        end = times[-1] if times else start
+        node.tx_end = end
+        self.free_at = end + timing.frame_gap
+        self.monitor.add(
+            start, "tx" if node.is_master else "rx", timing.mode, data, source=node.name,
+            dest=dest or ("slaves" if node.is_master else "master"), note="; ".join(notes),
+            role=role, duration=end - start,
+        )
+        if data:
+            clock.call_at(start, self._line, node, data, times)
+        return end
+
+    # -- receiving (one decoder: every receiver hears the same thing) --------------------------------
+    def _line(self, sender: Node, data: bytes, times: list[float]) -> None:
+        if self.timing.mode == "rtu":
+            self._line_rtu(sender, data, times)
+        else:
+            self._line_ascii(sender, data, times)
+
+    def _line_rtu(self, sender: Node, data: bytes, times: list[float]) -> None:
+        timing = self.timing
+        c, t15, t35 = timing.char_time, timing.t15, timing.t35
+        buf = self._buf
+        for byte, t in zip(data, times):
+            if buf:
+                silence = (t - c) - self._last
+                if silence >= t35 - _EPS:
+                    self._schedule_done()  # what came before was a complete frame
+                    buf = self._buf
+                elif silence > t15 + _EPS and not self._broken:
+                    self._broken = True
+            if not buf:
+                self._first = t - c
+                self._sender = sender
+            buf.append(byte)
+            self._last = t
+        self._schedule_done(keep_open=True)
+
+    def _schedule_done(self, keep_open: bool = False) -> None:
+        """Arrange for the pending frame to be delivered at ``last byte + t3.5``.
+
+        With ``keep_open`` the frame may still be continued by a later transmission (the timer is then
+        cancelled); otherwise it is closed now and a new frame starts with the next byte.
+        """
+        if self._done is not None:
+            self._done.cancel()
+            self._done = None
+        if not self._buf:
+            return
+        when = self._last + self.timing.t35
+        if keep_open:
+            self._done = self.clock.call_at(when, self._close_frame)
+            return
+        self.clock.call_at(when, self._deliver, bytes(self._buf), self._sender, self._first, self._broken)
+        self._buf = bytearray()
+        self._broken = False
+
+    def _close_frame(self) -> None:
+        self._done = None
+        frame, sender, first, broken = bytes(self._buf), self._sender, self._first, self._broken
+        self._buf = bytearray()
+        self._broken = False
+        self._deliver(frame, sender, first, broken)
+
+    def _line_ascii(self, sender: Node, data: bytes, times: list[float]) -> None:
+        timing = self.timing
+        c, limit = timing.char_time, timing.ascii_timeout
+        for byte, t in zip(data, times):
+            buf = self._buf
+            if buf and (t - c) - self._last > limit + _EPS:
+                self.stats.discarded_frames += 1  # inter-character timeout
+                self._note(f"ASCII frame discarded: more than {limit:g} s of silence inside it")
+                buf.clear()
+            if byte == 0x3A:  # ':' starts a frame, even in the middle of one
+                if buf:
+                    self.stats.discarded_frames += 1
+                    self._note("ASCII frame discarded: a new ':' arrived before its CR LF")
+                buf.clear()
+                buf.append(byte)
+                self._first = t - c
+                self._sender = sender
+                self._last = t
+                continue
+            if not buf:
+                self.stats.junk_bytes += 1
+                continue
+            buf.append(byte)
+            self._last = t
+            if byte == 0x0A and len(buf) >= 2 and buf[-2] == 0x0D:
+                self.clock.call_at(t, self._deliver, bytes(buf), self._sender, self._first, False)
+                buf.clear()
+            elif len(buf) >= 513:
+                self.stats.discarded_frames += 1
+                self._note("ASCII frame discarded: 513 characters without CR LF")
+                buf.clear()
+
+    def _note(self, text: str) -> None:
+        """Add a line event to the note of the newest monitor entry."""
+        log = self.monitor
+        if len(log):
+            last = log._entries.pop()
+            note = f"{last.note}; {text}" if last.note else text
+            log.add(last.time, last.direction, last.mode, last.data, source=last.source, dest=last.dest,
+                    note=note, role=last.role, duration=last.duration)
+
+    def _deliver(self, frame: bytes, sender: Node | None, first: float, broken: bool) -> None:
+        if broken:
+            self.stats.broken_frames += 1
+            self._note(
+                f"frame broken by a silence of more than 1.5 characters: receivers discard its "
+                f"{len(frame)} bytes"
+            )
+            return
+        self.stats.frames += 1
+        now = self.clock.now
+        for node in list(self.nodes):
+            if node is sender:
+                continue
+            if first < node.tx_end - _EPS:
+                self.stats.ignored_frames += 1
+                continue
+            node.on_frame(frame, now)
+
+    def pending_input(self) -> deque[bytes]:  # pragma: no cover - convenience for debugging
+        return deque([bytes(self._buf)]) if self._buf else deque()
