@@ -22,7 +22,33 @@ from .crc import (  # noqa: F401
     lrc,
     lrc_trace,
 )
+from .datamodel import (  # noqa: F401
+    ADDRESS_SPACE,
+    TABLE_KINDS,
+    DataBank,
+    Reference,
+    Table,
+    format_reference,
+    parse_reference,
+    table_kind,
+)
 from .errors import *  # noqa: F401,F403
+from .explain import Dissection, Row, explain  # noqa: F401
+from .framing import (  # noqa: F401
+    AsciiFrame,
+    AsciiSplitter,
+    RtuFrame,
+    RtuSplitter,
+    TcpFrame,
+    TcpSplitter,
+    decode_frame,
+    detect_mode,
+    encode_frame,
+    frame_class,
+    make_frame,
+    parse_hex,
+    splitter_for,
+)
 from .pdu import (  # noqa: F401
     MAX_READ_BITS,
     MAX_READ_REGISTERS,
@@ -50,6 +76,21 @@ from .pdu import (  # noqa: F401
     WriteSingleRegisterResponse,
     decode_pdu,
     pdu_length,
+)
+from .values import (  # noqa: F401
+    FORMATS,
+    ORDERS,
+    TYPES,
+    decode_value,
+    decode_values,
+    encode_value,
+    format_registers,
+    parse_formatted,
+    register_count,
+    registers_to_text,
+    scale,
+    text_to_registers,
+    unscale,
 )
 
 __version__ = "0.1.0"
