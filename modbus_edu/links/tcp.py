@@ -1,0 +1,746 @@
+"""Modbus/TCP on real sockets: a server for the course's slaves, and a client link for the master.
+
+Modbus/TCP wraps each PDU in an *MBAP header* (Modbus Application Protocol header) of seven bytes::
+
+    transaction id (2)  protocol id (2, always 0)  length (2)  unit id (1)  | PDU (function code + data)
+
+``length`` counts the bytes that follow it: the unit id plus the PDU, so 2 (unit + function code) at the
+least and 254 (unit + the largest PDU of 253 bytes) at the most. TCP is a byte *stream*: a request can
+arrive split over several reads, or two requests in one read. The length field is what tells where a
+frame ends - there is no CRC and no silence to go by.
+
+:class:`TcpServer` serves one or several :class:`~modbus_edu.slave.Slave` objects (selected by the unit
+id of each request) from a background thread; :func:`tcp_link` opens a :class:`~modbus_edu.links.base.Link`
+to any Modbus/TCP server, for a :class:`~modbus_edu.master.Master` to drive.
+
+Modbus/TCP has no authentication and no encryption: anybody who can reach the port can read and write
+every register. That is why the server binds to the loopback address 127.0.0.1 unless told otherwise,
+and logs a warning when it is told otherwise.
+"""
+
+from __future__ import annotations
+
+import errno
+import ipaddress
+import logging
+import selectors
+import socket
+import struct
+import threading
+import time
+from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING, Any
+
+from ..clock import Clock, RealClock
+from ..errors import ConfigError, LinkError
+from ..framing import TcpFrame, TcpSplitter
+from ..pdu import ExceptionResponse
+from .base import Link
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from ..slave import Slave
+
+__all__ = [
+    "MBAP_HEADER_SIZE",
+    "TcpServer",
+    "TcpServerCounters",
+    "tcp_link",
+    "TcpLink",
+    "normalize_slaves",
+    "is_loopback_host",
+]
+
+#: Bytes in an MBAP header: transaction id, protocol id, length, unit id.
+MBAP_HEADER_SIZE = 7
+#: Smallest legal MBAP length field: the unit id and a function code.
+MIN_MBAP_LENGTH = 2
+#: Largest legal MBAP length field: the unit id and the largest PDU (253 bytes).
+MAX_MBAP_LENGTH = 254
+#: Exception code a gateway returns when the addressed device does not answer (spec section 7).
+GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
+#: Exception code for "an unrecoverable error occurred while the server was performing the action".
+SERVER_DEVICE_FAILURE = 0x04
+
+_MBAP = struct.Struct(">HHHB")
+_RECV_SIZE = 65536
+#: Stop reading from a client whose unsent responses pile up beyond this (it does not read its socket).
+_MAX_PENDING_OUTPUT = 64 * 1024
+
+_log = logging.getLogger("modbus_edu.tcp")
+
+
+# --------------------------------------------------------------------------------------------------
+# helpers shared by the TCP and serial servers
+# --------------------------------------------------------------------------------------------------
+def normalize_slaves(slaves: Any) -> dict[int | None, Slave]:
+    """Turn ``slaves`` - one Slave, an iterable of Slaves or a mapping unit -> Slave - into a dict.
+
+    The keys are the units the slaves answer to; ``None`` is the key of a ``Slave(unit=None)``, which
+    answers any unit that no other slave owns. Every Slave filters requests by its own ``unit``, so in
+    a mapping each key must equal its slave's unit, and two slaves may not share a unit (on a real bus
+    they would both answer and garble each other's response).
+    """
+    if slaves is None:
+        raise ConfigError("a server needs at least one Slave to serve; got None")
+    if isinstance(slaves, Mapping):
+        pairs = list(slaves.items())
+        for key, slave in pairs:
+            own = _unit_of(slave)
+            if own != key:
+                raise ConfigError(
+                    f"the slave registered under unit {key} answers to unit {own}: "
+                    "the key of the mapping must be the slave's own unit id"
+                )
+        items = [slave for _, slave in pairs]
+    elif isinstance(slaves, (list, tuple, set, frozenset)):
+        items = list(slaves)
+    else:
+        items = [slaves]
+    result: dict[int | None, Slave] = {}
+    for slave in items:
+        unit = _unit_of(slave)
+        if unit in result:
+            who = "any unit (unit=None)" if unit is None else f"unit {unit}"
+            raise ConfigError(f"two slaves answer to {who}; give every slave its own unit id (1..247)")
+        result[unit] = slave
+    if not result:
+        raise ConfigError("a server needs at least one Slave to serve; got an empty collection")
+    return result
+
+
+def _unit_of(slave: Any) -> int | None:
+    if not hasattr(slave, "handle") or not hasattr(slave, "unit"):
+        raise ConfigError(
+            f"expected a Slave (an object with .unit and .handle(frame, mode)), got {type(slave).__name__}"
+        )
+    return slave.unit
+
+
+def _units_text(slaves: Mapping[int | None, Any]) -> str:
+    units = sorted(u for u in slaves if u is not None)
+    text = ",".join(str(u) for u in units)
+    if None in slaves:
+        text = f"{text}+any" if text else "any"
+    return text
+
+
+def is_loopback_host(host: str) -> bool:
+    """True if ``host`` names this computer only (127.0.0.0/8, ::1 or 'localhost')."""
+    if host.lower() == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+# --------------------------------------------------------------------------------------------------
+# the server
+# --------------------------------------------------------------------------------------------------
+@dataclass
+class TcpServerCounters:
+    """What a :class:`TcpServer` has seen since it started.
+
+    ``connections``  clients accepted;  ``refused``  clients closed at once because ``max_connections``
+    were already open;  ``requests``  complete frames received;  ``responses``  frames sent back;
+    ``bad_frames``  connections closed because their bytes were not Modbus/TCP (bad MBAP);
+    ``unknown_unit``  requests for a unit this server does not serve (answered with exception 0x0B);
+    ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence.
+    """
+
+    connections: int = 0
+    refused: int = 0
+    requests: int = 0
+    responses: int = 0
+    bad_frames: int = 0
+    unknown_unit: int = 0
+    idle_closed: int = 0
+
+    def as_dict(self) -> dict[str, int]:
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+class _Connection:
+    """One accepted client: its socket, what it sent that is not yet a whole frame, what we owe it."""
+
+    __slots__ = ("sock", "peer", "inbuf", "outbuf", "last_activity", "events")
+
+    def __init__(self, sock: socket.socket, peer: Any, now: float) -> None:
+        self.sock = sock
+        self.peer = peer
+        self.inbuf = bytearray()
+        self.outbuf = bytearray()
+        self.last_activity = now
+        self.events = selectors.EVENT_READ
+
+
+class TcpServer:
+    """A Modbus/TCP server for the course's slaves, running in a background thread.
+
+    ``slaves`` is one :class:`~modbus_edu.slave.Slave`, a list of them, or a dict unit -> Slave. Each
+    request goes to the slave whose unit id is in its MBAP header; that slave's ``handle(frame, "tcp")``
+    does all the protocol work (decoding, the data bank, exception responses), so the server only cuts
+    the byte stream into frames and routes them.
+
+    A request for a unit id that no slave has is answered with exception code **0x0B, gateway target
+    device failed to respond** - what a Modbus/TCP-to-serial gateway answers when nobody on its serial
+    line replies. (A lone device might answer 0x0B or nothing at all; 0x0B tells the client at once
+    instead of letting it time out.) Unit 0 is the broadcast address: every slave acts on the request
+    and none answers.
+
+    Defences, because a TCP port is open to whatever connects to it:
+
+    * every MBAP header is checked: protocol id must be 0 and the length field 2..254; a client that
+      sends anything else is not speaking Modbus/TCP and its connection is closed (``bad_frames``);
+      other clients are not affected.
+    * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed - it also frees the
+      server from clients that send half a frame and stop.
+    * at most ``max_connections`` clients at a time; one more is closed as soon as it is accepted.
+
+    The server is a context manager: ``with TcpServer(slave) as server: ... server.address``. It starts
+    on ``__enter__`` (or :meth:`start`) and :meth:`close` stops it: listening socket and every client
+    connection closed, background thread joined. :meth:`serve_forever` runs it in the calling thread
+    instead (for a command line).
+
+    Binding to an address other than the loopback (``host="0.0.0.0"`` to listen on every interface)
+    must be asked for explicitly and logs a warning: Modbus/TCP has no authentication at all.
+
+    ``lock`` is held while a slave handles a request: hold it too (``with server.lock:``) to change
+    several registers of a served bank at once without a client seeing half of the change.
+    """
+
+    def __init__(
+        self,
+        slaves: Any,
+        host: str = "127.0.0.1",
+        port: int = 0,
+        *,
+        idle_timeout: float | None = 60.0,
+        max_connections: int = 32,
+        logger: logging.Logger | None = None,
+    ) -> None:
+        self.slaves = normalize_slaves(slaves)
+        self._any_unit = self.slaves.get(None)
+        clock = RealClock()
+        for slave in self.slaves.values():
+            if getattr(slave, "clock", None) is None:
+                slave.clock = clock  # time stamps for the slave's traffic log
+        if not isinstance(port, int) or not 0 <= port <= 65535:
+            raise ConfigError(
+                f"TCP port must be an integer 0..65535 (0: let the system choose), got {port!r}"
+            )
+        if idle_timeout is not None and idle_timeout <= 0:
+            raise ConfigError(
+                f"idle_timeout must be a positive number of seconds or None, got {idle_timeout!r}"
+            )
+        if not isinstance(max_connections, int) or max_connections < 1:
+            raise ConfigError(f"max_connections must be a positive integer, got {max_connections!r}")
+        self.host = host
+        self.port = port
+        self.idle_timeout = idle_timeout
+        self.max_connections = max_connections
+        self.log = logger if logger is not None else _log
+        self.counters = TcpServerCounters()
+        self.lock = threading.RLock()
+        self._listener: socket.socket | None = None
+        self._selector: selectors.BaseSelector | None = None
+        self._connections: dict[int, _Connection] = {}
+        self._wake_r: socket.socket | None = None
+        self._wake_w: socket.socket | None = None
+        self._thread: threading.Thread | None = None
+        self._stop = threading.Event()
+        self._closed = False
+        self._check_at = float("inf")
+        self.address: tuple[str, int] | None = None
+
+    # ---------------------------------------------------------------- life cycle
+    def _bind(self) -> None:
+        if self._listener is not None:
+            return
+        if self._closed:
+            raise LinkError("this TcpServer was closed; create a new one to serve again")
+        if not is_loopback_host(self.host):
+            self.log.warning(
+                "Modbus/TCP server listening on %s, which is reachable from other computers: "
+                "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
+                "port can read and write every register. Use 127.0.0.1 unless you mean it.",
+                self.host,
+            )
+        try:
+            infos = socket.getaddrinfo(self.host, self.port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
+        except socket.gaierror as exc:
+            raise LinkError(f"cannot listen on {self.host!r}: unknown host name ({exc.strerror})") from exc
+        family, socktype, proto, _, sockaddr = infos[0]
+        listener = socket.socket(family, socktype, proto)
+        try:
+            listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            listener.bind(sockaddr)
+            listener.listen(128)
+            listener.setblocking(False)
+        except OSError as exc:
+            listener.close()
+            hint = ""
+            if exc.errno == errno.EADDRINUSE:
+                hint = " - another program already listens there; pick another port (port=0 picks a free one)"
+            elif exc.errno == errno.EACCES:
+                hint = " - ports below 1024 (such as 502) need administrator rights; try 5020"
+            raise LinkError(f"cannot listen on {self.host}:{self.port}: {exc.strerror}{hint}") from exc
+        self._listener = listener
+        self.address = listener.getsockname()[:2]
+        self._selector = selectors.DefaultSelector()
+        self._wake_r, self._wake_w = socket.socketpair()
+        self._wake_r.setblocking(False)
+        self._wake_w.setblocking(False)
+        self._selector.register(listener, selectors.EVENT_READ, None)
+        self._selector.register(self._wake_r, selectors.EVENT_READ, None)
+        self.log.info("Modbus/TCP server listening on %s:%d", *self.address)
+
+    def start(self) -> TcpServer:
+        """Bind the listening socket and serve from a background (daemon) thread. Returns self."""
+        if self._thread is not None:
+            return self
+        self._bind()
+        self._thread = threading.Thread(
+            target=self._serve, name=f"modbus_edu TcpServer {self.address[0]}:{self.address[1]}", daemon=True
+        )
+        self._thread.start()
+        return self
+
+    def serve_forever(self) -> None:
+        """Serve in the calling thread until :meth:`close` is called from another thread (or Ctrl-C)."""
+        self._bind()
+        try:
+            self._serve()
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Stop serving: close the listening socket and every connection, join the thread. Idempotent."""
+        if self._closed:
+            return
+        self._closed = True
+        self._stop.set()
+        self._wake()
+        thread = self._thread
+        if thread is not None and thread is not threading.current_thread():
+            thread.join(timeout=5.0)
+            if thread.is_alive():  # pragma: no cover - only if a slave callback hangs
+                self.log.error("TcpServer thread did not stop within 5 s")
+        if thread is None or not thread.is_alive():
+            self._cleanup()
+
+    def __enter__(self) -> TcpServer:
+        return self.start()
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+    def __del__(self) -> None:  # pragma: no cover - best effort only
+        try:
+            if not self._closed and self._listener is not None and self._thread is None:
+                self._cleanup()
+        except Exception:
+            pass
+
+    @property
+    def running(self) -> bool:
+        """True while the server thread is serving."""
+        return self._thread is not None and self._thread.is_alive() and not self._stop.is_set()
+
+    @property
+    def connection_count(self) -> int:
+        """Number of clients connected right now."""
+        return len(self._connections)
+
+    def __repr__(self) -> str:
+        if self.address:
+            where = f"{self.address[0]}:{self.address[1]}"
+        else:
+            where = f"{self.host}:{self.port} (not bound)"
+        state = "running" if self.running else ("closed" if self._closed else "stopped")
+        return f"<TcpServer {where} units={_units_text(self.slaves)} {state}>"
+
+    def _wake(self) -> None:
+        if self._wake_w is not None:
+            try:
+                self._wake_w.send(b"\0")
+            except OSError:
+                pass
+
+    def _cleanup(self) -> None:
+        for conn in list(self._connections.values()):
+            self._drop(conn, None)
+        if self._selector is not None:
+            try:
+                self._selector.close()
+            except Exception:  # pragma: no cover
+                pass
+            self._selector = None
+        for sock in (self._listener, self._wake_r, self._wake_w):
+            if sock is not None:
+                try:
+                    sock.close()
+                except OSError:  # pragma: no cover
+                    pass
+        self._listener = self._wake_r = self._wake_w = None
+
+    # ---------------------------------------------------------------- the event loop
+    def _serve(self) -> None:
+        selector = self._selector
+        assert selector is not None
+        listener = self._listener
+        wake_r = self._wake_r
+        try:
+            while not self._stop.is_set():
+                timeout = self._next_deadline()
+                for key, mask in selector.select(timeout):
+                    sock = key.fileobj
+                    if sock is listener:
+                        self._accept()
+                    elif sock is wake_r:
+                        try:
+                            wake_r.recv(4096)
+                        except OSError:
+                            pass
+                    else:
+                        conn = key.data
+                        if mask & selectors.EVENT_WRITE:
+                            self._flush(conn)
+                        if mask & selectors.EVENT_READ and conn.sock.fileno() in self._connections:
+                            self._read(conn)
+                if self.idle_timeout is not None and time.monotonic() >= self._check_at:
+                    self._expire_idle()
+        except Exception:  # pragma: no cover - a bug: log it rather than die silently
+            self.log.exception("Modbus/TCP server stopped by an unexpected error")
+        finally:
+            self._cleanup()
+
+    def _next_deadline(self) -> float | None:
+        # ``_check_at`` is never later than the earliest idle deadline (activity only moves deadlines
+        # later), so waking at it and re-checking is safe and costs nothing per request.
+        if self.idle_timeout is None or not self._connections:
+            return None
+        return max(0.0, self._check_at - time.monotonic())
+
+    def _expire_idle(self) -> None:
+        idle = self.idle_timeout
+        assert idle is not None
+        now = time.monotonic()
+        for conn in [c for c in self._connections.values() if now - c.last_activity >= idle]:
+            self.counters.idle_closed += 1
+            self._drop(conn, f"silent for {idle:g} s (idle timeout)")
+        if self._connections:
+            self._check_at = min(c.last_activity for c in self._connections.values()) + idle
+        else:
+            self._check_at = float("inf")
+
+    def _accept(self) -> None:
+        assert self._listener is not None and self._selector is not None
+        while True:
+            try:
+                sock, peer = self._listener.accept()
+            except (BlockingIOError, InterruptedError):
+                return
+            except OSError as exc:  # e.g. EMFILE: out of file descriptors
+                self.log.warning("accept failed: %s", exc)
+                return
+            if len(self._connections) >= self.max_connections:
+                self.counters.refused += 1
+                self.log.warning(
+                    "refused client %s: already %d connections open (max_connections=%d)",
+                    peer, len(self._connections), self.max_connections,
+                )
+                _close_socket(sock)
+                continue
+            sock.setblocking(False)
+            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            now = time.monotonic()
+            conn = _Connection(sock, peer, now)
+            if self.idle_timeout is not None:
+                self._check_at = min(self._check_at, now + self.idle_timeout)
+            self._connections[sock.fileno()] = conn
+            self._selector.register(sock, selectors.EVENT_READ, conn)
+            self.counters.connections += 1
+            self.log.debug("client %s connected", peer)
+
+    def _drop(self, conn: _Connection, reason: str | None) -> None:
+        fd = conn.sock.fileno()
+        if self._connections.pop(fd, None) is None:
+            return
+        if self._selector is not None:
+            try:
+                self._selector.unregister(conn.sock)
+            except (KeyError, ValueError):  # pragma: no cover
+                pass
+        _close_socket(conn.sock)
+        if reason:
+            self.log.info("closed connection from %s: %s", conn.peer, reason)
+
+    def _set_events(self, conn: _Connection, events: int) -> None:
+        if conn.events != events and self._selector is not None:
+            conn.events = events
+            self._selector.modify(conn.sock, events, conn)
+
+    def _read(self, conn: _Connection) -> None:
+        try:
+            data = conn.sock.recv(_RECV_SIZE)
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError as exc:
+            self._drop(conn, f"receive failed: {exc.strerror or exc}")
+            return
+        if not data:
+            self._drop(conn, None)  # the client closed its end: an ordinary goodbye
+            return
+        conn.last_activity = time.monotonic()
+        conn.inbuf += data
+        self._process(conn)
+
+    def _process(self, conn: _Connection) -> None:
+        """Answer every complete frame in the connection's input buffer."""
+        buf = conn.inbuf
+        start = 0
+        end = len(buf)
+        replies: list[bytes] = []
+        while end - start >= MBAP_HEADER_SIZE:
+            tid, protocol, length, unit = _MBAP.unpack_from(buf, start)
+            if protocol != 0 or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
+                self.counters.bad_frames += 1
+                if protocol != 0:
+                    why = f"MBAP protocol identifier is {protocol}, Modbus/TCP requires 0"
+                else:
+                    why = (f"MBAP length field is {length}, must be {MIN_MBAP_LENGTH}..{MAX_MBAP_LENGTH} "
+                           "(unit id + PDU of at most 253 bytes)")
+                if replies:
+                    conn.outbuf += b"".join(replies)
+                    self._flush(conn)
+                header = bytes(buf[start : start + MBAP_HEADER_SIZE]).hex(" ")
+                self._drop(conn, f"not Modbus/TCP: {why} (header bytes {header})")
+                return
+            stop = start + 6 + length
+            if stop > end:
+                break  # the rest of this frame has not arrived yet
+            reply = self._dispatch(bytes(buf[start:stop]), unit, tid)
+            if reply:
+                replies.append(reply)
+            start = stop
+        if start:
+            del buf[:start]
+        if replies:
+            conn.outbuf += b"".join(replies)
+            self._flush(conn)
+
+    def _dispatch(self, frame: bytes, unit: int, tid: int) -> bytes | None:
+        """Hand one complete frame to the slave it is for; return the bytes to send back (or None)."""
+        self.counters.requests += 1
+        slave = self.slaves.get(unit)
+        if slave is None:
+            slave = self._any_unit
+        try:
+            if slave is not None and unit != 0:
+                with self.lock:
+                    reply = slave.handle(frame, "tcp")
+            elif unit == 0:  # broadcast: everyone acts, nobody answers
+                with self.lock:
+                    for each in self.slaves.values():
+                        each.handle(frame, "tcp")
+                reply = None
+            else:
+                self.counters.unknown_unit += 1
+                reply = self._exception(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
+        except Exception:
+            # A slave turns every protocol problem into an exception response itself; getting here
+            # means a bug or a failing callback (on_read/on_write). Tell the client: device failure.
+            self.log.exception("slave for unit %d failed on request %s", unit, frame.hex(" "))
+            reply = self._exception(frame, SERVER_DEVICE_FAILURE)
+        if reply:
+            self.counters.responses += 1
+        return reply
+
+    @staticmethod
+    def _exception(frame: bytes, code: int) -> bytes | None:
+        tid, _, _, unit = _MBAP.unpack_from(frame, 0)
+        function = frame[7] & 0x7F if len(frame) > 7 else 0
+        if function == 0:
+            return None
+        pdu = ExceptionResponse(function=function, code=code)
+        return TcpFrame(transaction_id=tid, unit=unit, pdu=pdu).encode()
+
+    def _flush(self, conn: _Connection) -> None:
+        if conn.outbuf:
+            try:
+                sent = conn.sock.send(conn.outbuf)
+            except (BlockingIOError, InterruptedError):
+                sent = 0
+            except OSError as exc:
+                self._drop(conn, f"send failed: {exc.strerror or exc}")
+                return
+            del conn.outbuf[:sent]
+        if conn.outbuf:
+            # The client is not reading: wait until the socket can take more. Stop reading its
+            # requests if the backlog is large, so a client cannot make us buffer without end.
+            events = selectors.EVENT_WRITE
+            if len(conn.outbuf) < _MAX_PENDING_OUTPUT:
+                events |= selectors.EVENT_READ
+            self._set_events(conn, events)
+        else:
+            self._set_events(conn, selectors.EVENT_READ)
+
+
+def _close_socket(sock: socket.socket) -> None:
+    try:
+        sock.close()
+    except OSError:  # pragma: no cover
+        pass
+
+
+# --------------------------------------------------------------------------------------------------
+# the client link
+# --------------------------------------------------------------------------------------------------
+class TcpLink(Link):
+    """A :class:`~modbus_edu.links.base.Link` to a Modbus/TCP server over a real socket.
+
+    Made by :func:`tcp_link`. Frames received are cut out of the TCP stream by the MBAP length field
+    (:class:`~modbus_edu.framing.TcpSplitter`); matching a response to its request by transaction id
+    is the master's job. If the server closes the connection (idle timeout, too many clients, a frame
+    it could not parse), :meth:`receive` says so with a :class:`~modbus_edu.errors.LinkError`, and the
+    next :meth:`send` connects again (counted in :attr:`reconnects`).
+    """
+
+    mode = "tcp"
+
+    def __init__(
+        self, host: str, port: int = 502, *, timeout: float = 3.0, clock: Clock | None = None
+    ) -> None:
+        if not isinstance(port, int) or not 1 <= port <= 65535:
+            raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got {port!r}")
+        if not timeout > 0:
+            raise ConfigError(f"connect timeout must be a positive number of seconds, got {timeout!r}")
+        self.host = host
+        self.port = port
+        self.timeout = float(timeout)
+        self.clock = clock if clock is not None else RealClock()
+        self.reconnects = 0
+        self.closed = False
+        self._sock: socket.socket | None = None
+        self._splitter = TcpSplitter()
+        self._frames: deque[bytes] = deque()
+        self._connect()
+
+    @property
+    def description(self) -> str:
+        return f"Modbus/TCP to {self.host}:{self.port}"
+
+    @property
+    def connected(self) -> bool:
+        """True while the socket is open (the server may still close it at any moment)."""
+        return self._sock is not None
+
+    @property
+    def local_address(self) -> tuple[str, int] | None:
+        """This end's (host, port), or None when not connected."""
+        return self._sock.getsockname()[:2] if self._sock is not None else None
+
+    @property
+    def discarded(self) -> int:
+        """Bytes received that could not be part of a Modbus/TCP frame (bad MBAP header)."""
+        return self._splitter.discarded
+
+    def _connect(self) -> None:
+        where = f"{self.host}:{self.port}"
+        try:
+            sock = socket.create_connection((self.host, self.port), timeout=self.timeout)
+        except ConnectionRefusedError as exc:
+            raise LinkError(
+                f"cannot connect to {where}: connection refused - is a Modbus/TCP server listening there? "
+                "(check the port: Modbus/TCP's own is 502, test servers often use 5020)"
+            ) from exc
+        except socket.gaierror as exc:
+            raise LinkError(
+                f"cannot connect to {where}: unknown host {self.host!r} ({exc.strerror}) - check the name "
+                "or use an IP address"
+            ) from exc
+        except TimeoutError as exc:
+            raise LinkError(
+                f"cannot connect to {where}: no answer within {self.timeout:g} s - is the address right, "
+                "is the device on, is a firewall in the way?"
+            ) from exc
+        except OSError as exc:
+            raise LinkError(f"cannot connect to {where}: {exc.strerror or exc}") from exc
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        self._sock = sock
+        self._splitter.reset()
+        self._frames.clear()
+
+    def _lost(self, why: str) -> LinkError:
+        if self._sock is not None:
+            _close_socket(self._sock)
+            self._sock = None
+        return LinkError(
+            f"connection to {self.host}:{self.port} lost: {why} - a server closes a connection that "
+            "stays idle too long, sends a malformed frame, or exceeds its client limit; the next "
+            "request connects again"
+        )
+
+    def send(self, frame: bytes) -> None:
+        """Send one frame; connect again first if the server had closed the connection."""
+        self._check_open()
+        if self._sock is None:
+            self._connect()
+            self.reconnects += 1
+        assert self._sock is not None
+        try:
+            self._sock.sendall(frame)
+        except OSError as exc:
+            raise self._lost(f"sending failed ({exc.strerror or exc})") from exc
+
+    def receive(self, timeout: float) -> bytes | None:
+        """The next complete frame from the server, or None if none is complete within ``timeout`` s."""
+        self._check_open()
+        frames = self._frames
+        if frames:
+            return frames.popleft()
+        if self._sock is None:
+            raise self._lost("the server had closed it")
+        sock = self._sock
+        deadline = time.monotonic() + max(0.0, timeout)
+        while True:
+            remaining = deadline - time.monotonic()
+            try:
+                if remaining > 0:
+                    sock.settimeout(remaining)
+                    data = sock.recv(_RECV_SIZE)
+                else:
+                    sock.setblocking(False)
+                    data = sock.recv(_RECV_SIZE)
+            except (TimeoutError, BlockingIOError, InterruptedError):
+                return None
+            except OSError as exc:
+                raise self._lost(f"receiving failed ({exc.strerror or exc})") from exc
+            if not data:
+                raise self._lost("the server closed the connection")
+            frames.extend(self._splitter.feed(data))
+            if frames:
+                return frames.popleft()
+
+    def close(self) -> None:
+        """Close the socket. Closing twice is harmless."""
+        if self._sock is not None:
+            _close_socket(self._sock)
+            self._sock = None
+        self.closed = True
+
+
+def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> TcpLink:
+    """Connect to a Modbus/TCP server and return a :class:`TcpLink` (mode ``"tcp"``, real clock).
+
+    ``timeout`` bounds the connection attempt; each request's own timeout is the master's.
+    A server that cannot be reached raises :class:`~modbus_edu.errors.LinkError` saying why::
+
+        with mb.tcp_link("127.0.0.1", 5020) as link:
+            master = mb.Master(link)
+            master.read_holding_registers(unit=1, address=0, count=2)
+    """
+    return TcpLink(host, port, timeout=timeout)
