@@ -39,6 +39,7 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, fields
+from functools import cached_property
 
 from ..clock import Timer, VirtualClock
 from ..errors import ConfigError
@@ -92,28 +93,28 @@ class SerialTiming:
         if not self.ascii_timeout > 0:
             raise ConfigError(f"ascii_timeout must be > 0 s, got {self.ascii_timeout!r}")
 
-    @property
+    @cached_property
     def bits_per_char(self) -> float:
         """Start bit + data bits + parity bit (E/O) + stop bits."""
         stop = self.stopbits
         return 1 + self.bytesize + PARITIES[self.parity] + (int(stop) if stop == int(stop) else stop)
 
-    @property
+    @cached_property
     def char_time(self) -> float:
         """Seconds one character occupies the line."""
         return self.bits_per_char / self.baudrate
 
-    @property
+    @cached_property
     def t15(self) -> float:
         """Longest allowed silence inside an RTU frame: 1.5 characters, or 0.750 ms above 19200 baud."""
         return 0.000750 if self.baudrate > 19200 else 1.5 * self.char_time
 
-    @property
+    @cached_property
     def t35(self) -> float:
         """Silence that ends an RTU frame: 3.5 characters, or 1.750 ms above 19200 baud."""
         return 0.001750 if self.baudrate > 19200 else 3.5 * self.char_time
 
-    @property
+    @cached_property
     def frame_gap(self) -> float:
         """Silence between two frames: ``t35`` in RTU, none in ASCII (its frames end with CR LF)."""
         return self.t35 if self.mode == "rtu" else 0.0

@@ -1,0 +1,471 @@
+"""The Modbus master (a *client* in the words of Modbus/TCP): it asks, slaves answer.
+
+A :class:`Master` sits on a :class:`~modbus_edu.links.base.Link` and offers the eight everyday functions
+as methods.  For each request it:
+
+1. waits for the **turnaround delay** (``delay``) since the end of the previous transaction;
+2. throws away any frame that arrived in the meantime (a **stale** answer to an earlier request that
+   had already timed out: counted in ``stats.mismatches``);
+3. frames the request (RTU, ASCII or TCP, as the link's ``mode`` says; on TCP with the next
+   **transaction id**, +1 per request, 65535 wraps to 0), logs it and sends it;
+4. waits at most ``timeout`` seconds, on the link's clock, for *its* response:
+
+   * a frame whose CRC/LRC is wrong ends the attempt (``stats.checksum_errors``): the slave answered,
+     but nothing in the frame can be trusted;
+   * a frame from another unit, for another function or (TCP) with another transaction id is a
+     **mismatch** (``stats.mismatches``): it is logged and ignored, and the master keeps waiting for the
+     right one until the timeout.  On TCP that is what makes a late answer harmless: it carries the
+     transaction id of the request it answers.  RTU and ASCII have no transaction id: a late answer from
+     the same unit to the same function *cannot* be told from the answer to the next request.  That is
+     why a serial master's timeout must be longer than the slowest answer of its slaves;
+   * an **exception response** (``stats.exceptions``) raises
+     :class:`~modbus_edu.errors.ModbusExceptionError` (``.code``, ``.meaning``); it is not retried;
+   * a well-formed response that does not fit the request (wrong byte count, a write echo that differs)
+     ends the attempt (``stats.bad_responses``);
+   * nothing in time: ``stats.timeouts``;
+
+5. **retries** a failed attempt up to ``retries`` times, then raises the last error
+   (:class:`~modbus_edu.errors.ModbusTimeoutError`, or
+   :class:`~modbus_edu.errors.TransactionMismatchError` when only mismatched frames came, or the
+   :class:`~modbus_edu.errors.ChecksumError` / frame error of the bad response).
+
+Each attempt counts once in ``stats.requests`` and ends in exactly one of ``valid_responses``,
+``exceptions``, ``timeouts``, ``checksum_errors``, ``bad_responses`` -- except a **broadcast** (unit 0),
+which nobody answers: the master sends it, lets it leave the line (``link.flush()``), waits the
+turnaround delay and returns (``stats.broadcasts``).
+
+Everything is timed on ``link.clock``: on a loopback link a ten-minute poll runs in a blink, and the
+latencies in ``stats.latencies`` are those of the simulated wire.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+from . import pdu as _pdu
+from .errors import (
+    ChecksumError,
+    ConfigError,
+    FrameError,
+    ModbusError,
+    ModbusExceptionError,
+    ModbusTimeoutError,
+    PduError,
+    TransactionMismatchError,
+)
+from .framing import decode_frame, make_frame
+from .links.base import Link
+from .pdu import ExceptionResponse, Pdu
+from .traffic import TrafficLog
+
+__all__ = ["Master", "MasterStats"]
+
+
+@dataclass
+class MasterStats:
+    """A master's statistics (the counters of source 000's test tool, and a few more).
+
+    ``requests``         frames sent (each retry counts)
+    ``valid_responses``  normal responses that fit their request
+    ``exceptions``       exception responses
+    ``timeouts``         attempts that got no (acceptable) answer in time
+    ``checksum_errors``  responses with a wrong CRC / LRC
+    ``bad_responses``    responses that broke a framing rule or did not fit the request
+    ``mismatches``       frames ignored: another unit, function or transaction id, or stale
+    ``broadcasts``       broadcast requests (no answer expected)
+    ``retries``          attempts that were retries
+    ``latencies``        seconds from sending to a response (valid or exception), on the link's clock
+    """
+
+    requests: int = 0
+    valid_responses: int = 0
+    exceptions: int = 0
+    timeouts: int = 0
+    checksum_errors: int = 0
+    bad_responses: int = 0
+    mismatches: int = 0
+    broadcasts: int = 0
+    retries: int = 0
+    latencies: list[float] = field(default_factory=list)
+
+    def reset(self) -> None:
+        """Back to zero (source 000's "reset counters" button)."""
+        for f in fields(self):
+            setattr(self, f.name, [] if f.name == "latencies" else 0)
+
+    @property
+    def answered(self) -> int:
+        """Attempts that got an answer: valid responses and exception responses."""
+        return self.valid_responses + self.exceptions
+
+    @property
+    def success_rate(self) -> float:
+        """Valid responses / requests that expected an answer (0.0 when none was sent)."""
+        expected = self.requests - self.broadcasts
+        return self.valid_responses / expected if expected else 0.0
+
+    def as_dict(self) -> dict[str, Any]:
+        return {f.name: (list(getattr(self, f.name)) if f.name == "latencies" else getattr(self, f.name))
+                for f in fields(self)}
+
+    def summary(self) -> str:
+        """One line: ``10 requests: 9 valid, 0 exceptions, 1 timeouts, ...``."""
+        lat = ""
+        if self.latencies:
+            lat = (f"; latency min {min(self.latencies) * 1000:.2f} ms, "
+                   f"max {max(self.latencies) * 1000:.2f} ms")
+        return (
+            f"{self.requests} requests: {self.valid_responses} valid, {self.exceptions} exceptions, "
+            f"{self.timeouts} timeouts, {self.checksum_errors} checksum errors, "
+            f"{self.bad_responses} bad responses, {self.mismatches} mismatches, "
+            f"{self.broadcasts} broadcasts{lat}"
+        )
+
+    def __str__(self) -> str:
+        return self.summary()
+
+
+_READS = {
+    1: _pdu.ReadCoilsRequest,
+    2: _pdu.ReadDiscreteInputsRequest,
+    3: _pdu.ReadHoldingRegistersRequest,
+    4: _pdu.ReadInputRegistersRequest,
+}
+
+
+def _check_seconds(name: str, value: Any) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{name} must be a number of seconds, got {value!r}") from None
+    if not value >= 0:
+        raise ConfigError(f"{name} must be >= 0 s, got {value!r}")
+    return value
+
+
+def _peek(data: bytes, mode: str) -> tuple[int | None, int | None, int | None]:
+    """(transaction id, unit, function code) of a raw frame, as far as they can be read."""
+    try:
+        if mode == "tcp":
+            tid = int.from_bytes(data[0:2], "big") if len(data) >= 2 else None
+            return tid, (data[6] if len(data) > 6 else None), (data[7] if len(data) > 7 else None)
+        if mode == "ascii":
+            unit = int(data[1:3], 16) if len(data) >= 3 else None
+            function = int(data[3:5], 16) if len(data) >= 5 else None
+            return None, unit, function
+        return None, (data[0] if data else None), (data[1] if len(data) > 1 else None)
+    except ValueError:
+        return None, None, None
+
+
+class Master:
+    """A Modbus master on a link: ``Master(link, timeout=1.0, retries=0, delay=0.0, transaction_id=1)``.
+
+    >>> from modbus_edu.slave import Slave
+    >>> from modbus_edu.links.loopback import loopback_serial
+    >>> slave = Slave(unit=1)
+    >>> slave.bank.holding_registers[0] = 1234
+    >>> master = Master(loopback_serial(slave, baudrate=9600))
+    >>> master.read_holding_registers(unit=1, address=0, count=1)
+    [1234]
+    >>> round(master.stats.latencies[0] * 1000, 2)   # ms on the virtual wire
+    22.92
+    """
+
+    def __init__(
+        self,
+        link: Link,
+        *,
+        timeout: float = 1.0,
+        retries: int = 0,
+        delay: float = 0.0,
+        transaction_id: int = 1,
+    ) -> None:
+        if not hasattr(link, "send") or not hasattr(link, "receive"):
+            raise ConfigError(f"Master needs a Link (send/receive), got {type(link).__name__}")
+        if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
+            raise ConfigError(f"retries must be an integer >= 0, got {retries!r}")
+        if isinstance(transaction_id, bool) or not isinstance(transaction_id, int) \
+                or not 0 <= transaction_id <= 0xFFFF:
+            raise ConfigError(f"transaction_id must be 0..65535, got {transaction_id!r}")
+        self.link = link
+        self.timeout = _check_seconds("timeout", timeout)
+        self.retries = retries
+        self.delay = _check_seconds("delay", delay)
+        self.transaction_id = transaction_id
+        """The transaction id the next TCP request will carry."""
+        self.last_transaction_id: int | None = None
+        self.stats = MasterStats()
+        self.log = TrafficLog()
+        self._last_end: float | None = None
+
+    def __repr__(self) -> str:
+        return f"<Master on {getattr(self.link, 'description', self.link)!s}: {self.stats.summary()}>"
+
+    @property
+    def mode(self) -> str:
+        return self.link.mode
+
+    @property
+    def clock(self) -> Any:
+        return self.link.clock
+
+    # -- the eight functions ------------------------------------------------------------------------
+    def read_coils(self, unit: int, address: int, count: int) -> list[bool]:
+        """FC 1: ``count`` coils from ``address`` (exactly ``count`` bools, the padding dropped)."""
+        return self._read(1, unit, address, count)
+
+    def read_discrete_inputs(self, unit: int, address: int, count: int) -> list[bool]:
+        """FC 2: ``count`` discrete inputs from ``address``."""
+        return self._read(2, unit, address, count)
+
+    def read_holding_registers(self, unit: int, address: int, count: int) -> list[int]:
+        """FC 3: ``count`` holding registers from ``address`` (ints 0..65535)."""
+        return self._read(3, unit, address, count)
+
+    def read_input_registers(self, unit: int, address: int, count: int) -> list[int]:
+        """FC 4: ``count`` input registers from ``address``."""
+        return self._read(4, unit, address, count)
+
+    def write_single_coil(self, unit: int, address: int, value: bool) -> None:
+        """FC 5: set one coil (``True`` goes on the wire as FF 00, ``False`` as 00 00)."""
+        self.execute(unit, _pdu.WriteSingleCoilRequest(address=address, value=value))
+
+    def write_single_register(self, unit: int, address: int, value: int) -> None:
+        """FC 6: set one holding register (0..65535)."""
+        self.execute(unit, _pdu.WriteSingleRegisterRequest(address=address, value=value))
+
+    def write_multiple_coils(self, unit: int, address: int, values: Any) -> None:
+        """FC 15: set ``len(values)`` coils from ``address``."""
+        self.execute(unit, _pdu.WriteMultipleCoilsRequest(address=address, values=values))
+
+    def write_multiple_registers(self, unit: int, address: int, values: Any) -> None:
+        """FC 16: set ``len(values)`` holding registers from ``address``."""
+        self.execute(unit, _pdu.WriteMultipleRegistersRequest(address=address, values=values))
+
+    def _read(self, function: int, unit: int, address: int, count: int) -> list:
+        if unit == 0:
+            raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
+        request = _READS[function](address=address, count=count)
+        response = self.execute(unit, request)
+        if function in (1, 2):
+            return list(response.bits[:count])  # type: ignore[attr-defined]
+        return list(response.registers)  # type: ignore[attr-defined]
+
+    def read_once(self, function: int, unit: int, address: int, count: int) -> list:
+        """One read with function 1, 2, 3 or 4 (source 000's "read once" button)."""
+        if function not in _READS:
+            raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {function!r}")
+        return self._read(function, unit, address, count)
+
+    def poll(
+        self,
+        function: int = 3,
+        unit: int = 1,
+        address: int = 0,
+        count: int = 1,
+        interval: float = 1.0,
+        polls: int = 10,
+        *,
+        with_time: bool = False,
+    ) -> list:
+        """Read ``polls`` times, one every ``interval`` seconds on the link's clock.
+
+        Returns one result per poll: the values, or the :class:`~modbus_edu.errors.ModbusError` that
+        happened (a timeout, an exception response, ...).  With ``with_time=True`` each result is a
+        ``(time, result)`` pair, the time at which the poll started.  Polls start at fixed times
+        ``start + i * interval``; one that would start late (the previous poll took longer than the
+        interval) starts at once.  On a virtual clock this takes no real time at all.
+        """
+        interval = _check_seconds("interval", interval)
+        if isinstance(polls, bool) or not isinstance(polls, int) or polls < 0:
+            raise ConfigError(f"polls must be an integer >= 0, got {polls!r}")
+        clock = self.link.clock
+        start = clock.now
+        results: list = []
+        for i in range(polls):
+            due = start + i * interval
+            if due > clock.now:
+                clock.sleep(due - clock.now)
+            began = clock.now
+            try:
+                result: Any = self.read_once(function, unit, address, count)
+            except ModbusError as exc:
+                result = exc
+            results.append((began, result) if with_time else result)
+        return results
+
+    # -- the general path ----------------------------------------------------------------------------
+    def execute(self, unit: int, request: Pdu, *, check: bool = True) -> Pdu | None:
+        """Send ``request`` (a request PDU) to ``unit`` and return the response PDU.
+
+        Exception responses raise :class:`~modbus_edu.errors.ModbusExceptionError`, unless
+        ``check=False`` (then the :class:`~modbus_edu.pdu.ExceptionResponse` is returned).  A broadcast
+        (unit 0) returns ``None``.  See the module's documentation for timeouts, retries and mismatches.
+        """
+        if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
+            raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
+        if unit == 0 and request.function_code in (1, 2, 3, 4):
+            raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
+        error: ModbusError | None = None
+        for attempt in range(self.retries + 1):
+            if attempt:
+                self.stats.retries += 1
+            try:
+                response = self._attempt(unit, request)
+            except (ModbusTimeoutError, TransactionMismatchError, FrameError, PduError) as exc:
+                error = exc
+                continue
+            if isinstance(response, ExceptionResponse) and check:
+                raise ModbusExceptionError(response.function, response.code)
+            return response
+        assert error is not None
+        raise error
+
+    def _next_tid(self) -> int:
+        tid = self.transaction_id
+        self.transaction_id = (tid + 1) & 0xFFFF
+        self.last_transaction_id = tid
+        return tid
+
+    def _attempt(self, unit: int, request: Pdu) -> Pdu | None:
+        link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
+        # 1. turnaround delay since the previous transaction
+        if self._last_end is not None and self.delay:
+            due = self._last_end + self.delay
+            if due > clock.now:
+                clock.sleep(due - clock.now)
+        # 2. stale frames
+        while True:
+            stale = link.receive(0)
+            if stale is None:
+                break
+            stats.mismatches += 1
+            log.add(clock.now, "rx", mode, stale, source=self._source(stale), dest="master", role="response",
+                    note="stale: arrived after its request had given up; discarded")
+        # 3. send
+        tid = self._next_tid() if mode == "tcp" else 0
+        frame = make_frame(mode, unit, request, tid).encode()
+        sent = clock.now
+        stats.requests += 1
+        log.add(sent, "tx", mode, frame, source="master",
+                dest="broadcast" if unit == 0 else f"unit {unit}", role="request", note=request.summary())
+        link.send(frame)
+        if unit == 0:
+            stats.broadcasts += 1
+            link.flush()
+            if self.delay:
+                clock.sleep(self.delay)
+            self._last_end = clock.now
+            return None
+        # 4. wait for the answer
+        try:
+            return self._wait(unit, request, tid, sent)
+        finally:
+            self._last_end = clock.now
+
+    def _source(self, data: bytes) -> str:
+        unit = _peek(data, self.link.mode)[1]
+        return f"unit {unit}" if unit is not None else "?"
+
+    def _wait(self, unit: int, request: Pdu, tid: int, sent: float) -> Pdu:
+        link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
+        deadline = sent + self.timeout
+        mismatched: list[str] = []
+        function = request.function_code
+        while True:
+            remaining = deadline - clock.now
+            data = link.receive(remaining if remaining > 0 else 0.0)
+            if data is None:
+                stats.timeouts += 1
+                waited = clock.now - sent
+                if mismatched:
+                    raise TransactionMismatchError(
+                        f"no response to {request.title} for unit {unit} within {self.timeout:g} s "
+                        f"(waited {waited:.6f} s); {len(mismatched)} frame(s) came that did not belong to "
+                        f"it: {'; '.join(mismatched)}"
+                    )
+                raise ModbusTimeoutError(
+                    f"no response from unit {unit} to {request.title} within {self.timeout:g} s "
+                    f"(waited {waited:.6f} s on the link's clock)"
+                )
+            now = clock.now
+            p_tid, p_unit, p_function = _peek(data, mode)
+            try:
+                decoded = decode_frame(data, mode, "response")
+            except ChecksumError as exc:
+                stats.checksum_errors += 1
+                log.add(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
+                        note=f"checksum error: {exc}")
+                raise
+            except (FrameError, PduError) as exc:
+                # Envelope and unit/function readable but not ours? Then it is a mismatch, not a bad answer.
+                why = self._mismatch(unit, function, tid, p_tid, p_unit, p_function)
+                if why and not isinstance(exc, FrameError):
+                    stats.mismatches += 1
+                    mismatched.append(why)
+                    log.add(now, "rx", mode, data, source=self._source(data), dest="master",
+                            role="response", note=f"mismatch, ignored: {why}")
+                    continue
+                stats.bad_responses += 1
+                log.add(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
+                        note=f"bad response: {exc}")
+                raise
+            response = decoded.pdu
+            why = self._mismatch(unit, function, tid, getattr(decoded, "transaction_id", None), decoded.unit,
+                                 response.function_code)
+            if why:
+                stats.mismatches += 1
+                mismatched.append(why)
+                log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
+                        note=f"mismatch, ignored: {why}")
+                continue
+            if isinstance(response, ExceptionResponse):
+                stats.exceptions += 1
+                stats.latencies.append(now - sent)
+                log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
+                        note=response.summary())
+                return response
+            problem = self._misfit(request, response)
+            if problem:
+                stats.bad_responses += 1
+                log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
+                        note=f"bad response: {problem}")
+                raise PduError(f"the response of unit {unit} does not fit {request.title}: {problem}")
+            stats.valid_responses += 1
+            stats.latencies.append(now - sent)
+            log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
+                    note=response.summary())
+            return response
+
+    def _mismatch(self, unit: int, function: int, tid: int, r_tid: int | None, r_unit: int | None,
+                  r_function: int | None) -> str:
+        """Why a response does not belong to the request ('' if it does)."""
+        if self.link.mode == "tcp" and r_tid is not None and r_tid != tid:
+            return f"transaction id {r_tid}, expected {tid}"
+        if r_unit is not None and r_unit != unit:
+            return f"unit {r_unit}, expected {unit}"
+        if r_function is not None and (r_function & 0x7F) != function:
+            return f"function {r_function & 0x7F}, expected {function}"
+        return ""
+
+    @staticmethod
+    def _misfit(request: Any, response: Any) -> str:
+        """How a response of the right function fails to fit its request ('' if it fits)."""
+        function = request.function_code
+        if function in (1, 2):
+            needed = (request.count + 7) // 8
+            if len(response.bits) != 8 * needed:
+                return f"{len(response.bits) // 8} data bytes for {request.count} bits, expected {needed}"
+        elif function in (3, 4):
+            if len(response.registers) != request.count:
+                return f"{len(response.registers)} registers, expected {request.count}"
+        elif function in (5, 6):
+            if (response.address, response.value) != (request.address, request.value):
+                return (f"the echo says address {response.address} value {response.value!r}, the request "
+                        f"was address {request.address} value {request.value!r}")
+        elif (response.address, response.count) != (request.address, len(request.values)):
+            return (f"the echo says address {response.address} count {response.count}, the request was "
+                    f"address {request.address} count {len(request.values)}")
+        return ""
