@@ -506,10 +506,13 @@ def detect_mode(data: bytes) -> str:
       follow): TCP, unless the last two bytes are also a correct RTU CRC (then RTU);
     * anything else: RTU (the mode without a marker).
 
-    Text is accepted too: it is ASCII when it starts with ':', else RTU.
+    Hex text is accepted too (read with :func:`parse_hex`; text that is not hex counts as RTU).
     """
     if isinstance(data, str):
-        return "ascii" if data.lstrip().startswith(":") else "rtu"
+        try:
+            data = parse_hex(data)
+        except FrameError:
+            return "rtu"
     try:
         data = _as_bytes(data, "detect_mode")
     except FrameError:
@@ -668,8 +671,8 @@ class RtuSplitter(_Splitter):
             return -1
         if len(buf) - start < 2:
             return None
-        try:
-            size = _pdu.pdu_length(bytes(buf[start + 1 :]), self.role)
+        try:  # the function code and at most 5 more bytes decide the length (FC 15/16 byte count)
+            size = _pdu.pdu_length(bytes(buf[start + 1 : start + 7]), self.role)
         except ModbusError:
             return -1
         if size is None:

@@ -380,6 +380,8 @@ def test_helpers() -> None:
 def test_detect_mode() -> None:
     assert detect_mode(b":050310000002E6\r\n") == "ascii"
     assert detect_mode(":0503") == "ascii"
+    assert detect_mode("01 18 00 00 00 06 01 03 00 00 00 01") == "tcp"
+    assert detect_mode("01 03 00 00 00 01 84 0A") == detect_mode("not hex") == "rtu"
     assert detect_mode(h("00 01 00 00 00 06 01 03 00 00 00 01")) == "tcp"
     assert detect_mode(h("00 01 00 00 00 07 01 03 00 00 00 01")) == "rtu"  # length does not match
     assert detect_mode(h("00 01 00 01 00 06 01 03 00 00 00 01")) == "rtu"  # protocol is not 0
