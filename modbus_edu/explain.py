@@ -4,10 +4,14 @@
 :class:`Dissection` whose rows cover every byte (in ASCII mode every character) of the frame, in order,
 each with its offset, its raw bytes, the field's name, its value and what it means::
 
-    >>> print(explain(bytes.fromhex("010300000001840A")))        # doctest: +NORMALIZE_WHITESPACE
+    >>> print(explain(bytes.fromhex("010300000001840A")))
     RTU request: unit 1, Read Holding Registers, address 0, count 1
-    offset  bytes  field                  value   meaning
-    ...
+    offset  bytes  field                 value   meaning
+    0       01     unit (slave address)  1       the frame is to slave 1
+    1       03     function code         3       Read Holding Registers (request)
+    2       00 00  starting address      0       0-based register address
+    4       00 01  quantity              1       number of registers to read (1-125)
+    6       84 0A  CRC                   0x0A84  CRC-16 over bytes 0-5, sent low byte first (84 0A): correct
 
 The dissection goes as far as the bytes allow.  A frame with a wrong CRC still gets all its rows (the
 CRC row says what the CRC should have been); a frame that breaks a rule records the first error the
@@ -27,13 +31,14 @@ from typing import Any
 
 from . import pdu as _pdu
 from .crc import crc16, lrc
-from .errors import AsciiFormatError, FrameError, ModbusError
+from .errors import FrameError, ModbusError
 from .framing import (
     _HEX_DIGITS,
     MAX_SERIAL_UNIT,
     ROLES,
     Frame,
     TcpFrame,
+    _as_bytes,
     _check_mode,
     _check_role,
     decode_frame,
@@ -99,19 +104,27 @@ class Dissection:
         return f"{what}, not valid: {self.error}"
 
     # --- views ---------------------------------------------------------------------------------------
+    @property
+    def _heading(self) -> str:
+        """The summary, or for a broken frame a short title (the error is shown below the table)."""
+        if self.frame is not None:
+            return self.summary
+        mode = _MODE_NAMES.get(self.mode, self.mode.upper())
+        return f"{mode} {self.role or 'frame'}: not valid"
+
     def _raw_text(self, row: Row) -> str:
         if self.mode == "ascii":
             return _ascii_text(row.raw)
         return _hex(row.raw)
 
     def to_text(self) -> str:
-        """The dissection as an aligned plain-text table, with the summary above and any error below."""
+        """The dissection as an aligned plain-text table, the summary above it and any error below it."""
         header = ("offset", "bytes" if self.mode != "ascii" else "chars", "field", "value", "meaning")
         table = [header] + [
             (str(r.offset), self._raw_text(r), r.field, _value_text(r.value), r.meaning) for r in self.rows
         ]
         widths = [max(len(line[i]) for line in table) for i in range(4)]
-        lines = [self.summary]
+        lines = [self._heading]
         for index, line in enumerate(table):
             cells = [line[i].ljust(widths[i]) for i in range(4)] + [line[4]]
             mark = "" if index == 0 or self.rows[index - 1].ok else "  <-- problem"
@@ -129,7 +142,7 @@ class Dissection:
         mono = "font-family: monospace; white-space: pre"
         out = [
             '<table class="modbus-edu-dissection" style="border-collapse: collapse">',
-            f'<caption style="text-align: left; font-weight: bold">{esc(self.summary)}</caption>',
+            f'<caption style="text-align: left; font-weight: bold">{esc(self._heading)}</caption>',
             "<thead><tr><th>offset</th><th>{}</th><th>field</th><th>value</th><th>meaning</th></tr></thead>"
             .format("chars" if self.mode == "ascii" else "bytes"),
             "<tbody>",
@@ -575,13 +588,13 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             if strict:
                 raise
             return Dissection(data=b"", mode=mode or detect_mode(data), role=role, error=exc)
-    elif isinstance(data, (bytes, bytearray, memoryview)):
-        raw = bytes(data)
     else:
-        exc = AsciiFormatError(f"explain expects bytes or hex text, got {type(data).__name__}")
-        if strict:
-            raise exc
-        return Dissection(data=b"", mode=mode or "rtu", role=role, error=exc)
+        try:
+            raw = _as_bytes(data, "explain")
+        except FrameError as exc:
+            if strict:
+                raise
+            return Dissection(data=b"", mode=mode or "rtu", role=role, error=exc)
     if mode is None:
         mode = detect_mode(raw)
 

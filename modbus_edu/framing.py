@@ -128,6 +128,8 @@ def _as_bytes(data: object, what: str) -> bytes:
             f"{what} expects bytes, got the text {data[:40]!r}; turn hex text into bytes with "
             f"parse_hex(), e.g. parse_hex('01 03 00 00 00 01 84 0A')"
         )
+    if isinstance(data, int):  # bytes(5) would quietly make five zero bytes
+        raise FrameError(f"{what} expects bytes, got the number {data!r}; bytes([{data!r}]) is one byte")
     try:
         return bytes(data)  # type: ignore[call-overload]
     except (TypeError, ValueError):

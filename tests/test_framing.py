@@ -361,8 +361,11 @@ def test_bad_arguments_are_modbus_errors() -> None:
         decode_frame(b"", "udp")
     with pytest.raises(FrameError, match="parse_hex"):
         RtuFrame.decode("01 03 00 00 00 01 84 0A")  # type: ignore[arg-type]
-    with pytest.raises(FrameError):
+    with pytest.raises(FrameError, match="number"):
         TcpFrame.decode(12345)  # type: ignore[arg-type]
+    with pytest.raises(FrameError, match="0..255"):
+        TcpFrame.decode([1, 300])  # type: ignore[arg-type]
+    assert RtuFrame.decode([1, 3, 0, 0, 0, 1, 0x84, 0x0A]).unit == 1  # type: ignore[arg-type]
 
 
 def test_helpers() -> None:
