@@ -491,6 +491,9 @@ def _pymodbus_framers():
 def test_frame_bytes_equal_pymodbus_framers(item, unit: int, tid: int) -> None:
     """Same PDU bytes, same unit, same transaction id: our ADU bytes equal pymodbus's, and pymodbus's
     decoders find our unit, transaction id and PDU in them."""
+    from pymodbus.framer import FramerRTU
+    from pymodbus.pdu import DecodePDU
+
     role, pdu = item
     body = pdu.encode()
     f_rtu, f_ascii, f_socket = _pymodbus_framers()
@@ -506,6 +509,9 @@ def test_frame_bytes_equal_pymodbus_framers(item, unit: int, tid: int) -> None:
     assert (used, dev_id, got_tid, got_pdu) == (len(ours[f_socket]), unit, tid, body)
     used, dev_id, _tid, got_pdu = f_ascii.decode(ours[f_ascii])
     assert (used, dev_id, got_pdu) == (len(ours[f_ascii]), unit, body)
+    rtu_reader = FramerRTU(DecodePDU(is_server=role == "request"))  # RTU needs the PDU lengths by role
+    used, dev_id, _tid, got_pdu = rtu_reader.decode(ours[f_rtu])
+    assert (used, dev_id, got_pdu) == (len(ours[f_rtu]), unit, body)
 
 
 def test_pymodbus_crc_is_byte_swapped() -> None:
