@@ -168,7 +168,7 @@ def _check_00_2(answer: Any) -> str | None:
 
 
 @exercise("00.3", "build your first RTU frame",
-          hint="RtuFrame(unit=..., pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode()",
+          hint="mb.RtuFrame(unit=..., pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode()",
           wrong="02 03 00 00 00 02 38 C4")
 def _check_00_3(answer: Any) -> str | None:
     from .framing import RtuFrame
@@ -224,7 +224,7 @@ def _check_01_2(answer: Any) -> str | None:
 
 @exercise("01.3", "which table a function code reaches",
           hint="answer a pair (table name, may a master write it?), e.g. ('coils', True); "
-               "modbus_edu.datamodel.table_kind(code) names the table.",
+               "mb.table_kind(code) names the table.",
           wrong=("holding_registers", True))
 def _check_01_3(answer: Any) -> str | None:
     from .datamodel import DataBank, table_kind

@@ -1,6 +1,6 @@
 # A Modbus/TCP frame = 7-byte MBAP header + PDU.  The PDU starts at byte 7 with the function code.
-from modbus_edu.framing import TcpFrame, parse_hex
+import modbus_edu as mb
 
-frame = parse_hex("01 18 00 00 00 06 01 03 00 00 00 01")
-answer = TcpFrame.decode(frame).pdu.encode()   # the same as frame[7:]
-print(answer.hex(" ").upper())                  # 03 00 00 00 01
+frame = mb.parse_hex("01 18 00 00 00 06 01 03 00 00 00 01")
+answer = mb.TcpFrame.decode(frame).pdu.encode()   # the same as frame[7:]
+print(answer.hex(" ").upper())                     # 03 00 00 00 01

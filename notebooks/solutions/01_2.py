@@ -1,5 +1,5 @@
 # Input registers have the prefix 3; address 9 is element number 10, written with four digits.
-from modbus_edu.datamodel import format_reference
+import modbus_edu as mb
 
-answer = format_reference("input_registers", 9)
+answer = mb.format_reference("input_registers", 9)
 print(answer)   # 30010

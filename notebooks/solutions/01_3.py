@@ -1,6 +1,6 @@
 # Function code 4 reads input registers: measurements the device makes; a master may only read them.
-from modbus_edu.datamodel import DataBank, table_kind
+import modbus_edu as mb
 
-kind = table_kind(4)
-answer = (kind, DataBank().table(kind).writable)
+kind = mb.table_kind(4)
+answer = (kind, mb.DataBank().table(kind).writable)
 print(answer)   # ('input_registers', False)
