@@ -114,6 +114,8 @@ class JupyterLab:
             f"--IdentityProvider.token={self.token}",
             f"--ServerApp.root_dir={self.root_dir}",
             "--ServerApp.terminals_enabled=False",
+            # only the project's kernel exists, so nothing can pick another interpreter
+            f"--KernelSpecManager.allowed_kernelspecs={KERNEL_NAME}",
         ]
         if hasattr(os, "geteuid") and os.geteuid() == 0:  # containers often run as root
             cmd.append("--allow-root")

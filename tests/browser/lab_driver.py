@@ -26,11 +26,32 @@ def wait_kernel_idle(page, timeout_ms: int = 60_000) -> None:
     page.wait_for_selector('.jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=timeout_ms)
 
 
+def accept_dialogs(page, settle_ms: int = 0) -> int:
+    """Accept any JupyterLab dialog on the page (e.g. "Select Kernel", whose default is the notebook's
+    own kernel); wait up to ``settle_ms`` for one to appear.  Returns how many were accepted."""
+    accepted = 0
+    deadline = time.monotonic() + settle_ms / 1000
+    while True:
+        dialog = page.locator(".jp-Dialog")
+        if dialog.count():
+            button = dialog.locator(".jp-Dialog-button.jp-mod-accept").first
+            if button.count():
+                button.click()
+                accepted += 1
+                page.wait_for_timeout(200)
+                continue
+        if time.monotonic() >= deadline:
+            return accepted
+        page.wait_for_timeout(100)
+
+
 def open_notebook(page, url: str, timeout_ms: int = 60_000) -> None:
     """Load JupyterLab at the notebook's URL and wait for the notebook and its kernel."""
     page.goto(url, wait_until="domcontentloaded", timeout=timeout_ms)
     page.wait_for_selector(".jp-NotebookPanel .jp-Cell", timeout=timeout_ms)
+    accept_dialogs(page, settle_ms=1000)
     wait_kernel_idle(page, timeout_ms)
+    accept_dialogs(page)
 
 
 def _prompts(page) -> list[str]:
@@ -44,6 +65,7 @@ def run_all_cells(page, attempts: int = 4) -> None:
     yet): then the menu is closed again and the click retried, until some cell shows "[*]" or a number.
     """
     for _ in range(attempts):
+        accept_dialogs(page)
         page.locator(".lm-MenuBar-item", has_text=re.compile(r"^Run$")).first.click()
         item = page.locator('.lm-Menu-item[data-command="runmenu:run-all"]')
         item.wait_for(state="visible", timeout=10_000)
