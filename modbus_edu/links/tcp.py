@@ -703,7 +703,7 @@ class TcpLink(Link):
         if frames:
             return frames.popleft()
         if self._sock is None:
-            raise self._lost("the server had closed it")
+            return None  # not connected: nothing can arrive (the next send connects again)
         sock = self._sock
         deadline = time.monotonic() + max(0.0, timeout)
         while True:
@@ -720,6 +720,10 @@ class TcpLink(Link):
             except OSError as exc:
                 raise self._lost(f"receiving failed ({exc.strerror or exc})") from exc
             if not data:
+                if remaining <= 0:  # a look for stale frames: the next send() reconnects quietly
+                    _close_socket(sock)
+                    self._sock = None
+                    return None
                 raise self._lost("the server closed the connection")
             frames.extend(self._splitter.feed(data))
             if frames:
