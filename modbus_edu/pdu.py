@@ -30,6 +30,7 @@ from .errors import (
     AddressRangeError,
     ByteCountError,
     ConfigError,
+    PduError,
     QuantityError,
     TrailingBytesError,
     TruncatedError,
@@ -225,6 +226,20 @@ def _expect_length(data: bytes, length: int, name: str, base: int) -> None:
             f"expected exactly {length} bytes")
 
 
+def _pdu_bytes(data: Any, offset: int) -> bytes:
+    """The PDU as bytes; text or an empty PDU is a teaching error, not a TypeError."""
+    if isinstance(data, str):
+        raise PduError(f"a PDU is bytes, got the text {data[:30]!r}: turn hex text into bytes first, "
+                       f"e.g. bytes.fromhex('03 00 00 00 01')")
+    try:
+        data = bytes(data)
+    except (TypeError, ValueError):
+        raise PduError(f"a PDU is bytes (values 0..255), got {type(data).__name__}") from None
+    if not data:
+        raise TruncatedError(f"empty PDU at byte {offset}: expected at least a function code")
+    return data
+
+
 def _hex(data: bytes) -> str:
     return data.hex(" ").upper()
 
@@ -250,7 +265,22 @@ class Pdu:
         raise NotImplementedError
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0) -> Pdu:  # pragma: no cover
+    def decode(cls, data: bytes, offset: int = 0) -> Pdu:
+        """Decode this class's PDU from ``data`` (function code first); strict about every byte.
+
+        ``offset`` is added to byte positions in error messages.  :func:`decode_pdu` picks the class
+        from the function code; calling a class's ``decode`` directly checks that the code is its own.
+        """
+        data = _pdu_bytes(data, offset)
+        if data[0] != cls.function_code:
+            raise UnknownFunctionError(
+                f"at byte {offset}: function code 0x{data[0]:02X}, but {cls.__name__} has function code "
+                f"0x{cls.function_code:02X}; use decode_pdu(data, role) to pick the class from the code",
+                function=data[0])
+        return cls._decode(data, offset)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int) -> Pdu:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
     def fields(self) -> list[Field]:  # pragma: no cover
@@ -295,7 +325,7 @@ class _ReadRequest(Pdu):
         return struct.pack(">BHH", self.function_code, self.address, self.count)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         _expect_length(data, 5, f"{function_title(cls.function_code)} request", offset)
         _fc, address, count = struct.unpack(">BHH", data)
         try:
@@ -338,7 +368,7 @@ class _ReadBitsResponse(Pdu):
         return bytes((self.function_code, self.byte_count)) + pack_bits(self.bits)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         name = cls  # named in a message only if a check fails
         _expect_minimum(data, 2, name, offset)
         byte_count = data[1]
@@ -384,7 +414,7 @@ class _ReadRegistersResponse(Pdu):
         return struct.pack(f">BB{count}H", self.function_code, 2 * count, *self.registers)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         name = cls  # named in a message only if a check fails
         _expect_minimum(data, 2, name, offset)
         byte_count = data[1]
@@ -569,7 +599,7 @@ class _WriteSingleCoil(Pdu):
         return struct.pack(">BHH", 0x05, self.address, COIL_ON if self.value else COIL_OFF)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         _expect_length(data, 5, f"Write Single Coil {cls.role}", offset)
         _fc, address, raw = struct.unpack(">BHH", data)
         if raw not in (COIL_ON, COIL_OFF):
@@ -632,7 +662,7 @@ class _WriteSingleRegister(Pdu):
         return struct.pack(">BHH", 0x06, self.address, self.value)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         _expect_length(data, 5, f"Write Single Register {cls.role}", offset)
         _fc, address, value = struct.unpack(">BHH", data)
         return cls(address, value)
@@ -706,7 +736,7 @@ class WriteMultipleCoilsRequest(Pdu):
         return struct.pack(">BHHB", 0x0F, self.address, len(self.values), len(packed)) + packed
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         name = "Write Multiple Coils request"
         _expect_minimum(data, 6, name, offset)
         _fc, address, count, byte_count = struct.unpack(">BHHB", data[:6])
@@ -765,7 +795,7 @@ class _WriteMultipleResponse(Pdu):
         return struct.pack(">BHH", self.function_code, self.address, self.count)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         _expect_length(data, 5, f"{function_title(cls.function_code)} response", offset)
         _fc, address, count = struct.unpack(">BHH", data)
         try:
@@ -832,7 +862,7 @@ class WriteMultipleRegistersRequest(Pdu):
         return struct.pack(f">BHHB{count}H", 0x10, self.address, count, 2 * count, *self.values)
 
     @classmethod
-    def decode(cls, data: bytes, offset: int = 0):
+    def _decode(cls, data: bytes, offset: int = 0):
         name = "Write Multiple Registers request"
         _expect_minimum(data, 6, name, offset)
         _fc, address, count, byte_count = struct.unpack(">BHHB", data[:6])
@@ -926,11 +956,16 @@ class ExceptionResponse(Pdu):
 
     @classmethod
     def decode(cls, data: bytes, offset: int = 0):
+        data = _pdu_bytes(data, offset)
         _expect_length(data, 2, "exception response", offset)
         if not data[0] & 0x80:
             raise UnknownFunctionError(
                 f"at byte {offset}: 0x{data[0]:02X} is not an exception function code (expected 0x81-0xFF)",
                 function=data[0])
+        if data[0] == 0x80:
+            raise UnknownFunctionError(
+                f"at byte {offset}: function code 0x80 would be an exception response to function 0, "
+                f"which does not exist (expected 0x81-0xFF)", function=0x80)
         if data[1] == 0:
             raise ValueRangeError(f"at byte {offset + 1}: exception code 0x00, expected 0x01-0xFF")
         return cls(data[0] & 0x7F, data[1])
@@ -998,9 +1033,7 @@ def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
     added to the byte positions in error messages (the PDU's place in the frame).
     """
     _check_role(role)
-    data = bytes(data)
-    if not data:
-        raise TruncatedError(f"empty PDU at byte {offset}: expected at least a function code")
+    data = _pdu_bytes(data, offset)
     function = data[0]
     if role == "response" and function & 0x80:
         return ExceptionResponse.decode(data, offset)
@@ -1008,7 +1041,7 @@ def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
     cls = table.get(function)
     if cls is None:
         raise _unknown(function, offset, role)
-    return cls.decode(data, offset)
+    return cls._decode(data, offset)
 
 
 def pdu_length(data: bytes, role: str) -> int | None:
