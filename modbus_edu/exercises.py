@@ -362,3 +362,193 @@ def _check_08_3(answer: Any) -> str | None:
         return f"a pause of {extra[0]:g} characters is not more than 1.5: the frame stays whole and is answered."
     return (f"a pause of {missing[0]:g} characters also leaves the request unanswered "
             "(more than 1.5 breaks the frame).")
+
+
+# --- notebook 02: Function codes and the PDU ---------------------------------------------------------
+
+@exercise("02.1", "build a Write Multiple Registers PDU",
+          hint="function 16 (0x10): address (2 bytes), quantity (2 bytes), byte count (1 byte), then the "
+               "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
+          wrong="10 00 01 00 02 00 0A 01 02")
+def _check_02_1(answer: Any) -> str | None:
+    from .pdu import WriteMultipleRegistersRequest
+
+    expected = WriteMultipleRegistersRequest(address=1, values=(10, 258)).encode()
+    got = as_bytes(answer)
+    if len(got) == len(expected) - 1 and got[:5] == expected[:5] and got[5:] == expected[6:]:
+        return ("the byte count (one byte, the number of data bytes that follow) is missing after "
+                "the quantity.")
+    if got == expected[1:]:
+        return "the PDU starts with the function code."
+    return compare_bytes(got, expected, "your PDU")
+
+
+@exercise("02.2", "how many requests to read 300 registers",
+          hint="one Read Holding Registers request reads at most mb.MAX_READ_REGISTERS registers.",
+          wrong=2)
+def _check_02_2(answer: Any) -> str | None:
+    from .pdu import MAX_READ_REGISTERS
+
+    expected = -(-300 // MAX_READ_REGISTERS)
+    got = _int_answer(answer, "a number of requests")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got < expected:
+        return f"{got} requests can read at most {got * MAX_READ_REGISTERS} registers."
+    return f"{got} requests work, but fewer are enough."
+
+
+@exercise("02.3", "the exception response for a missing address",
+          hint="an exception response is two bytes: the function code with its top bit set (+ 0x80), "
+               "then the exception code; mb.ExceptionCode lists the codes.",
+          wrong="03 02")
+def _check_02_3(answer: Any) -> str | None:
+    from .pdu import ExceptionCode, ExceptionResponse
+
+    expected = ExceptionResponse(function=3, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
+    got = as_bytes(answer)
+    if len(got) == 2 and got[0] == expected[0] & 0x7F:
+        return ("the first byte must have its top bit set (function code + 0x80): that is what marks "
+                "an exception.")
+    if len(got) == 2 and got[0] == expected[0] and got[1] != expected[1]:
+        return f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'."
+    return compare_bytes(got, expected, "your exception response")
+
+
+@exercise("02.4", "which coils are ON",
+          hint="in a read-bits response the first coil is the least significant bit (the rightmost) of "
+               "the first data byte; 0x05 = 0000 0101 in binary.",
+          wrong=[5, 7])
+def _check_02_4(answer: Any) -> str | None:
+    from .pdu import ReadCoilsResponse
+
+    bits = ReadCoilsResponse.decode(bytes([0x01, 0x01, 0x05])).bits
+    expected = [address for address, bit in enumerate(bits) if bit]
+    try:
+        got = sorted(int(a) for a in answer)
+    except TypeError:
+        return "answer with a list of coil addresses, e.g. [1, 4]."
+    if got == expected:
+        return None
+    if got == sorted(7 - a for a in expected):
+        return "you read the bits from the left; the first coil is the rightmost (least significant) bit."
+    return f"{got} are not the coils that are ON."
+
+
+# --- notebook 07: Exceptions and errors ---------------------------------------------------------------
+
+@exercise("07.1", "read an exception response",
+          hint="in a response, a function code of 0x80 or more is an exception: subtract 0x80 to get the "
+               "request's function; the next byte is the exception code. mb.RtuFrame.decode(..., "
+               "role='response').pdu reads it for you.",
+          wrong=(0x83, 2))
+def _check_07_1(answer: Any) -> str | None:
+    from .framing import RtuFrame, parse_hex
+
+    pdu = RtuFrame.decode(parse_hex("11 83 02 C1 34"), role="response").pdu
+    expected = (pdu.function, pdu.code)
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair of ints: (function, code)."
+    function, code = answer
+    if isinstance(function, bool) or not isinstance(function, int) or not isinstance(code, int):
+        return "both numbers should be ints, e.g. (1, 3)."
+    if function == pdu.function_code:
+        return (f"0x{function:02X} is the function code *of the response*, with the exception bit set; "
+                "the request's function is that minus 0x80.")
+    if function != expected[0]:
+        return f"the request's function is not {function}."
+    if code != expected[1]:
+        return f"the exception code is the byte after the function code, not {code}."
+    return None
+
+
+@exercise("07.2", "build an exception response",
+          hint="unit 17, function code 1 + 0x80, exception code 02 (illegal data address): "
+               "mb.RtuFrame(unit=17, pdu=mb.ExceptionResponse(function=..., code=...)).encode()",
+          wrong="11 01 02 C1 34")
+def _check_07_2(answer: Any) -> str | None:
+    from .framing import RtuFrame
+    from .pdu import ExceptionCode, ExceptionResponse
+
+    expected = RtuFrame(unit=17,
+                        pdu=ExceptionResponse(function=1, code=int(ExceptionCode.ILLEGAL_DATA_ADDRESS))).encode()
+    got = as_bytes(answer)
+    if got[:1] == b"\x17":
+        return "17 is decimal: the slave address byte is 17 = 0x11, not 0x17."
+    if len(got) > 1 and got[1] == 0x01:
+        return "an exception response sets the top bit of the function code: 0x01 becomes 0x81."
+    if len(got) > 2 and got[1] == 0x81 and got[2] != expected[2]:
+        return f"exception code {got[2]:02X} is not the one for an address the slave does not have."
+    return compare_bytes(got, expected, "your exception response")
+
+
+_OUTCOMES = ("valid", "exception", "timeout", "checksum error", "mismatch")
+_SITUATIONS = (
+    "request for a unit nobody has",
+    "one bit flipped in the request",
+    "one bit flipped in the response",
+    "read of an address the slave does not have",
+    "response carries another unit id",
+)
+
+
+def _outcome_of(situation: str) -> str:
+    """Run one situation of exercise 07.3 on a loopback wire and name what the master saw."""
+    from .datamodel import DataBank
+    from .errors import ChecksumError, ModbusExceptionError, ModbusTimeoutError, TransactionMismatchError
+    from .links.loopback import loopback_serial
+    from .master import Master
+    from .slave import Slave
+
+    bank = DataBank(sparse=True)
+    bank.holding_registers.declare(0, 10)
+    link = loopback_serial(Slave(unit=1, bank=bank), seed=0)
+    master = Master(link, timeout=0.1)
+    unit, address = 1, 0
+    if situation == _SITUATIONS[0]:
+        unit = 5
+    elif situation == _SITUATIONS[1]:
+        link.faults.flip_bits(1, target="request")
+    elif situation == _SITUATIONS[2]:
+        link.faults.flip_bits(1, target="response")
+    elif situation == _SITUATIONS[3]:
+        address = 100
+    else:
+        link.faults.answer_as(1, 2)
+    try:
+        master.read_holding_registers(unit=unit, address=address, count=1)
+    except ModbusExceptionError:
+        return "exception"
+    except ChecksumError:
+        return "checksum error"
+    except TransactionMismatchError:
+        return "mismatch"
+    except ModbusTimeoutError:
+        return "timeout"
+    return "valid"
+
+
+@exercise("07.3", "what the master sees",
+          hint="silence (no answer) is a timeout; a damaged answer is a checksum error; a refusal is an "
+               "exception; an answer from the wrong unit is a mismatch. Try each on loopback_serial with "
+               "link.faults.",
+          wrong=dict.fromkeys(_SITUATIONS, "checksum error"))
+def _check_07_3(answer: Any) -> str | None:
+    if not isinstance(answer, dict):
+        return "answer with a dict {situation: outcome}, using the five situations of the exercise."
+    missing = [s for s in _SITUATIONS if s not in answer]
+    if missing:
+        return f"the dict has no entry for {missing[0]!r}."
+    for situation in _SITUATIONS:
+        got = str(answer[situation]).strip().lower()
+        if got not in _OUTCOMES:
+            return f"{answer[situation]!r} is not one of {', '.join(_OUTCOMES)}."
+        expected = _outcome_of(situation)
+        if got != expected:
+            if expected == "timeout" and got == "checksum error":
+                return (f"{situation}: the slave cannot trust a damaged request or ignores one for another "
+                        "unit; it stays silent, so the master sees no frame to check.")
+            return f"{situation}: the master does not see {got!r}."
+    return None

@@ -1,0 +1,7 @@
+# One request reads at most 125 registers: 125 + 125 + 50 = 300, so three requests.
+import math
+
+import modbus_edu as mb
+
+answer = math.ceil(300 / mb.MAX_READ_REGISTERS)
+print(answer)   # 3
