@@ -552,3 +552,5 @@ def _check_07_3(answer: Any) -> str | None:
                         "unit; it stays silent, so the master sees no frame to check.")
             return f"{situation}: the master does not see {got!r}."
     return None
+
+
