@@ -299,6 +299,8 @@ class TcpServer:
 
     def start(self) -> TcpServer:
         """Bind the listening socket and serve from a background (daemon) thread. Returns self."""
+        if self._closed:
+            raise LinkError("this TcpServer was closed; create a new one to serve again")
         if self._thread is not None:
             return self
         self._bind()
@@ -407,7 +409,7 @@ class TcpServer:
                     else:
                         conn = key.data
                         if mask & selectors.EVENT_WRITE:
-                            self._flush(conn)
+                            self._pump(conn)
                         if mask & selectors.EVENT_READ and conn.sock.fileno() in self._connections:
                             self._read(conn)
                 if self.idle_timeout is not None and time.monotonic() >= self._check_at:
@@ -496,15 +498,40 @@ class TcpServer:
             return
         conn.last_activity = time.monotonic()
         conn.inbuf += data
-        self._process(conn)
+        self._pump(conn)
 
-    def _process(self, conn: _Connection) -> None:
-        """Answer every complete frame in the connection's input buffer."""
+    def _pump(self, conn: _Connection) -> None:
+        """Answer what has arrived and send what is owed, until the client must act (send or read).
+
+        A client that sends requests without reading the answers fills our output buffer; past
+        ``_MAX_PENDING_OUTPUT`` bytes the server stops answering (and reading) that client until it
+        reads, so that no client can make the server buffer without end.
+        """
+        while True:
+            if not self._process(conn):
+                return
+            stalled = len(conn.outbuf) >= _MAX_PENDING_OUTPUT
+            if not self._send(conn):
+                return
+            if not (stalled and len(conn.outbuf) < _MAX_PENDING_OUTPUT):
+                break
+        if not conn.outbuf:
+            self._set_events(conn, selectors.EVENT_READ)
+        elif len(conn.outbuf) >= _MAX_PENDING_OUTPUT:
+            self._set_events(conn, selectors.EVENT_WRITE)
+        else:
+            self._set_events(conn, selectors.EVENT_WRITE | selectors.EVENT_READ)
+
+    def _process(self, conn: _Connection) -> bool:
+        """Answer the complete frames in the input buffer (while the output backlog allows).
+
+        Returns False if the connection was closed because its bytes are not Modbus/TCP.
+        """
         buf = conn.inbuf
+        out = conn.outbuf
         start = 0
         end = len(buf)
-        replies: list[bytes] = []
-        while end - start >= MBAP_HEADER_SIZE:
+        while end - start >= MBAP_HEADER_SIZE and len(out) < _MAX_PENDING_OUTPUT:
             tid, protocol, length, unit = _MBAP.unpack_from(buf, start)
             if protocol != 0 or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
                 self.counters.bad_frames += 1
@@ -513,24 +540,20 @@ class TcpServer:
                 else:
                     why = (f"MBAP length field is {length}, must be {MIN_MBAP_LENGTH}..{MAX_MBAP_LENGTH} "
                            "(unit id + PDU of at most 253 bytes)")
-                if replies:
-                    conn.outbuf += b"".join(replies)
-                    self._flush(conn)
                 header = bytes(buf[start : start + MBAP_HEADER_SIZE]).hex(" ")
-                self._drop(conn, f"not Modbus/TCP: {why} (header bytes {header})")
-                return
+                if self._send(conn):  # the answers to the good frames before it, as far as they go
+                    self._drop(conn, f"not Modbus/TCP: {why} (header bytes {header})")
+                return False
             stop = start + 6 + length
             if stop > end:
                 break  # the rest of this frame has not arrived yet
             reply = self._dispatch(bytes(buf[start:stop]), unit, tid)
             if reply:
-                replies.append(reply)
+                out += reply
             start = stop
         if start:
             del buf[:start]
-        if replies:
-            conn.outbuf += b"".join(replies)
-            self._flush(conn)
+        return True
 
     def _dispatch(self, frame: bytes, unit: int, tid: int) -> bytes | None:
         """Hand one complete frame to the slave it is for; return the bytes to send back (or None)."""
@@ -568,7 +591,8 @@ class TcpServer:
         pdu = ExceptionResponse(function=function, code=code)
         return TcpFrame(transaction_id=tid, unit=unit, pdu=pdu).encode()
 
-    def _flush(self, conn: _Connection) -> None:
+    def _send(self, conn: _Connection) -> bool:
+        """Send as much of the output buffer as the socket takes. False if the connection died."""
         if conn.outbuf:
             try:
                 sent = conn.sock.send(conn.outbuf)
@@ -576,17 +600,9 @@ class TcpServer:
                 sent = 0
             except OSError as exc:
                 self._drop(conn, f"send failed: {exc.strerror or exc}")
-                return
+                return False
             del conn.outbuf[:sent]
-        if conn.outbuf:
-            # The client is not reading: wait until the socket can take more. Stop reading its
-            # requests if the backlog is large, so a client cannot make us buffer without end.
-            events = selectors.EVENT_WRITE
-            if len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-                events |= selectors.EVENT_READ
-            self._set_events(conn, events)
-        else:
-            self._set_events(conn, selectors.EVENT_READ)
+        return True
 
 
 def _close_socket(sock: socket.socket) -> None:
