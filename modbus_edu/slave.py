@@ -197,39 +197,45 @@ class Slave:
 
         ``mode`` is ``"rtu"``, ``"ascii"`` or ``"tcp"``.  No answer when the frame is corrupt or
         malformed, for another unit, or a broadcast.  A TCP response carries the request's transaction
-        identifier.
+        identifier.  Both frames go to :attr:`log`, the received one with a note saying what became of it.
         """
         mode = _check_mode(mode)
         if not isinstance(frame, (bytes, bytearray, memoryview)):
             raise FrameError(f"Slave.handle expects the bytes of one frame, got {type(frame).__name__}")
         data = bytes(frame)
+        now = self._now()
+        answer, response, note = self._handle(data, mode)
+        log = self.log
+        log.add(now, "rx", mode, data, source="master", dest=self.name, role="request", note=note)
+        if answer is not None:
+            log.add(now, "tx", mode, answer, source=self.name, dest="master", role="response",
+                    note=response.summary() if hasattr(response, "summary") else "")
+        return answer
+
+    def _handle(self, data: bytes, mode: str) -> tuple[bytes | None, Pdu | None, str]:
+        """(answer bytes, response PDU, note for the log) for one received frame."""
         counters = self.counters
-        self.log.add(self._now(), "rx", mode, data, source="master", dest=self.name, role="request")
         try:
             decoded = decode_frame(data, mode, "request")
         except ChecksumError as exc:
             counters.checksum_errors += 1
-            self._note_drop(f"dropped: {exc}")
-            return None
+            return None, None, f"dropped: {exc}"
         except FrameError as exc:
             counters.bad_frames += 1
-            self._note_drop(f"dropped: {exc}")
-            return None
+            return None, None, f"dropped: {exc}"
         except PduError as exc:
             # The envelope was good (framing checks it before the PDU): unit and function are known.
             unit, function = _peek_unit_function(data, mode)
             if unit == 0:
                 counters.broadcasts += 1
                 counters.requests += 1
-                self._note_drop(f"broadcast not carried out: {exc}")
-                return None
+                return None, None, f"broadcast not carried out: {exc}"
             if not self.accepts(unit):
                 counters.other_unit += 1
-                return None
+                return None, None, f"for unit {unit}: ignored"
             if function == 0 or function >= 0x80:
                 counters.bad_frames += 1
-                self._note_drop(f"dropped: function code {function} cannot be requested")
-                return None
+                return None, None, f"dropped: function code {function} cannot be requested"
             if isinstance(exc, UnknownFunctionError):
                 code = ExceptionCode.ILLEGAL_FUNCTION
             elif isinstance(exc, AddressRangeError):
@@ -238,19 +244,22 @@ class Slave:
                 code = ExceptionCode.ILLEGAL_DATA_VALUE
             self.last_error = exc
             counters.requests += 1
-            return self._answer(mode, unit, ExceptionResponse(function, int(code)), data)
+            response = ExceptionResponse(function, int(code))
+            return self._answer(mode, unit, response, data), response, f"refused: {exc}"
         unit = decoded.unit
         if unit == 0:
             counters.broadcasts += 1
             counters.requests += 1
             if decoded.pdu.function_code in _WRITE_FUNCTIONS:
                 self.process(decoded.pdu)
-            return None
+                return None, None, "broadcast: carried out, no answer"
+            return None, None, "broadcast read: ignored (a broadcast can only write)"
         if not self.accepts(unit):
             counters.other_unit += 1
-            return None
+            return None, None, f"for unit {unit}: ignored"
         counters.requests += 1
-        return self._answer(mode, unit, self.process(decoded.pdu), data)
+        response = self.process(decoded.pdu)
+        return self._answer(mode, unit, response, data), response, ""
 
     def _answer(self, mode: str, unit: int, response: Pdu, request: bytes) -> bytes:
         counters = self.counters
@@ -258,18 +267,7 @@ class Slave:
         if isinstance(response, ExceptionResponse):
             counters.exceptions += 1
         tid = int.from_bytes(request[0:2], "big") if mode == "tcp" else 0
-        out = make_frame(mode, unit, response, tid).encode()
-        self.log.add(self._now(), "tx", mode, out, source=self.name, dest="master", role="response",
-                     note=response.summary() if hasattr(response, "summary") else "")
-        return out
-
-    def _note_drop(self, note: str) -> None:
-        """Replace the last rx log entry by one that says why it got no answer."""
-        log = self.log
-        if len(log):
-            last = log._entries.pop()
-            log.add(last.time, last.direction, last.mode, last.data, source=last.source, dest=last.dest,
-                    role=last.role, note=note)
+        return make_frame(mode, unit, response, tid).encode()
 
     # -- PDUs -----------------------------------------------------------------------------------
     def handle_pdu(self, request: Pdu) -> Pdu:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import html
 from collections import deque
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from .errors import ConfigError, ModbusError
@@ -139,6 +139,14 @@ class TrafficLog:
         self._entries.append(entry)
         return entry
 
+    def annotate(self, text: str, index: int = -1) -> None:
+        """Add ``text`` to the note of entry ``index`` (default: the newest; no-op on an empty log)."""
+        entries = self._entries
+        if not entries:
+            return
+        old = entries[index]
+        entries[index] = replace(old, note=f"{old.note}; {text}" if old.note else text)
+
     def clear(self) -> None:
         """Forget every entry."""
         self._entries.clear()
@@ -230,7 +238,7 @@ class TrafficLog:
                 f"<td>{html.escape(e.note)}</td></tr>"
             )
         head = (
-            "<tr><th>#</th><th>time (s)</th><th>dir</th><th>mode</th><th>from -> to</th>"
+            "<tr><th>#</th><th>time (s)</th><th>dir</th><th>mode</th><th>from &rarr; to</th>"
             "<th>bytes</th><th>note</th></tr>"
         )
         return f'<table class="modbus-traffic">{head}{"".join(rows)}</table>'

@@ -337,3 +337,42 @@ def test_stats_reset_summary_and_repr():
     master.stats.reset()
     assert master.stats == MasterStats() and master.stats.success_rate == 0.0
     assert master.stats.answered == 0
+
+
+# --- the traffic log ----------------------------------------------------------------------------------------
+def test_traffic_entries_and_log_views():
+    from modbus_edu.traffic import Traffic, TrafficLog
+
+    tcp = Traffic(1.5, "tx", "tcp", bytes.fromhex("01 18 00 00 00 06 01 03 00 00 00 01"), source="client")
+    asc = Traffic(2.0, "rx", "ascii", b":050304FF0600648B\r\n", note="meter")
+    rtu_exc = Traffic(3.0, "rx", "rtu", bytes.fromhex("01 83 02 C0 F1"))
+    short = Traffic(4.0, "rx", "rtu", b"")
+    assert (tcp.unit, tcp.function, tcp.guessed_role) == (1, 3, "request")
+    assert (asc.unit, asc.function, asc.guessed_role) == (5, 3, "response")
+    assert asc.text == ":050304FF0600648B\\r\\n"
+    assert (rtu_exc.unit, rtu_exc.function) == (1, 0x83)
+    assert (short.unit, short.function) == (None, None)
+    assert Traffic(0, "rx", "ascii", b":zz").unit is None
+    with pytest.raises(ConfigError):
+        Traffic(0, "up", "rtu", b"")
+    log = TrafficLog([tcp, asc, rtu_exc, short], maxlen=3)
+    assert len(log) == 3 and log[0] is asc and log.maxlen == 3
+    assert [e.time for e in log.search(function=3)] == [2.0, 3.0]  # 0x83 answers function 3
+    assert len(log.search(text="METER")) == 1 and len(log.search(text="c0 f1")) == 1
+    assert len(log.search(text="c0f1")) == 1
+    log.annotate("late")
+    log.annotate("again")
+    assert log[-1].note == "late; again"
+    text = log.to_text(newest_first=True)
+    assert text.splitlines()[1].lstrip().startswith("4.000000")
+    assert "05 03" not in text and ":050304FF0600648B" in str(log)
+    html = log._repr_html_()
+    assert html.count("<tr") == 4 and "late; again" in html and "-&gt;" not in html
+    assert log.explain(1).frame.pdu == ExceptionResponse(3, 2)
+    with pytest.raises(ModbusError):
+        log[10]
+    log.add(5.0, "tx", "rtu", b"\x01", note="x")
+    assert len(log) == 3 and "TrafficLog: 3" in repr(log)
+    empty = TrafficLog()
+    empty.annotate("nothing")
+    assert empty.to_text().startswith("      time")

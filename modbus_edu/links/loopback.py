@@ -196,7 +196,7 @@ class LoopbackSerialLink(_LoopbackLink):
             node.transmit(answer, "master")  # type: ignore[attr-defined]
 
     def _annotate(self, text: str) -> None:
-        self.bus._note(text)
+        self.monitor.annotate(text)
 
     def _on_frame(self, frame: bytes, when: float) -> None:
         self._inbox.append(frame)
@@ -345,12 +345,7 @@ class LoopbackTcpLink(_LoopbackLink):
         self._inbox.extend(self._client_splitter.feed(data))
 
     def _annotate(self, text: str) -> None:
-        log = self.monitor
-        if len(log):
-            last = log._entries.pop()
-            note = f"{last.note}; {text}" if last.note else text
-            log.add(last.time, last.direction, last.mode, last.data, source=last.source, dest=last.dest,
-                    note=note, role=last.role, duration=last.duration)
+        self.monitor.annotate(text)
 
     @staticmethod
     def _dest(frame: bytes) -> str:

@@ -345,12 +345,7 @@ class SerialBus:
 
     def _note(self, text: str) -> None:
         """Add a line event to the note of the newest monitor entry."""
-        log = self.monitor
-        if len(log):
-            last = log._entries.pop()
-            note = f"{last.note}; {text}" if last.note else text
-            log.add(last.time, last.direction, last.mode, last.data, source=last.source, dest=last.dest,
-                    note=note, role=last.role, duration=last.duration)
+        self.monitor.annotate(text)
 
     def _deliver(self, frame: bytes, sender: Node | None, first: float, broken: bool) -> None:
         if broken:
