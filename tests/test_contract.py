@@ -44,8 +44,8 @@ LATER_NAMES = ["Slave", "Master", "TcpServer", "tcp_link", "serial_link", "loopb
 WIDGETS = ["FrameBuilder", "FrameDecoder", "CrcExplorer", "TestTool", "MeterDashboard"]
 
 _HOMES = ("modbus_edu.crc", "modbus_edu.pdu", "modbus_edu.framing", "modbus_edu.errors",
-          "modbus_edu.datamodel", "modbus_edu.slave", "modbus_edu.master", "modbus_edu.links", "modbus_edu.links.tcp",
-          "modbus_edu.links.serial")
+          "modbus_edu.datamodel", "modbus_edu.slave", "modbus_edu.master", "modbus_edu.links",
+          "modbus_edu.links.tcp", "modbus_edu.links.serial")
 
 
 def api(name: str):
