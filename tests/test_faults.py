@@ -197,3 +197,16 @@ def test_corrupt_is_deterministic_for_a_seed():
     # a fault for responses leaves requests alone
     a.flip_bits(1, target="response")
     assert a.corrupt(data, "request")[0] == data and len(a.pending) == 1
+
+
+def test_silence_counts_only_frames_addressed_to_the_slave_on_a_multidrop_bus():
+    slaves = [Slave(unit=u) for u in (1, 2, 3)]
+    link = loopback_serial(slaves)
+    master = Master(link, timeout=0.1)
+    link.faults.silence(2, requests=1)
+    assert master.read_coils(1, 0, 1) == [False]  # unit 2 hears nothing of this, uses nothing up
+    with pytest.raises(ModbusTimeoutError):
+        master.read_coils(2, 0, 1)
+    assert master.read_coils(2, 0, 1) == [False]
+    assert slaves[1].counters.requests == 1 and slaves[1].counters.other_unit == 0
+    assert slaves[0].counters.other_unit == 3  # a request for 2 and two answers heard by unit 1

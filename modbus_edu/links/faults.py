@@ -196,6 +196,11 @@ class Faults:
             del table[unit]
         return fault
 
+    def silences(self, unit: int | None) -> bool:
+        """True if slave ``unit`` is cut off the bus now (without using up one of its ``requests``)."""
+        fault = self._silenced.get(unit) if unit is not None else None
+        return fault is not None and (fault.remaining is None or fault.remaining > 0)
+
     def is_silenced(self, unit: int | None) -> bool:
         """True (and one use consumed) if slave ``unit`` is cut off for this frame."""
         if self._take(self._silenced, unit) is None:

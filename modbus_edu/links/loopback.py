@@ -78,6 +78,18 @@ def _rewrite_unit(frame: bytes, mode: str, unit: int) -> bytes:
     return body + crc16(body).to_bytes(2, "little")
 
 
+def _frame_unit(frame: bytes, mode: str) -> int | None:
+    """The unit byte of a raw frame, or None if it cannot be read."""
+    try:
+        if mode == "tcp":
+            return frame[6] if len(frame) > 6 else None
+        if mode == "ascii":
+            return int(frame[1:3], 16) if len(frame) >= 3 and frame[:1] == b":" else None
+        return frame[0] if frame else None
+    except ValueError:
+        return None
+
+
 class _LoopbackLink(Link):
     """What both loopback links share: the clock, the inbox, ``receive``, the slaves, the faults."""
 
@@ -179,8 +191,12 @@ class LoopbackSerialLink(_LoopbackLink):
 
     def _slave_hears(self, slave: Slave, frame: bytes, when: float) -> None:
         faults = self.faults
-        if faults.is_silenced(slave.unit):
-            self._annotate(f"{slave.name} is silenced: it does not hear this frame")
+        if faults.silences(slave.unit):
+            # cut off the bus: it hears nothing; a frame addressed to it uses up one of the fault's requests
+            unit = _frame_unit(frame, self.mode)
+            if unit is not None and (unit == 0 or slave.accepts(unit)):
+                faults.is_silenced(slave.unit)
+                self._annotate(f"{slave.name} is silenced: it does not hear this frame")
             return
         answer = slave.handle(frame, self.mode)
         if answer is None:
@@ -209,15 +225,9 @@ class LoopbackSerialLink(_LoopbackLink):
             raise LinkError(f"send() takes the bytes of one frame, got {type(frame).__name__}")
         data = bytes(frame)
         dest = ""
-        if data:
-            unit = data[0] if self.mode == "rtu" else None
-            if self.mode == "ascii" and len(data) >= 3:
-                try:
-                    unit = int(data[1:3], 16)
-                except ValueError:
-                    unit = None
-            if unit is not None:
-                dest = "broadcast" if unit == 0 else f"unit {unit}"
+        unit = _frame_unit(data, self.mode)
+        if unit is not None:
+            dest = "broadcast" if unit == 0 else f"unit {unit}"
         self._node.transmit(data, dest)
 
     def flush(self) -> None:
@@ -349,9 +359,10 @@ class LoopbackTcpLink(_LoopbackLink):
 
     @staticmethod
     def _dest(frame: bytes) -> str:
-        if len(frame) < 7:
+        unit = _frame_unit(frame, "tcp")
+        if unit is None:
             return "server"
-        return "broadcast" if frame[6] == 0 else f"unit {frame[6]}"
+        return "broadcast" if unit == 0 else f"unit {unit}"
 
     @property
     def description(self) -> str:
