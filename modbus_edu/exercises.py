@@ -554,3 +554,153 @@ def _check_07_3(answer: Any) -> str | None:
     return None
 
 
+# --- notebook 03: RTU frames and the CRC ------------------------------------------------------------
+
+@exercise("03.1", "a CRC in wire order",
+          hint="mb.crc16(data) gives the register value; on the wire its low byte goes first "
+               "(mb.crc_bytes(data) gives both bytes in wire order).",
+          wrong="87 76")
+def _check_03_1(answer: Any) -> str | None:
+    from .crc import crc_bytes
+    from .framing import parse_hex
+
+    expected = crc_bytes(parse_hex("11 03 00 6B 00 03"))
+    if isinstance(answer, int) and not isinstance(answer, bool):
+        return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
+                f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
+    got = as_bytes(answer)
+    if got == expected[::-1]:
+        return "these are the right bytes in the wrong order: the low byte of the CRC goes first."
+    return compare_bytes(got, expected, "your CRC")
+
+
+@exercise("03.2", "build an RTU frame",
+          hint="mb.RtuFrame(unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., value=...)).encode(); "
+               "the address goes in the frame as it is: 2 is sent as 00 02.",
+          wrong="01 06 00 02 12 34 7D 25")
+def _check_03_2(answer: Any) -> str | None:
+    from .framing import RtuFrame
+    from .pdu import WriteSingleRegisterRequest
+
+    expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
+    got = as_bytes(answer)
+    if len(got) == len(expected) and got[:-2] == expected[:-2] and got[-2:] == expected[-2:][::-1]:
+        return "the CRC bytes are in the wrong order: the low byte goes first."
+    return compare_bytes(got, expected, "your frame")
+
+
+@exercise("03.3", "will the slave answer?",
+          hint="a slave answers only a frame whose CRC is right; check it with mb.RtuFrame.decode or "
+               "mb.explain. Answer True or False.",
+          wrong=True)
+def _check_03_3(answer: Any) -> str | None:
+    from .framing import RtuFrame, parse_hex
+
+    try:
+        RtuFrame.decode(parse_hex("11 03 00 6B 00 03 76 86"))
+        expected = True
+    except ModbusError:
+        expected = False
+    if not isinstance(answer, bool):
+        return "answer True or False."
+    if answer == expected:
+        return None
+    return ("look at the CRC: the frame carries 0x8676, but the CRC of its first six bytes is different. "
+            "A slave cannot trust a frame with a wrong CRC, not even its address, so it stays silent.")
+
+
+@exercise("03.4", "the length of an FC3 response",
+          hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
+               "+ 2 bytes per register + CRC (2).",
+          wrong=23)
+def _check_03_4(answer: Any) -> str | None:
+    from .framing import RtuFrame
+    from .pdu import ReadHoldingRegistersResponse
+
+    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode())
+    got = _int_answer(answer, "a number of bytes")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == expected - 2:
+        return "you forgot the two CRC bytes at the end."
+    if got == expected - 10:
+        return "each register is two bytes."
+    return f"{got} bytes is not the length of that response."
+
+
+# --- notebook 11: Real sockets and real libraries -----------------------------------------------------
+
+@exercise("11.1", "decode a captured Modbus/TCP request",
+          hint="MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then the "
+               "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
+          wrong=(0x0200, 6, 5, 0x63))
+def _check_11_1(answer: Any) -> str | None:
+    from .framing import TcpFrame, parse_hex
+
+    frame = TcpFrame.decode(parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
+    expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
+    if not isinstance(answer, (tuple, list)) or len(answer) != 4:
+        return "answer with four ints: (transaction_id, function, address, value)."
+    if any(isinstance(x, bool) or not isinstance(x, int) for x in answer):
+        return "all four should be ints."
+    tid, function, address, value = answer
+    if tid != expected[0]:
+        if tid == int.from_bytes(bytes.fromhex("0002"), "little"):
+            return "the transaction id is big-endian (high byte first): 00 02 is 2, not 512."
+        return f"the transaction id is in bytes 0-1; {tid} is not it."
+    if function != expected[1]:
+        return f"the function code is byte 7, right after the unit identifier; it is not {function}."
+    if address != expected[2]:
+        return f"the address is the two bytes after the function code; {address} is not it."
+    if value != expected[3]:
+        return f"the value is the last two bytes, 0x0063; {value} is not it."
+    return None
+
+
+@exercise("11.2", "what a gateway does: RTU in, Modbus/TCP out",
+          hint="keep the unit and the PDU (drop the CRC), put an MBAP header in front: "
+               "mb.TcpFrame(transaction_id=7, unit=..., pdu=...).encode(); mb.RtuFrame.decode reads the RTU frame.",
+          wrong="00 07 00 00 00 08 03 03 00 00 00 03 04 29")
+def _check_11_2(answer: Any) -> str | None:
+    from .framing import RtuFrame, TcpFrame, parse_hex
+
+    rtu = RtuFrame.decode(parse_hex("03 03 00 00 00 03 04 29"), role="request")
+    expected = TcpFrame(transaction_id=7, unit=rtu.unit, pdu=rtu.pdu).encode()
+    got = as_bytes(answer)
+    if got.endswith(parse_hex("04 29")):
+        return "Modbus/TCP frames carry no CRC: TCP checks the bytes itself. Drop the last two bytes."
+    if got[:2] == b"\x07\x00":
+        return "the transaction id goes big-endian: 00 07."
+    return compare_bytes(got, expected, "your Modbus/TCP frame")
+
+
+@exercise("11.3", "a pyserial URL for a serial device server",
+          hint="pyserial's URL for a serial line carried over raw TCP is socket://<host>:<port>.",
+          wrong="tcp://192.168.1.60:4001")
+def _check_11_3(answer: Any) -> str | None:
+    import serial
+    from serial.urlhandler.protocol_socket import Serial as SocketSerial
+
+    if not isinstance(answer, str):
+        return "answer with a string, the URL."
+    try:
+        port = serial.serial_for_url(answer.strip(), do_not_open=True)
+    except (ValueError, serial.SerialException) as exc:
+        return f"pyserial does not accept {answer!r} as a port or URL ({exc})."
+    if not isinstance(port, SocketSerial):
+        if "://" not in answer:
+            return f"{answer!r} is a local port name; a device on the network needs a URL."
+        scheme = answer.split("://")[0]
+        if scheme == "rfc2217":
+            return "rfc2217:// is for device servers in RFC 2217 (telnet) mode; this one runs raw TCP."
+        return f"{scheme}:// is another kind of pyserial port, not a serial line over raw TCP."
+    try:
+        host, number = port.from_url(answer.strip())
+    except serial.SerialException as exc:
+        return f"pyserial cannot read host and port from {answer!r}: {exc}."
+    expected = SocketSerial().from_url("socket://192.168.1.60:4001")
+    if (host, number) != expected:
+        return f"that URL reaches {host}, TCP port {number}, not the device server."
+    return None
