@@ -203,3 +203,38 @@ def test_real_port_silence_rule_uses_t35_plus_latency():
     assert _frame_gap("COM3", t, None) == pytest.approx(3.5 * 10 / 9600 + 0.020)
     assert _frame_gap("socket://127.0.0.1:1", t, None) == pytest.approx(3.5 * 10 / 9600 + 0.100)
     assert _frame_gap("COM3", _timing(9600, "N", 1, "ascii", None), None) == 1.0
+
+
+# --- SerialServer on a URL it opens itself ------------------------------------------------------------------
+def test_serial_server_opens_a_socket_url_and_answers_raw_rtu():
+    import socket
+
+    listener = socket.create_server((HOST, 0))
+    try:
+        port = listener.getsockname()[1]
+        slave = Slave(unit=1, processing_time=0.05)  # a slow device: really waits 50 ms
+        slave.bank.holding_registers[0] = 0x1234
+        with SerialServer(slave, f"socket://{HOST}:{port}", 19200, "E", 1, mode="rtu") as server:
+            line, _ = listener.accept()
+            with line:
+                line.settimeout(2)
+                line.sendall(bytes.fromhex("01 03 00 00 00 01 84 0A"))
+                answer = b""
+                while len(answer) < 7:
+                    answer += line.recv(7 - len(answer))
+                assert answer == RtuFrame(
+                    unit=1, pdu=ReadHoldingRegistersResponse(registers=(0x1234,))
+                ).encode()
+            assert "socket://" in repr(server) and "19200 baud 8E1 RTU running" in repr(server)
+            assert server.counters.as_dict() == {"frames": 1, "responses": 1, "no_slave": 0, "failures": 0}
+        assert "closed" in repr(server)
+        server.close()  # harmless twice
+        with pytest.raises(LinkError, match="closed"):
+            server.start()
+    finally:
+        listener.close()
+
+
+def test_serial_server_rejects_what_is_not_a_port():
+    with pytest.raises(ConfigError, match="pyserial URL or an open pyserial-like object"):
+        SerialServer(Slave(), object())

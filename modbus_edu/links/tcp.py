@@ -23,6 +23,7 @@ from __future__ import annotations
 import errno
 import ipaddress
 import logging
+import select
 import selectors
 import socket
 import struct
@@ -708,6 +709,7 @@ class TcpLink(Link):
             self.reconnects += 1
         assert self._sock is not None
         try:
+            self._sock.settimeout(self.timeout)
             self._sock.sendall(frame)
         except OSError as exc:
             raise self._lost(f"sending failed ({exc.strerror or exc})") from exc
@@ -727,10 +729,9 @@ class TcpLink(Link):
             try:
                 if remaining > 0:
                     sock.settimeout(remaining)
-                    data = sock.recv(_RECV_SIZE)
-                else:
-                    sock.setblocking(False)
-                    data = sock.recv(_RECV_SIZE)
+                elif not select.select([sock], [], [], 0)[0]:
+                    return None  # receive(0): nothing has arrived
+                data = sock.recv(_RECV_SIZE)
             except (TimeoutError, BlockingIOError, InterruptedError):
                 return None
             except OSError as exc:
