@@ -12,6 +12,9 @@ every byte, check and decision comes from :mod:`modbus_edu`.
 
 from __future__ import annotations
 
+from .crcexplorer import CrcExplorer
 from .framebuilder import FrameBuilder
+from .framedecoder import FrameDecoder
+from .testtool import TestTool
 
-__all__ = ["FrameBuilder"]
+__all__ = ["FrameBuilder", "FrameDecoder", "CrcExplorer", "TestTool"]
