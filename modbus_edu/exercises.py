@@ -704,3 +704,5 @@ def _check_11_3(answer: Any) -> str | None:
     if (host, number) != expected:
         return f"that URL reaches {host}, TCP port {number}, not the device server."
     return None
+
+
