@@ -10,6 +10,7 @@ architecture section)::
 
 from __future__ import annotations
 
+from .clock import RealClock, VirtualClock  # noqa: F401
 from .crc import (  # noqa: F401
     CRC_TABLE,
     POLYNOMIAL,
@@ -49,6 +50,20 @@ from .framing import (  # noqa: F401
     parse_hex,
     splitter_for,
 )
+from .links import (  # noqa: F401
+    BusStats,
+    Faults,
+    Link,
+    LoopbackSerialLink,
+    LoopbackTcpLink,
+    SerialTiming,
+    character_time,
+    loopback_serial,
+    loopback_tcp,
+)
+from .links.serial import SerialLink, SerialServer, serial_link  # noqa: F401
+from .links.tcp import TcpLink, TcpServer, tcp_link  # noqa: F401
+from .master import Master, MasterStats  # noqa: F401
 from .pdu import (  # noqa: F401
     MAX_READ_BITS,
     MAX_READ_REGISTERS,
@@ -77,6 +92,8 @@ from .pdu import (  # noqa: F401
     decode_pdu,
     pdu_length,
 )
+from .slave import Slave, SlaveCounters  # noqa: F401
+from .traffic import Traffic, TrafficLog  # noqa: F401
 from .values import (  # noqa: F401
     FORMATS,
     ORDERS,
