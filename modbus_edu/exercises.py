@@ -285,7 +285,7 @@ def _close(got: float, expected: float, rel: float = 1e-3) -> bool:
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",
           hint="t3.5 is 3.5 character times; with even parity a character is 11 bits (start, 8 data, "
-               "parity, stop). SerialTiming(baudrate=..., parity=...).t35 gives it in seconds.",
+               "parity, stop). mb.SerialTiming(baudrate=..., parity=...).t35 gives it in seconds.",
           wrong=3.5 * 10 / 4800)
 def _check_08_1(answer: Any) -> str | None:
     from .links.wire import SerialTiming
@@ -308,7 +308,7 @@ def _check_08_1(answer: Any) -> str | None:
 
 @exercise("08.2", "transactions per second reading 10 registers at 19200 baud",
           hint="request 8 bytes, response 5 + 2 x 10 bytes, plus two silences of 3.5 characters; "
-               "1 / SerialTiming(19200).transaction_time(request_bytes, response_bytes).",
+               "1 / mb.SerialTiming(19200).transaction_time(request_bytes, response_bytes).",
           wrong=19200 / 10 / (8 + 25))
 def _check_08_2(answer: Any) -> str | None:
     from .links.wire import SerialTiming
@@ -532,8 +532,8 @@ def _outcome_of(situation: str) -> str:
 
 @exercise("07.3", "what the master sees",
           hint="silence (no answer) is a timeout; a damaged answer is a checksum error; a refusal is an "
-               "exception; an answer from the wrong unit is a mismatch. Try each on loopback_serial with "
-               "link.faults.",
+               "exception; an answer from the wrong unit is a mismatch. Try each on mb.loopback_serial "
+               "with link.faults.",
           wrong=dict.fromkeys(_SITUATIONS, "checksum error"))
 def _check_07_3(answer: Any) -> str | None:
     if not isinstance(answer, dict):
@@ -790,6 +790,89 @@ def _check_04_4(answer: Any) -> str | None:
     if got[:1] == b":":
         return "give the bytes of the PDU, not the ASCII characters of the frame."
     return compare_bytes(got, expected, "your PDU")
+
+
+# --- notebook 05: Modbus/TCP and the MBAP header -----------------------------------------------------
+
+@exercise("05.1", "read a transaction id",
+          hint="the transaction identifier is bytes 0-1 of the MBAP header, big-endian (high byte first).",
+          wrong=10752)
+def _check_05_1(answer: Any) -> str | None:
+    from .framing import TcpFrame, parse_hex
+
+    frame = parse_hex("00 2A 00 00 00 06 11 03 00 6B 00 03")
+    expected = TcpFrame.decode(frame).transaction_id
+    got = _int_answer(answer, "a transaction id")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == int.from_bytes(frame[:2], "little"):
+        return "you read the two bytes low byte first; every MBAP field is big-endian."
+    return f"{got} is not the transaction id of that frame."
+
+
+@exercise("05.2", "build a Modbus/TCP frame",
+          hint="mb.TcpFrame(transaction_id=..., unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., "
+               "value=...)).encode(); the length field counts the unit identifier and the PDU.",
+          wrong="07 00 00 00 00 06 01 06 00 00 04 D2")
+def _check_05_2(answer: Any) -> str | None:
+    from .framing import TcpFrame
+    from .pdu import WriteSingleRegisterRequest
+
+    pdu = WriteSingleRegisterRequest(address=0, value=1234)
+    expected = TcpFrame(transaction_id=7, unit=1, pdu=pdu).encode()
+    got = as_bytes(answer)
+    if got == expected:
+        return None
+    if len(got) == len(expected) and got[2:] == expected[2:] and got[:2] == expected[1::-1]:
+        return "the transaction id is written low byte first; every MBAP field is big-endian."
+    if len(got) == len(expected) and got[:4] == expected[:4] and got[6:] == expected[6:]:
+        return (f"the length field is wrong: it counts the bytes after it, the unit identifier and the PDU "
+                f"({expected[5]} bytes), big-endian.")
+    return compare_bytes(got, expected, "your frame")
+
+
+@exercise("05.3", "the MBAP length of a response",
+          hint="the length counts the bytes after the length field: unit identifier (1) + function code (1) "
+               "+ byte count (1) + 2 bytes per register.",
+          wrong=22)
+def _check_05_3(answer: Any) -> str | None:
+    from .framing import TcpFrame
+    from .pdu import ReadHoldingRegistersResponse
+
+    frame = TcpFrame(transaction_id=1, unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode()
+    expected = int.from_bytes(frame[4:6], "big")
+    got = _int_answer(answer, "a length")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == expected - 1:
+        return "the length also counts the unit identifier."
+    if got == len(frame):
+        return "that is the whole frame; the length counts only the bytes after the length field."
+    return f"{got} is not the length field of that response."
+
+
+@exercise("05.4", "spot the wrong MBAP field",
+          hint="decode the frame with mb.explain(frame, mode='tcp'): the row marked as a problem is the one. "
+               "Answer with the field's name, e.g. 'protocol identifier'.",
+          wrong="transaction identifier")
+def _check_05_4(answer: Any) -> str | None:
+    from .explain import explain
+
+    dissection = explain("01 18 00 00 06 00 01 03 00 00 00 01", mode="tcp")
+    expected = next(row.field for row in dissection.rows if not row.ok)
+    if not isinstance(answer, str):
+        return "answer with the name of a field, as a string."
+    got = answer.strip().lower()
+    if got and (got == expected or (got in expected and len(got) >= 4)):
+        return None
+    if "transaction" in got:
+        return ("0x0118 is a perfectly good transaction id (big-endian, 280); look at the field that must "
+                "count the bytes that follow.")
+    return f"{answer!r} is right in that frame; another field is not."
 
 
 # --- notebook 09: An Arduino-style slave ----------------------------------------------------------------
