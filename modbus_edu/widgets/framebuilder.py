@@ -86,7 +86,7 @@ class FrameBuilder(W.VBox):
         count: int | str = 1,
         value: int | str = 0,
         coil: bool = True,
-        values: Any = "10, 258",
+        values: Any = None,
         bits: Any = "1, 0, 1, 1",
         registers: Any = "1234",
         exception_code: int = 2,
@@ -113,7 +113,11 @@ class FrameBuilder(W.VBox):
         self.value = text_field("value", value, css="mbe-field-value", tooltip="register value 0..65535")
         self.coil = dropdown("coil", [("ON (FF 00)", True), ("OFF (00 00)", False)], bool(coil),
                              css="mbe-field-coil")
-        self.values = text_field("values", _text(values), css="mbe-field-values", width="420px")
+        self.values = text_field("values", "", css="mbe-field-values", width="420px")
+        # FC15 takes coil values, FC16 register values: the field remembers the text of each kind
+        self._values_text = {"bits": "1, 0, 1, 1", "registers": "10, 258"}
+        self._values_kind: str | None = None
+        self._quiet = False
         self.bits = text_field("bits", _text(bits), css="mbe-field-bits", width="420px",
                                placeholder="1, 0, 1, 1  (first bit first)")
         self.registers = text_field("registers", _text(registers), css="mbe-field-registers", width="420px",
@@ -139,9 +143,14 @@ class FrameBuilder(W.VBox):
             self.dissection_view,
         ]
         self._update = guarded(self.message, self.update)
+        kind = self._values_kind_now() or "registers"
+        if values is not None:
+            self._values_text[kind] = _text(values)
+        self.values.value = self._values_text[kind]
+        self._values_kind = kind
         for box in [self.mode, self.role, self.function, self.unit, self.transaction_id,
                     *self._field_inputs]:
-            box.observe(lambda _change: self._update(), names="value")
+            box.observe(lambda _change: None if self._quiet else self._update(), names="value")
         self._update()
 
     # -- which fields ----------------------------------------------------------------------------
@@ -167,6 +176,12 @@ class FrameBuilder(W.VBox):
                 out[f.name] = getattr(self, f.name)
         return out
 
+    def _values_kind_now(self) -> str | None:
+        """``"bits"`` or ``"registers"``: what the ``values`` field of the chosen PDU class holds."""
+        if "values" not in {f.name for f in dataclasses.fields(self.pdu_class())}:
+            return None
+        return "bits" if self._is_bits("values") else "registers"
+
     def _is_bits(self, name: str) -> bool:
         field = {f.name: f for f in dataclasses.fields(self.pdu_class())}[name]
         return "bool" in str(field.type)
@@ -190,7 +205,17 @@ class FrameBuilder(W.VBox):
             shown(box, id(box) in wanted)
         shown(self.transaction_id, self.mode.value == "tcp")
         if "values" in needed:
-            bits = self._is_bits("values")
+            kind = self._values_kind_now()
+            if kind is not None and kind != self._values_kind:
+                if self._values_kind is not None:
+                    self._values_text[self._values_kind] = self.values.value
+                self._quiet = True
+                try:
+                    self.values.value = self._values_text[kind]
+                finally:
+                    self._quiet = False
+                self._values_kind = kind
+            bits = kind == "bits"
             self.values.description = "coil values" if bits else "register values"
             self.values.placeholder = "1, 0, 1, 1  (first coil first)" if bits else "10, 0x0102"
 
@@ -234,9 +259,14 @@ class FrameBuilder(W.VBox):
         self.pdu, self.adu, self.frame = pdu, adu, data
         self.dissection = explain(data, self.mode.value, role)
         self.message.show(f"{self.dissection.summary}  ({len(data)} bytes)", "ok")
+        chars = ""
+        if self.mode.value == "ascii":  # what a terminal shows, then the byte values of the characters
+            text = data.decode("ascii").replace("\r", " CR").replace("\n", " LF")
+            chars = (f'<div style="margin-top:4px;font-size:0.9em">characters: '
+                     f'<code class="mbe-frame-chars">{esc(text)}</code></div>')
         self.frame_view.value = (
-            frame_html(self.dissection) + legend_html(self.dissection)
-            + f'<div style="margin-top:4px;font-size:0.9em">hex: <code class="mbe-frame-hex">'
-            f"{esc(hex_text(data))}</code></div>"
+            frame_html(self.dissection) + legend_html(self.dissection) + chars
+            + f'<div style="margin-top:4px;font-size:0.9em">{"bytes" if chars else "hex"}: '
+            f'<code class="mbe-frame-hex">{esc(hex_text(data))}</code></div>'
         )
         self.dissection_view.value = self.dissection._repr_html_()

@@ -136,6 +136,8 @@ class TestTool(W.VBox):
         display(master, slave)
     """
 
+    __test__ = False  # not a pytest test class, whatever its name says
+
     def __init__(
         self,
         role: str = "rtu_master",
@@ -168,12 +170,6 @@ class TestTool(W.VBox):
     ) -> None:
         super().__init__(**kwargs)
         self.add_class("mbe-testtool")
-        if role not in ROLES:
-            role_error: ConfigError | None = ConfigError(
-                f"unknown role {role!r}: expected one of {', '.join(ROLES)}")
-            role = "rtu_master"
-        else:
-            role_error = None
         self.bank = DataBank()
         """The tool's own four tables: what a master read (and will write), what a slave serves."""
         self.slave: Slave | None = None
@@ -194,47 +190,57 @@ class TestTool(W.VBox):
         self._updating = False
         self._empty_log = TrafficLog()
 
-        self._build(role, name, url, baudrate, parity, stopbits, host, port, timeout, unit, address, length,
-                    function, transaction_id, interval, continuous, display, fill_start, fill_increment,
-                    fill_step, auto_interval, newest_on_top)
-        self.connection.value = connection or ("loopback" if partner is not None else
-                                               self.connection.options[0][1])
+        self._build()
         self._apply_role()
-        if role_error is not None:
-            self.message.error(role_error)
+        settings = dict(
+            role=role, name=name, connection=connection or ("loopback" if partner is not None else None),
+            url=url, baudrate=baudrate, parity=parity, stopbits=stopbits, host=host, port=port,
+            timeout=timeout, unit=unit, address=address, length=length, function=function,
+            transaction_id=transaction_id, interval=interval, continuous=continuous, display=display,
+            fill_start=fill_start, fill_increment=fill_increment, fill_step=fill_step,
+            auto_interval=auto_interval, newest_on_top=newest_on_top, seed=seed,
+        )
+        if role not in ROLES:
+            settings.pop("role")
+        self.apply_config({k: v for k, v in settings.items() if v is not None})
+        if self.message.kind == "info":
+            self.message.clear()
+        if role not in ROLES:
+            self.message.error(ConfigError(f"unknown role {role!r}: expected one of {', '.join(ROLES)}"))
         if partner is not None:
             self.connect(partner)
-        elif self.role_info.side == "slave" and self.connection.value == "loopback":
+        elif self.role_info.side == "slave" and self.connection.value == "loopback" \
+                and self.message.kind != "error":
             self.message.show("waiting for a master: give this tool as partner= to a master tool")
 
     # =====================================================================================================
     # building the panel
     # =====================================================================================================
-    def _build(self, role, name, url, baudrate, parity, stopbits, host, port, timeout, unit, address, length,
-               function, transaction_id, interval, continuous, display, fill_start, fill_increment,
-               fill_step, auto_interval, newest_on_top) -> None:
+    def _build(self) -> None:
+        """Create every control with its default value (the constructor then applies the settings)."""
         g = guarded
         self.message = MessageLine()
         self.title = W.HTML()
-        self.role = _small(W.Dropdown(options=ROLE_OPTIONS, value=role, description="role"), "230px", "40px")
+        self.role = _small(W.Dropdown(options=ROLE_OPTIONS, value="rtu_master", description="role"), "230px",
+                           "40px")
         self.role.add_class("mbe-tt-role")
-        self.name = _small(W.Text(value=name or "", description="name", placeholder=ROLES[role].title),
+        self.name = _small(W.Text(value="", description="name", placeholder="a name for messages"),
                            "230px", "40px")
 
         # -- connection --------------------------------------------------------------------------------
         self.connection = _small(W.Dropdown(options=[("loopback partner", "loopback")],
                                             description="connection"),
                                  "300px")
-        self.url = _small(W.Text(value=url, description="port / URL",
+        self.url = _small(W.Text(value="loop://", description="port / URL",
                                  placeholder="loop://, /dev/ttyUSB0, COM3, socket://host:port"), "300px")
-        self.baudrate = _small(W.Dropdown(options=BAUD_RATES, value=int(baudrate), description="baud"))
+        self.baudrate = _small(W.Dropdown(options=BAUD_RATES, value=9600, description="baud"))
         self.parity = _small(W.Dropdown(options=[("none (N)", "N"), ("even (E)", "E"), ("odd (O)", "O")],
-                                        value=parity, description="parity"))
-        self.stopbits = _small(W.Dropdown(options=[("1", 1), ("2", 2)], value=int(stopbits),
+                                        value="N", description="parity"))
+        self.stopbits = _small(W.Dropdown(options=[("1", 1), ("2", 2)], value=1,
                                           description="stop bits"))
-        self.host = _small(W.Text(value=host, description="host"))
-        self.port = _small(W.BoundedIntText(value=port, min=0, max=65535, description="TCP port"))
-        self.timeout = _small(W.BoundedFloatText(value=timeout, min=0.001, max=60, step=0.1,
+        self.host = _small(W.Text(value="127.0.0.1", description="host"))
+        self.port = _small(W.BoundedIntText(value=5020, min=0, max=65535, description="TCP port"))
+        self.timeout = _small(W.BoundedFloatText(value=1.0, min=0.001, max=60, step=0.1,
                                                  description="timeout (s)"))
         self.connect_button = _button("connect", "plug", "mbe-tt-connect", style="success")
         self.disconnect_button = _button("disconnect", "times", "mbe-tt-disconnect")
@@ -243,22 +249,22 @@ class TestTool(W.VBox):
         self.disconnect_button.on_click(g(self.message, lambda _b: self.disconnect()))
 
         # -- device parameters ---------------------------------------------------------------------------
-        self.unit = _small(W.BoundedIntText(value=unit, min=0, max=255, description="unit (slave id)"))
+        self.unit = _small(W.BoundedIntText(value=1, min=0, max=255, description="unit (slave id)"))
         self.unit.add_class("mbe-tt-unit")
-        self.address = _small(W.BoundedIntText(value=address, min=0, max=65535, description="start address"))
+        self.address = _small(W.BoundedIntText(value=0, min=0, max=65535, description="start address"))
         self.address.add_class("mbe-tt-address")
-        self.length = _small(W.BoundedIntText(value=length, min=1, max=2000, description="length"))
-        self.function = _small(W.Dropdown(options=FUNCTION_OPTIONS, value=int(function),
+        self.length = _small(W.BoundedIntText(value=10, min=1, max=2000, description="length"))
+        self.function = _small(W.Dropdown(options=FUNCTION_OPTIONS, value=3,
                                           description="function"),
                                "320px")
-        self.transaction_id = _small(W.BoundedIntText(value=transaction_id, min=0, max=65535,
+        self.transaction_id = _small(W.BoundedIntText(value=1, min=0, max=65535,
                                                       description="transaction id"))
         self.request_count = W.HTML()
 
         # -- polling -------------------------------------------------------------------------------------
-        self.interval = _small(W.BoundedFloatText(value=interval, min=0.01, max=3600, step=0.1,
+        self.interval = _small(W.BoundedFloatText(value=1.0, min=0.01, max=3600, step=0.1,
                                                   description="interval (s)"))
-        self.continuous = W.Checkbox(value=continuous, description="continuous", indent=False,
+        self.continuous = W.Checkbox(value=True, description="continuous", indent=False,
                                      layout=W.Layout(width="110px"))
         self.read_button = _button("read once", "download", "mbe-tt-read",
                                    "one request with the chosen function")
@@ -273,18 +279,18 @@ class TestTool(W.VBox):
         self.reset_button.on_click(g(self.message, lambda _b: self.reset_counters()))
 
         # -- data grid -------------------------------------------------------------------------------------
-        self.display = _small(W.Dropdown(options=FORMAT_OPTIONS, value=display, description="display"),
+        self.display = _small(W.Dropdown(options=FORMAT_OPTIONS, value="unsigned", description="display"),
                               "260px",
                               "60px")
         self.grid = W.VBox()
         self.grid.add_class("mbe-tt-grid")
         self._cells: list[W.Text] = []
         self._grid_shape: tuple | None = None
-        self.selected = _small(W.BoundedIntText(value=address, min=0, max=65535, description="cell address"))
+        self.selected = _small(W.BoundedIntText(value=0, min=0, max=65535, description="cell address"))
         self.write_value = _small(W.Text(description="value", placeholder="from the grid"))
         self._write_value_typed = False
         self.write_value.observe(lambda _c: self._write_value_edited(), names="value")
-        self.write_count = _small(W.BoundedIntText(value=min(length, 123), min=1, max=1968,
+        self.write_count = _small(W.BoundedIntText(value=10, min=1, max=1968,
                                                    description="cells"))
         self.write_one_button = _button("write cell (FC06)", "pencil", "mbe-tt-write-one")
         self.write_many_button = _button("write cells (FC16)", "pencil-square-o", "mbe-tt-write-many")
@@ -294,11 +300,11 @@ class TestTool(W.VBox):
                                  self.write_many_button])
 
         # -- dummy data --------------------------------------------------------------------------------------
-        self.fill_start = _small(W.IntText(value=fill_start, description="first value"), "190px", "75px")
-        self.increment = W.Checkbox(value=fill_increment, description="increment", indent=False,
+        self.fill_start = _small(W.IntText(value=0, description="first value"), "190px", "75px")
+        self.increment = W.Checkbox(value=True, description="increment", indent=False,
                                          layout=W.Layout(width="100px"))
-        self.fill_step = _small(W.IntText(value=fill_step, description="by"), "120px", "25px")
-        self.auto_interval = _small(W.BoundedFloatText(value=auto_interval, min=0.05, max=3600,
+        self.fill_step = _small(W.IntText(value=1, description="by"), "120px", "25px")
+        self.auto_interval = _small(W.BoundedFloatText(value=1.0, min=0.05, max=3600,
                                                        description="every (s)"), "160px", "60px")
         self.random_button = _button("random fill", "random", "mbe-tt-random")
         self.fill_button = _button("fill", "sort-numeric-asc", "mbe-tt-fill")
@@ -310,7 +316,7 @@ class TestTool(W.VBox):
         self.auto_stop_button.on_click(g(self.message, lambda _b: self.auto_fill_stop()))
 
         # -- logs ------------------------------------------------------------------------------------------
-        self.newest_on_top = W.Checkbox(value=newest_on_top, description="newest on top", indent=False,
+        self.newest_on_top = W.Checkbox(value=True, description="newest on top", indent=False,
                                         layout=W.Layout(width="130px"))
         self.search = _small(W.Text(description="search", placeholder="hex, note, unit ..."), "260px", "50px")
         self.clear_button = _button("clear logs", "trash", "mbe-tt-clear")
@@ -448,15 +454,18 @@ class TestTool(W.VBox):
     def _ensure_slave(self) -> Slave:
         if self.slave is None:
             unit = self.unit.value
-            self.slave = Slave(unit=unit if unit else None, bank=self.bank, on_read=self._on_read,
-                               name=self.label)
+            try:
+                self.slave = Slave(unit=unit, bank=self.bank, on_read=self._on_read, name=self.label)
+            except ModbusError as exc:  # unit 0 (broadcast) in the field: serve unit 1 until it is fixed
+                self.message.error(exc)
+                self.slave = Slave(unit=1, bank=self.bank, on_read=self._on_read, name=self.label)
         return self.slave
 
     def _unit_changed(self) -> None:
         if self.slave is not None:
             unit = self.unit.value
-            Slave(unit=unit if unit else None)  # the library checks the range (raises ConfigError)
-            self.slave.unit = unit if unit else None
+            Slave(unit=unit)  # the library checks the unit (ConfigError for 0, the broadcast address)
+            self.slave.unit = unit
         self.refresh()
 
     def _tid_changed(self) -> None:
@@ -1206,6 +1215,7 @@ class TestTool(W.VBox):
             if "display" in config and config["display"] not in FORMATS:
                 raise ConfigError(f"unknown display format {config['display']!r}")
             before = self.config()
+            key = "role"
             try:
                 if "role" in config and config["role"] != self.role.value:
                     self.role.value = config["role"]
@@ -1214,19 +1224,27 @@ class TestTool(W.VBox):
                         continue
                     self._config_widget(key).value = config[key]
                 if "seed" in config:
-                    self._seed = int(config["seed"])
+                    key = "seed"
+                    if isinstance(config["seed"], bool) or not isinstance(config["seed"], int):
+                        raise ValueError("the seed is a whole number")
+                    self._seed = config["seed"]
                     self._rng = random.Random(self._seed)
             except Exception as exc:  # a widget refused a value (TraitError): put everything back
-                for key in CONFIG_KEYS:
-                    if key not in ("role", "seed"):
-                        with contextlib.suppress(Exception):
-                            self._config_widget(key).value = before[key]
-                raise ConfigError(f"bad configuration value: {exc}") from None
+                self._restore(before)
+                raise ConfigError(f"bad value for {key!r}: {config[key]!r} ({exc})") from None
         except ModbusError as exc:
             self.message.error(exc)
             return False
         self.refresh()
         return True
+
+    def _restore(self, before: dict[str, Any]) -> None:
+        if self.role.value != before["role"]:
+            self.role.value = before["role"]
+        for key in CONFIG_KEYS:
+            if key not in ("role", "seed"):
+                with contextlib.suppress(Exception):
+                    self._config_widget(key).value = before[key]
 
     def _config_widget(self, key: str) -> W.ValueWidget:
         return self.increment if key == "fill_increment" else getattr(self, key)
@@ -1243,9 +1261,9 @@ class TestTool(W.VBox):
         self.message.show(f"configuration saved to {target}", "ok")
         return target
 
-    def load_config(self, source: str | Path | dict | None = None) -> bool:
+    def load_config(self, source: str | Path | dict[str, Any] | None = None) -> bool:
         """Load settings from a JSON file (default: the *config file* field) or from a dict."""
-        if isinstance(source, dict):
+        if source is not None and not isinstance(source, (str, Path)):
             ok = self.apply_config(source)
             if ok:
                 self.message.show("configuration loaded", "ok")

@@ -1,0 +1,647 @@
+"""The widgets, headless: driven the way ipywidgets' own tests drive widgets (set ``.value``, ``.click()``).
+
+Every frame a panel shows must be the library's frame (VECTORS.md), every invalid input must end up on
+the panel's message line, and nothing may raise into the notebook.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import re
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from modbus_edu.crc import crc16, crc_bytes, lrc
+from modbus_edu.explain import explain
+from modbus_edu.framing import parse_hex
+from modbus_edu.pdu import FunctionCode
+from modbus_edu.values import format_registers
+from modbus_edu.widgets import CrcExplorer, FrameBuilder, FrameDecoder, TestTool
+
+# (mode, builder fields, expected frame as in VECTORS.md)
+VECTORS = [
+    ("rtu", dict(unit=1, function=3, address=0, count=1), "01 03 00 00 00 01 84 0A"),
+    ("rtu", dict(unit=1, function=3, address=0, count=10), "01 03 00 00 00 0A C5 CD"),
+    ("rtu", dict(unit=1, function=3, address=0, count=3), "01 03 00 00 00 03 05 CB"),
+    ("rtu", dict(unit=1, function=3, role="response", registers="0x0003, 0x5571"),
+     "01 03 04 00 03 55 71 F5 47"),
+    ("rtu", dict(unit=1, function=3, role="exception", exception_code=2), "01 83 02 C0 F1"),
+    ("rtu", dict(unit=1, function=16, address=1, values="0x000A, 0x0102"),
+     "01 10 00 01 00 02 04 00 0A 01 02 92 30"),
+    ("rtu", dict(unit=17, function=5, address=172, coil=True), "11 05 00 AC FF 00 4E 8B"),
+    ("rtu", dict(unit=17, function=5, role="response", address=172, coil=True), "11 05 00 AC FF 00 4E 8B"),
+    ("rtu", dict(unit=17, function=15, address=19, values="1011001110"), "11 0F 00 13 00 0A 02 CD 01 BF 0B"),
+    ("rtu", dict(unit=17, function=1, address=19, count=37), "11 01 00 13 00 25 0E 84"),
+    ("rtu", dict(unit=17, function=3, address=107, count=3), "11 03 00 6B 00 03 76 87"),
+    ("ascii", dict(unit=5, function=6, address=0x1001, value=0x0200), ":050610010200E2"),
+    ("ascii", dict(unit=5, function=6, role="response", address="0x1001", value="0x0200"), ":050610010200E2"),
+    ("ascii", dict(unit=5, function=3, address=0x1000, count=2), ":050310000002E6"),
+    ("ascii", dict(unit=5, function=3, role="response", registers="0xFF06, 0x0064"), ":050304FF0600648B"),
+    ("tcp", dict(transaction_id=0x0118, unit=1, function=3, address=0, count=1),
+     "01 18 00 00 00 06 01 03 00 00 00 01"),
+    ("tcp", dict(transaction_id="0x0118", unit=1, function=3, role="response", registers="1234"),
+     "01 18 00 00 00 05 01 03 02 04 D2"),
+]
+IDS = [f"{m}-{e.replace(' ', '')[:20]}" for m, _f, e in VECTORS]
+
+
+def _bytes(expected: str) -> bytes:
+    return parse_hex(expected)
+
+
+# --- FrameBuilder ----------------------------------------------------------------------------------
+@pytest.mark.parametrize(("mode", "fields", "expected"), VECTORS, ids=IDS)
+def test_frame_builder_shows_the_vector_frame(mode, fields, expected):
+    fb = FrameBuilder(mode=mode, **fields)
+    want = _bytes(expected)
+    assert fb.error is None, fb.message.text
+    assert fb.frame == want
+    assert fb.dissection is not None and fb.dissection.ok
+    assert fb.adu is not None and fb.adu.encode() == want
+    html = fb.frame_view.value
+    assert " ".join(f"{b:02X}" for b in want) in html
+    if mode == "ascii":
+        assert expected in html  # the characters as a terminal shows them
+    # one coloured span per dissection row, and the dissection table below
+    assert html.count('class="mbe-field"') == len(fb.dissection.rows)
+    assert "modbus-edu-dissection" in fb.dissection_view.value
+    assert fb.message.kind == "ok"
+
+
+@pytest.mark.parametrize(("mode", "fields", "expected"), VECTORS, ids=IDS)
+def test_frame_builder_follows_changes_made_like_a_user(mode, fields, expected):
+    """Start from the defaults and type the fields in, one ``.value`` at a time."""
+    fb = FrameBuilder()
+    fb.mode.value = mode
+    fb.role.value = fields.get("role", "request")
+    fb.function.value = fields["function"]
+    for name, value in fields.items():
+        if name in ("role", "function"):
+            continue
+        box = getattr(fb, name)
+        box.value = value if isinstance(value, bool) or name == "exception_code" else str(value)
+    assert fb.frame == _bytes(expected), fb.message.text
+
+
+def test_frame_builder_shows_only_the_fields_a_function_needs():
+    fb = FrameBuilder()
+    assert fb.visible_fields() == ["unit", "address", "count"]
+    hidden = [fb.value, fb.coil, fb.values, fb.bits, fb.registers, fb.exception_code, fb.transaction_id]
+    assert all(box.layout.display == "none" for box in hidden)
+    fb.mode.value = "tcp"
+    assert fb.visible_fields() == ["unit", "transaction_id", "address", "count"]
+    assert fb.transaction_id.layout.display != "none"
+    fb.mode.value = "rtu"
+    expected = {
+        (1, "request"): ["address", "count"], (1, "response"): ["bits"],
+        (2, "response"): ["bits"], (3, "response"): ["registers"], (4, "request"): ["address", "count"],
+        (5, "request"): ["address", "coil"], (5, "response"): ["address", "coil"],
+        (6, "request"): ["address", "value"], (15, "request"): ["address", "values"],
+        (15, "response"): ["address", "count"], (16, "request"): ["address", "values"],
+        (16, "response"): ["address", "count"], (3, "exception"): ["exception_code"],
+    }
+    for (function, role), names in expected.items():
+        fb.function.value = function
+        fb.role.value = role
+        assert fb.visible_fields() == ["unit", *names], (function, role)
+        for name, box in fb._field_map().items():
+            assert (box.layout.display != "none") == (name in names), (function, role, name)
+    fb.function.value = 15
+    fb.role.value = "request"
+    assert fb.values.description == "coil values"
+    fb.function.value = 16
+    assert fb.values.description == "register values"
+
+
+def test_frame_builder_every_function_and_role_gives_a_frame_the_library_decodes():
+    fb = FrameBuilder()
+    for mode in ("rtu", "ascii", "tcp"):
+        fb.mode.value = mode
+        for fc in FunctionCode:
+            fb.function.value = int(fc)
+            for role in ("request", "response", "exception"):
+                fb.role.value = role
+                assert fb.frame, (mode, fc, role, fb.message.text)
+                d = explain(fb.frame, mode, "request" if role == "request" else "response")
+                # (a read-bits response decoded from bytes alone carries its padding bits too)
+                assert d.ok and d.frame.encode() == fb.frame, (mode, fc, role)
+
+
+@pytest.mark.parametrize(("field", "text", "words"), [
+    ("count", "126", ["QuantityError", "125"]),
+    ("count", "0", ["QuantityError"]),
+    ("address", "abc", ["ValueFormatError", "address"]),
+    ("address", "65535", ["AddressRangeError"]),
+    ("address", "70000", ["address", "65535"]),
+    ("unit", "300", ["unit"]),
+    ("unit", "", ["unit", "empty"]),
+])
+def test_frame_builder_invalid_input_shows_the_library_error_in_place(field, text, words):
+    fb = FrameBuilder(mode="rtu", unit=1, function=3, address=0, count=2)
+    getattr(fb, field).value = text  # must not raise
+    assert fb.frame == b""
+    assert fb.error is not None and fb.dissection is None
+    assert fb.message.kind == "error"
+    for word in words:
+        assert word in fb.message.text
+    assert "color: #c92a2a" in fb.message.value  # red, in place
+    assert "no frame" in fb.frame_view.value and fb.dissection_view.value == ""
+    getattr(fb, field).value = {"count": "2", "address": "0", "unit": "1"}[field]
+    assert fb.frame == _bytes("01 03 00 00 00 02 C4 0B")
+    assert fb.error is None
+
+
+@pytest.mark.parametrize(("function", "role", "field", "text"), [
+    (16, "request", "values", ""),
+    (16, "request", "values", "1, 70000"),
+    (16, "request", "values", ", ".join(["1"] * 124)),
+    (15, "request", "values", "1, 2"),
+    (1, "response", "bits", "yes, maybe"),
+    (3, "response", "registers", "x"),
+    (6, "request", "value", "65536"),
+])
+def test_frame_builder_bad_lists_and_values_never_raise(function, role, field, text):
+    fb = FrameBuilder(function=function, role=role)
+    getattr(fb, field).value = text
+    assert fb.frame == b"" and fb.message.kind == "error" and fb.message.text
+
+
+def test_frame_builder_ascii_unit_limits_differ_from_tcp():
+    fb = FrameBuilder(mode="rtu", unit=250)
+    assert fb.frame == b"" and "UnitError" in fb.message.text
+    fb.mode.value = "tcp"
+    assert fb.frame and fb.frame[6] == 250
+
+
+# --- FrameDecoder -----------------------------------------------------------------------------------
+@pytest.mark.parametrize(("mode", "fields", "expected"), VECTORS, ids=IDS)
+def test_frame_decoder_decodes_the_vector_frame_back(mode, fields, expected):
+    fd = FrameDecoder(expected)
+    want = _bytes(expected)
+    assert fd.frame == want
+    assert fd.error is None and fd.dissection is not None and fd.dissection.ok, fd.message.text
+    assert fd.dissection.mode == mode
+    assert fd.dissection.frame.encode() == want
+    # a write response echoes its request: only the chosen role tells them apart
+    fd.role.value = {"exception": "response"}.get(fields.get("role"), fields.get("role", "request"))
+    assert fd.dissection.frame == FrameBuilder(mode=mode, **fields).adu
+    assert "(detected)" in fd.message.text and fd.message.kind == "ok"
+    assert "modbus-edu-dissection" in fd.dissection_view.value
+
+
+def test_frame_builder_to_frame_decoder_round_trip():
+    fb = FrameBuilder(mode="rtu", unit=17, function=15, address=19, values="1011001110")
+    fd = FrameDecoder()
+    fd.text.value = fb.frame.hex(" ")
+    assert fd.dissection.frame == fb.adu
+    assert fd.dissection.frame.pdu.values == (True, False, True, True, False, False, True, True, True, False)
+
+
+@pytest.mark.parametrize("text", [
+    "01 03 00 00 00 01 84 0A", "010300000001840A", "0x01,0x03,0x00,0x00,0x00,0x01,0x84,0x0A",
+    "01-03-00-00-00-01-84-0a", "  01 03 00 00\n00 01 84 0A  ",
+])
+def test_frame_decoder_accepts_common_spacings(text):
+    fd = FrameDecoder(text)
+    assert fd.frame == _bytes("01 03 00 00 00 01 84 0A")
+    assert fd.dissection.ok
+    assert "Read Holding Registers" in fd.message.text
+
+
+def test_frame_decoder_shows_a_bad_crc_with_the_expected_value():
+    fd = FrameDecoder("01 03 00 00 00 01 84 0B")
+    assert fd.frame == _bytes("01 03 00 00 00 01 84 0B")
+    assert fd.message.kind == "error"
+    assert "CrcError" in fd.message.text and "84 0A" in fd.message.text and "0x0A84" in fd.message.text
+    # the bytes are still dissected; the CRC row is marked
+    assert fd.dissection.rows[-1].ok is False
+    assert "border-bottom: 3px solid #c92a2a" in fd.frame_view.value
+
+
+def test_frame_decoder_mode_and_role_can_be_chosen():
+    fd = FrameDecoder("01 03 02 04 D2 3A D9")
+    assert fd.dissection.role == "response"
+    fd.role.value = "request"
+    assert fd.message.kind == "error" and fd.dissection.role == "request"
+    fd.role.value = "auto"
+    fd.mode.value = "tcp"
+    assert fd.message.kind == "error" and fd.dissection.mode == "tcp"
+    fd.mode.value = "rtu"
+    assert fd.dissection.ok and "(chosen)" in fd.message.text
+
+
+@pytest.mark.parametrize("text", ["zz", "0x", "123", ":05 03 zz", "01 03", "\u00e9",
+                                  "01 03 00 00 00 01 84 0A 00"])
+def test_frame_decoder_errors_in_place_never_raise(text):
+    fd = FrameDecoder()
+    fd.text.value = text
+    assert fd.message.kind == "error" and fd.error is not None
+    assert fd.message.text
+
+
+def test_frame_decoder_empty_text_asks_for_a_frame():
+    fd = FrameDecoder()
+    assert fd.frame == b"" and fd.dissection is None and "paste" in fd.message.text
+
+
+# --- CrcExplorer ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("text", ["01 03 00 00 00 01", "31 32 33 34 35 36 37 38 39", "11 03 00 6B 00 03", ""])
+def test_crc_explorer_final_value_matches_crc16(text):
+    data = parse_hex(text) if text else b""
+    cx = CrcExplorer(text)
+    assert cx.data == data and cx.position == 0 and cx.register == 0xFFFF
+    assert len(cx.steps) == 9 * len(data)
+    cx.run_to_end.click()
+    assert cx.register == crc16(data) == cx.result
+    assert cx.wire == crc_bytes(data)
+    if data:
+        assert " ".join(f"{b:02X}" for b in crc_bytes(data)) in cx.result_view.value
+        assert f"0x{crc16(data):04X}" in cx.result_view.value
+    cx.method.value = "table"
+    assert len(cx.steps) == len(data) and cx.position == 0
+    cx.run_to_end.click()
+    assert cx.register == crc16(data)
+
+
+def test_crc_explorer_steps_bit_by_bit_and_byte_by_byte():
+    cx = CrcExplorer("01 03 00 00 00 01")
+    cx.next_bit.click()
+    assert cx.position == 1 and cx.register == 0xFFFE  # 0xFFFF XOR 0x01
+    step = re.sub("<[^>]+>", "", cx.step_view.value)
+    assert "1111 1111 1111 1110" in step and "0xFFFE" in step
+    cx.next_bit.click()  # LSB of 0xFFFE is 0: shift only
+    assert cx.register == 0x7FFF and "no XOR" in cx.step_view.value
+    cx.next_bit.click()  # LSB of 0x7FFF is 1: shift and XOR 0xA001
+    assert cx.register == 0x3FFF ^ 0xA001
+    assert "XOR 0xA001" in cx.step_view.value and "1010 0000 0000 0001" in cx.step_view.value
+    cx.next_byte.click()
+    assert cx.position == 9
+    cx.next_byte.click()
+    assert cx.position == 18
+    cx.back.click()
+    assert cx.position == 17
+    cx.reset.click()
+    assert cx.position == 0 and cx.back.disabled and cx.reset.disabled
+    cx.run_to_end.click()
+    assert cx.register == 0x0A84 and cx.next_bit.disabled and cx.next_byte.disabled
+    assert "84 0A" in cx.result_view.value
+
+
+def test_crc_explorer_table_method_shows_index_and_entry():
+    cx = CrcExplorer("01 03 00 00 00 01", method="table")
+    cx.next_bit.click()
+    s = cx.steps[0]
+    assert (s.index, s.table_value) == (0xFE, 0x8081)
+    text = cx.step_view.value
+    assert "table[0xFE]" in text and "0x8081" in text and "= 0xFE" in text
+    assert "[FE] 8081" in text  # the table row, the entry used highlighted
+
+
+def test_crc_explorer_lrc_mode():
+    cx = CrcExplorer("05 06 10 01 02 00")
+    cx.method.value = "lrc"
+    assert len(cx.steps) == 6 and cx.register == 0
+    cx.run_to_end.click()
+    assert cx.result == lrc(parse_hex("05 06 10 01 02 00")) == 0xE2
+    assert cx.wire == b"\xe2" and "0xE2" in cx.result_view.value and "&#x27;E2&#x27;" in cx.result_view.value
+
+
+def test_crc_explorer_bad_hex_shows_an_error():
+    cx = CrcExplorer()
+    cx.text.value = "01 0G"
+    assert cx.message.kind == "error" and "not a hex digit" in cx.message.text
+    assert cx.steps == [] and cx.data == b""
+    cx.next_bit.click()
+    cx.run_to_end.click()  # nothing to do, nothing raised
+    cx.text.value = "01"
+    assert cx.message.kind == "info" and len(cx.steps) == 9
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.binary(max_size=24))
+def test_crc_explorer_agrees_with_crc16_on_any_bytes(data):
+    cx = CrcExplorer(data)
+    cx.run_to_end.click()
+    assert cx.register == crc16(data)
+    cx.method.value = "table"
+    cx.run_to_end.click()
+    assert cx.register == crc16(data)
+
+
+# --- TestTool -----------------------------------------------------------------------------------------
+def _pair(mode="rtu", **master_kwargs):
+    roles = ("rtu_slave", "rtu_master") if mode == "rtu" else ("tcp_server", "tcp_client")
+    slave = TestTool(roles[0], unit=1, length=10)
+    slave.fill_increment(start=100, step=10)
+    master = TestTool(roles[1], partner=slave, unit=1, address=0, length=10, **master_kwargs)
+    return master, slave
+
+
+def _adds_up(tool):
+    c = tool.counts
+    return c["polls"] == c["valid"] + c["timeouts"] + c["errors"]
+
+
+@pytest.mark.parametrize("mode", ["rtu", "tcp"])
+def test_two_test_tools_poll_over_loopback_and_the_counters_add_up(mode):
+    master, slave = _pair(mode)
+    assert master.connected and slave.connected and master.partner is slave and slave.partner is master
+    results = master.run_polls(5)
+    assert results[-1] == [100, 110, 120, 130, 140, 150, 160, 170, 180, 190]
+    assert master.values == slave.values
+    assert master.counts == {"polls": 5, "valid": 5, "timeouts": 0, "errors": 0}
+    assert slave.slave.counters.requests == 5 and slave.slave.counters.responses == 5
+    assert master.master.stats.valid_responses == 5
+    # the grid shows what was read, the counters panel says so
+    assert [c.value for c in master._cells] == [str(v) for v in range(100, 200, 10)]
+    assert ">5</b>" in master.counters.value
+    assert 'class="mbe-tt-request-count">5<' in slave.request_count.value
+    # polls are spaced by the interval on the virtual clock
+    assert master.clock is slave.clock and master.clock.now >= 4 * master.interval.value
+
+    slave.stop()  # the slave stops answering: the master times out
+    master.run_polls(3)
+    assert master.counts == {"polls": 8, "valid": 5, "timeouts": 3, "errors": 0}
+    assert "ModbusTimeoutError" in master.message.text
+    slave.start()
+    master.function.value = 3
+    master.length.value = 126  # the library refuses the request: an error, counted
+    master.poll_once()
+    assert master.counts["errors"] == 1 and "QuantityError" in master.message.text
+    master.length.value = 10
+    master.poll_once()
+    assert master.counts == {"polls": 10, "valid": 6, "timeouts": 3, "errors": 1}
+    assert _adds_up(master)
+    master.reset_button.click()
+    assert master.counts == {"polls": 0, "valid": 0, "timeouts": 0, "errors": 0}
+    assert master.master.stats.requests == 0
+
+
+def test_tcp_client_transaction_id_goes_up_by_one_per_request():
+    master, slave = _pair("tcp", transaction_id=0x0118)
+    assert master.transaction_id.layout.display != "none"
+    assert slave.transaction_id.layout.display == "none"
+    master.read_button.click()
+    first = master.master.log[0]
+    assert first.data[:2] == b"\x01\x18"
+    master.read_button.click()
+    assert master.master.log.search(direction="tx")[1].data[:2] == b"\x01\x19"
+    assert master.transaction_id.value == 0x011A
+
+
+def test_master_writes_the_selected_cell_with_fc06_and_a_range_with_fc16():
+    master, slave = _pair()
+    master.poll_once()
+    master.selected.value = 3
+    assert master.write_value.value == "130"
+    master.write_value.value = "777"
+    master.write_one_button.click()
+    assert slave.bank.holding_registers[3] == 777
+    tx = master.master.log.search(direction="tx")
+    assert tx[-1].function == 6 and "FC06" in master.message.text
+    master.set_cell(4, "1000")
+    master.set_cell(5, "1001")
+    assert slave.bank.holding_registers[4] == 140  # edited locally only, not yet written
+    master.write_count.value = 2
+    master.selected.value = 4
+    master.write_many_button.click()
+    assert slave.bank.holding_registers.read(3, 3) == [777, 1000, 1001]
+    assert master.master.log.search(direction="tx")[-1].function == 16
+    # a 32-bit float typed into the grid takes two registers: written with FC16
+    master.display.value = "float32_ABCD"
+    assert master.write_cell(6, "1.5")
+    assert slave.bank.holding_registers.read(6, 2) == [0x3FC0, 0x0000]
+    # coils: FC05 and FC15
+    master.function.value = 1
+    assert master.write_one_button.description == "write cell (FC05)"
+    assert master.write_cell(2, "1")
+    assert slave.bank.coils[2] is True
+    master.set_cell(3, "1")
+    assert master.write_cells(0, 4)
+    assert slave.bank.coils.read(0, 4) == [False, False, True, True]
+    # input registers cannot be written by a master: said, not raised
+    master.function.value = 4
+    assert not master.write_cell(0, "1")
+    assert "cannot write the input registers" in master.message.text
+
+
+def test_polling_with_a_write_function_sends_the_grid():
+    master, slave = _pair()
+    master.function.value = 16
+    master.fill_increment(start=7, step=0)
+    master.poll_once()
+    assert slave.bank.holding_registers.read(0, 10) == [7] * 10
+    assert master.counts["valid"] == 1
+
+
+def test_display_formats_follow_values_format_registers():
+    master, slave = _pair()
+    slave.set_cell(0, 0x4142)
+    master.poll_once()
+    regs = master.values
+    for fmt in ("hex", "binary", "signed", "ascii_char", "ascii_value", "uint32_CDAB", "float32_DCBA",
+                "float64_ABCD"):
+        master.display.value = fmt
+        assert [c.value for c in master._cells] == format_registers(regs, fmt)
+    master.display.value = "ascii_char"
+    assert master._cells[0].value == "AB"
+
+
+def test_editing_a_slave_cell_is_served_at_once():
+    master, slave = _pair()
+    slave.display.value = "signed"
+    slave._cells[2].value = "-2"  # as if typed in the page
+    assert slave.bank.holding_registers[2] == 0xFFFE
+    master.poll_once()
+    assert master.values[2] == 0xFFFE
+    slave._cells[3].value = "not a number"
+    assert slave.message.kind == "error" and slave.bank.holding_registers[3] == 130
+    assert slave._cells[3].value == "130"  # the cell shows the table again
+
+
+def test_dummy_data_random_fill_is_seeded_and_auto_fill_runs_on_the_wire_clock():
+    a, b = TestTool("rtu_slave", seed=7), TestTool("rtu_slave", seed=7)
+    assert a.random_fill() == b.random_fill()
+    assert a.values == b.values
+    master, slave = _pair(interval=1.0)
+    slave.auto_interval.value = 1.0
+    slave.auto_fill_start()
+    seen = {tuple(v) for v in master.run_polls(4)}
+    assert len(seen) == 4  # a new random set every virtual second
+    slave.auto_fill_stop()
+    seen = {tuple(v) for v in master.run_polls(3)}
+    assert len(seen) == 1
+    slave.increment.value = False
+    slave.fill_start.value = 5
+    slave.fill_button.click()
+    assert slave.values == [5] * 10
+
+
+def test_logs_have_timestamps_search_newest_on_top_and_clear():
+    master, slave = _pair()
+    master.run_polls(3)
+    tx, rx = master.tx_log.value, master.rx_log.value
+    assert "TX log (sent) (3)" in tx and "RX log (received) (3)" in rx
+    assert "01 03 00 00 00 0A C5 CD" in tx and "01 03 14 00 64" in rx
+    times = [float(t) for t in re.findall(r"^\s*(\d+\.\d{6})\s+tx", tx, re.M)]
+    assert times == sorted(times, reverse=True)  # newest on top
+    master.newest_on_top.value = False
+    times = [float(t) for t in re.findall(r"^\s*(\d+\.\d{6})\s+tx", master.tx_log.value, re.M)]
+    assert times == sorted(times) and times[0] == 0.0
+    assert "RX log (received) (3)" in slave.tx_log.value.replace("TX log (sent)", "RX log (received)")
+    master.search.value = "no such thing"
+    assert "(0)" in master.tx_log.value and "(empty)" in master.tx_log.value
+    master.search.value = "c5 cd"
+    assert "TX log (sent) (3)" in master.tx_log.value and "RX log (received) (0)" in master.rx_log.value
+    master.clear_button.click()
+    assert len(master.master.log) == 0 and "(0)" in master.tx_log.value
+
+
+def test_save_and_load_round_trip(tmp_path):
+    tool = TestTool("tcp_client", name="bench", host="127.0.0.1", port=1502, unit=7, address=100, length=20,
+                    function=4, transaction_id=42, interval=0.5, continuous=False, display="float32_CDAB",
+                    fill_start=3, fill_step=2, auto_interval=2.0, newest_on_top=False, seed=11, timeout=0.25)
+    path = tool.save_config(tmp_path / "tool.json")
+    assert path is not None and json.loads(path.read_text())["role"] == "tcp_client"
+    other = TestTool()
+    assert other.load_config(path)
+    assert other.config() == tool.config()
+    assert other.role_info.title == "TCP client"
+    # to and from a dict, and a new tool from a saved configuration
+    third = TestTool.from_config(tool.config())
+    assert third.config() == tool.config()
+    fourth = TestTool.from_config(path)
+    assert fourth.config() == tool.config()
+    # the button uses the path field
+    other.config_path.value = str(tmp_path / "button.json")
+    other.save_button.click()
+    fifth = TestTool()
+    fifth.config_path.value = str(tmp_path / "button.json")
+    fifth.load_button.click()
+    assert fifth.config() == tool.config()
+
+
+@pytest.mark.parametrize("bad", [
+    {"colour": "red"}, {"role": "plc"}, {"display": "decimal"}, {"baudrate": 12345}, {"unit": "one"}, [1, 2],
+])
+def test_load_config_rejects_bad_settings_on_the_message_line(bad):
+    tool = TestTool()
+    before = tool.config()
+    assert tool.load_config(bad) is False
+    assert tool.message.kind == "error" and "ConfigError" in tool.message.text
+    assert tool.config() == before
+
+
+def test_load_config_from_a_missing_or_broken_file(tmp_path):
+    tool = TestTool()
+    assert not tool.load_config(tmp_path / "missing.json") and "cannot read" in tool.message.text
+    broken = tmp_path / "broken.json"
+    broken.write_text("{not json")
+    assert not tool.load_config(broken) and "not valid JSON" in tool.message.text
+    assert tool.save_config(tmp_path / "no" / "such" / "dir.json") is None and tool.message.kind == "error"
+
+
+def test_invalid_use_shows_an_error_and_raises_nothing():
+    master = TestTool("rtu_master")
+    assert master.poll_once() is None and "not connected" in master.message.text
+    master.read_button.click()
+    master.start_button.click()
+    master.write_one_button.click()
+    other_master = TestTool("rtu_master")
+    assert master.connect(other_master) is False and "cannot talk" in master.message.text
+    tcp_server = TestTool("tcp_server")
+    assert master.connect(tcp_server) is False and "different modes" in master.message.text
+    assert master.connect() is False and "partner" in master.message.text
+    assert master.run_polls(-1) == [] and master.message.kind == "error"
+    slave = TestTool("rtu_slave")
+    assert slave.poll_once() is None and slave.message.kind == "warn"
+    slave.unit.value = 0  # the broadcast address: no slave owns it (the library says so)
+    assert slave.message.kind == "error" and "broadcast" in slave.message.text
+    bad = TestTool("no_such_role")
+    assert "unknown role" in bad.message.text and bad.role.value == "rtu_master"
+    # a TCP client with nothing listening: the library's LinkError, on the message line
+    client = TestTool("tcp_client", connection="tcp", host="127.0.0.1", port=1, timeout=0.5)
+    assert client.connect() is False and "LinkError" in client.message.text
+    assert not client.connected
+
+
+def test_colour_per_role_and_role_change():
+    roles = ("rtu_master", "rtu_slave", "tcp_client", "tcp_server")
+    borders = {TestTool(role).layout.border for role in roles}
+    assert len(borders) == 4
+    tool = TestTool("rtu_master")
+    assert "mbe-role-rtu_master" in tool._dom_classes
+    tool.role.value = "tcp_server"
+    assert "mbe-role-tcp_server" in tool._dom_classes and "mbe-role-rtu_master" not in tool._dom_classes
+    assert tool.slave is not None and tool.read_button.layout.display == "none"
+    assert [v for _label, v in tool.connection.options] == ["loopback", "tcp"]
+
+
+def test_disconnect_from_either_side():
+    master, slave = _pair()
+    master.poll_once()
+    slave.disconnect_button.click()
+    assert not master.connected and not slave.connected and master.partner is None
+    assert master.poll_once() is None and "not connected" in master.message.text
+    assert master.connect(slave)
+    assert master.poll_once() == list(range(100, 200, 10))
+
+
+def test_continuous_polling_runs_on_the_asyncio_loop():
+    master, slave = _pair(interval=0.01)
+
+    async def scenario():
+        assert master.start()
+        assert master.polling and master.start_button.disabled and not master.stop_button.disabled
+        await asyncio.sleep(0.2)  # the loop keeps running: polling does not block it
+        master.stop()
+        await asyncio.sleep(0)
+
+    asyncio.run(scenario())
+    assert not master.polling
+    polls = master.counts["polls"]
+    assert polls >= 3 and master.counts["valid"] == polls and slave.slave.counters.requests == polls
+    # without a running loop, start() says so
+    assert master.start() is False and "asyncio" in master.message.text
+    # "continuous" unticked: one poll, then the task ends by itself
+    master.continuous.value = False
+
+    async def once():
+        master.start()
+        await asyncio.sleep(0.05)
+
+    asyncio.run(once())
+    assert master.counts["polls"] == polls + 1 and not master.polling
+
+
+def test_real_tcp_server_and_client_on_127_0_0_1():
+    server = TestTool("tcp_server", connection="tcp", host="127.0.0.1", port=0, unit=1, length=4)
+    server.fill_increment(start=1, step=1)
+    try:
+        assert server.connect(), server.message.text
+        port = server.port.value
+        assert port > 0
+        client = TestTool("tcp_client", connection="tcp", host="127.0.0.1", port=port, unit=1, length=4,
+                          timeout=2.0)
+        assert client.connect(), client.message.text
+        assert client.poll_once() == [1, 2, 3, 4]
+        assert client.counts == {"polls": 1, "valid": 1, "timeouts": 0, "errors": 0}
+        client.disconnect()
+    finally:
+        server.disconnect()
+    assert server.server is None
+
+
+def test_frame_builder_values_field_remembers_coils_and_registers():
+    fb = FrameBuilder(function=16, values="1, 2, 3")
+    assert fb.frame == FrameBuilder(function=16, values=[1, 2, 3]).frame
+    fb.function.value = 15
+    assert fb.values.value == "1, 0, 1, 1" and fb.error is None
+    fb.values.value = "1, 1"
+    fb.function.value = 16
+    assert fb.values.value == "1, 2, 3"
+    fb.function.value = 15
+    assert fb.values.value == "1, 1" and fb.pdu.values == (True, True)
