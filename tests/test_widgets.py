@@ -19,7 +19,7 @@ from modbus_edu.explain import explain
 from modbus_edu.framing import parse_hex
 from modbus_edu.pdu import FunctionCode
 from modbus_edu.values import format_registers
-from modbus_edu.widgets import CrcExplorer, FrameBuilder, FrameDecoder, TestTool
+from modbus_edu.widgets import CrcExplorer, FrameBuilder, FrameDecoder, MeterDashboard, TestTool
 
 # (mode, builder fields, expected frame as in VECTORS.md)
 VECTORS = [
@@ -645,3 +645,68 @@ def test_frame_builder_values_field_remembers_coils_and_registers():
     assert fb.values.value == "1, 2, 3"
     fb.function.value = 15
     assert fb.values.value == "1, 1" and fb.pdu.values == (True, True)
+
+
+# --- MeterDashboard -------------------------------------------------------------------------------------
+def test_meter_dashboard_reads_003s_trials_scaled_as_table_6():
+    from modbus_edu.devices import TRIALS, PowerMeter
+
+    for trial in (1, 2):
+        dash = MeterDashboard(PowerMeter(unit=1, trial=trial))
+        assert dash.master.link.timing.baudrate == 19200  # the meter's own line settings (003: 8N1)
+        values = dash.read_once()
+        for name, expected in TRIALS[trial].items():
+            assert values[name] == pytest.approx(expected)
+        dash.read_button.click()
+        assert dash.counts == {"reads": 2, "valid": 2, "timeouts": 0, "errors": 0}
+    rows = dict(dash.table_rows())
+    assert rows["Phase voltage - VL1"] == "412.6 V" and rows["Current - AL1"] == "288.9 A"
+    assert rows["Power factor - PF1"] == "0.60"
+    dash._render()
+    assert "412.6 V" in dash.table.value and "40001" in dash.table.value
+
+
+def test_meter_dashboard_trends_on_the_virtual_clock():
+    from modbus_edu.devices import PowerMeter
+
+    dash = MeterDashboard(PowerMeter(unit=1, trial=1, live=True), interval=2.0)
+    out = dash.run(30)
+    assert len(out) == 30 and all(v is not None for v in out)
+    times, volts = dash.series("VL1")
+    assert times[0] == 0.0 and times[-1] == pytest.approx(58.0)  # one reading every 2 s of line time
+    assert len(set(volts)) > 1 and all(395 < v < 412 for v in volts)  # drifting around 403.6 V
+    assert dash.plot_png.startswith(b"\x89PNG") and dash.image.value == dash.plot_png
+    before = dash.plot_png
+    dash.plot_group.value = "A"
+    assert dash.plot_png != before
+    dash.clear_button.click()
+    assert dash.history == [] and dash.counts["reads"] == 0
+
+
+def test_meter_dashboard_errors_are_counted_and_shown():
+    from modbus_edu.devices import PowerMeter
+
+    dash = MeterDashboard(PowerMeter(unit=2), unit=3, timeout=0.05)  # nobody answers unit 3
+    assert dash.read_once() is None
+    assert dash.counts["timeouts"] == 1 and "ModbusTimeoutError" in dash.message.text
+    wrong = MeterDashboard("not a meter")
+    assert "ConfigError" in wrong.message.text and wrong.read_once() is None
+    assert wrong.run(-1) == [] and wrong.message.kind == "error"
+
+
+def test_meter_dashboard_through_a_master_and_periodic_reading():
+    from modbus_edu.devices import PowerMeter
+    from modbus_edu.links import loopback_serial
+    from modbus_edu.master import Master
+
+    meter = PowerMeter(unit=1, trial=1)
+    dash = MeterDashboard(Master(loopback_serial(meter, baudrate=19200)), interval=0.01)
+
+    async def scenario():
+        assert dash.start()
+        await asyncio.sleep(0.15)
+        dash.stop()
+
+    asyncio.run(scenario())
+    assert dash.counts["valid"] >= 2 and not dash.start_button.disabled
+    assert dash.start() is False and "asyncio" in dash.message.text

@@ -13,8 +13,9 @@ every byte, check and decision comes from :mod:`modbus_edu`.
 from __future__ import annotations
 
 from .crcexplorer import CrcExplorer
+from .dashboard import MeterDashboard
 from .framebuilder import FrameBuilder
 from .framedecoder import FrameDecoder
 from .testtool import TestTool
 
-__all__ = ["FrameBuilder", "FrameDecoder", "CrcExplorer", "TestTool"]
+__all__ = ["FrameBuilder", "FrameDecoder", "CrcExplorer", "TestTool", "MeterDashboard"]
