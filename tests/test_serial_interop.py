@@ -225,7 +225,7 @@ def test_serial_server_opens_a_socket_url_and_answers_raw_rtu():
                 assert answer == RtuFrame(
                     unit=1, pdu=ReadHoldingRegistersResponse(registers=(0x1234,))
                 ).encode()
-            assert "socket://" in repr(server) and "19200 baud 8E1 RTU running" in repr(server)
+                assert "socket://" in repr(server) and "19200 baud 8E1 RTU running" in repr(server)
             assert server.counters.as_dict() == {"frames": 1, "responses": 1, "no_slave": 0, "failures": 0}
         assert "closed" in repr(server)
         server.close()  # harmless twice

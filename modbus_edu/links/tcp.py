@@ -208,6 +208,10 @@ class TcpServer:
     Binding to an address other than the loopback (``host="0.0.0.0"`` to listen on every interface)
     must be asked for explicitly and logs a warning: Modbus/TCP has no authentication at all.
 
+    The server answers as soon as the slave has: a slave's ``processing_time`` / ``response_delay``
+    shapes timing on the virtual links and on :class:`~modbus_edu.links.serial.SerialServer`, not
+    here (one slow answer would hold up every client of this single-threaded server).
+
     ``lock`` is held while a slave handles a request: hold it too (``with server.lock:``) to change
     several registers of a served bank at once without a client seeing half of the change.
     """
@@ -313,7 +317,10 @@ class TcpServer:
 
     def serve_forever(self) -> None:
         """Serve in the calling thread until :meth:`close` is called from another thread (or Ctrl-C)."""
+        if self._thread is not None:
+            raise LinkError("this TcpServer is already serving")
         self._bind()
+        self._thread = threading.current_thread()  # so that close() from elsewhere waits for us
         try:
             self._serve()
         finally:
