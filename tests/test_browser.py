@@ -116,6 +116,11 @@ def test_widgets_render_and_respond_in_jupyterlab(tmp_path):
                 "() => document.querySelector('.mbe-framebuilder .mbe-frame-hex').innerText.trim()"
                 ".startsWith('00 01 00 00 00 06 01 03 00 6B')", timeout=15_000)
 
+            # the dashboard's trend plot arrived as an image
+            plot = page.locator(".mbe-meterdashboard .mbe-md-plot").first
+            plot.wait_for(state="visible")
+            assert plot.evaluate("img => img.naturalWidth") > 100
+
             # the master tool polls continuously on the kernel's asyncio loop: press start in the page,
             # watch the poll counter grow while the notebook stays responsive, press stop
             master = page.locator(".mbe-role-rtu_master").first
@@ -134,6 +139,9 @@ def test_widgets_render_and_respond_in_jupyterlab(tmp_path):
 
             page.screenshot(path=str(shot), full_page=True)
             master.screenshot(path=str(ARTIFACTS / "browser_testtool.png"))
+            fb.screenshot(path=str(ARTIFACTS / "browser_framebuilder.png"))
+            dash = page.locator(".mbe-meterdashboard").first
+            dash.screenshot(path=str(ARTIFACTS / "browser_dashboard.png"))
         except Exception:
             try:
                 page.screenshot(path=str(ARTIFACTS / "browser_widgets_failure.png"), full_page=True)

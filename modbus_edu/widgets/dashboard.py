@@ -99,9 +99,10 @@ class MeterDashboard(W.VBox):
                        (self.clear_button, "clear")):
             b.add_class(f"mbe-md-{css}")
         self.status = W.HTML()
-        self.table = W.HTML()
+        self.table = W.HTML(layout=W.Layout(flex="0 0 auto"))
         self.table.add_class("mbe-md-table")
-        self.image = W.Image(format="png", layout=W.Layout(max_width="720px"))
+        self.image = W.Image(format="png", layout=W.Layout(width="576px", height="288px", flex="0 0 auto",
+                                                            object_fit="contain"))
         self.image.add_class("mbe-md-plot")
         self.children = [
             W.HTML("<b>Power meter dashboard</b> &mdash; source 003's Table 5, read with function 03"),
@@ -109,7 +110,7 @@ class MeterDashboard(W.VBox):
             W.HBox([self.interval, self.read_button, self.start_button, self.stop_button, self.plot_group,
                     self.clear_button]),
             self.status,
-            W.HBox([self.table, self.image]),
+            W.HBox([self.table, self.image], layout=W.Layout(flex_flow="row wrap", align_items="flex-start")),
         ]
         g = guarded
         self.read_button.on_click(g(self.message, lambda _b: self.read_once()))
@@ -276,9 +277,12 @@ class MeterDashboard(W.VBox):
                 raw = " ".join(f"{r:04X}" for r in e.registers(value))
             else:
                 shown, raw = "&ndash;", ""
-            rows.append(f"<tr><td>{esc(e.label)}</td><td style=\"text-align:right;{MONO}\">{esc(shown)}</td>"
-                        f"<td style=\"{MONO};color:#868e96\">{raw}</td><td>{esc(e.reference)}</td>"
-                        f"<td>{esc(e.raw_unit)}</td></tr>")
+            pad = "padding:1px 8px;white-space:nowrap"
+            rows.append(f"<tr><td style=\"{pad}\">{esc(e.label)}</td>"
+                        f"<td style=\"text-align:right;{MONO};{pad}\">{esc(shown)}</td>"
+                        f"<td style=\"{MONO};color:#868e96;{pad}\">{raw}</td>"
+                        f"<td style=\"{pad}\">{esc(e.reference)}</td>"
+                        f"<td style=\"{pad}\">{esc(e.raw_unit)}</td></tr>")
         self.table.value = (
             '<table style="border-collapse:collapse;font-size:0.9em;margin-right:12px">'
             "<tr><th>parameter</th><th>value</th><th>registers</th><th>reference</th><th>sent as</th></tr>"
