@@ -373,9 +373,10 @@ class TcpServer:
         return f"<TcpServer {where} units={_units_text(self.slaves)} {state}>"
 
     def _wake(self) -> None:
-        if self._wake_w is not None:
+        wake_w = self._wake_w  # the server thread may be closing it right now
+        if wake_w is not None:
             try:
-                self._wake_w.send(b"\0")
+                wake_w.send(b"\0")
             except OSError:
                 pass
 
