@@ -1,0 +1,17 @@
+# Poll each wire and ask the slave what it saw:
+#  - other_unit climbs: the slave hears requests for another address -> wrong unit id;
+#  - checksum_errors climb: every byte arrives damaged -> wrong baud rate or parity;
+#  - no slave at all on the wire, nothing counted -> no slave on the line (off, or not connected).
+import modbus_edu as mb
+from modbus_edu.exercises import lab
+
+answer = {}
+for name, wire in lab("silent").items():
+    mb.Master(wire, timeout=0.2).poll(function=3, unit=1, address=0, count=1, polls=3)
+    if not wire.slaves:
+        answer[name] = "no slave on the line"
+    elif wire.slaves[0].counters.other_unit:
+        answer[name] = "wrong unit id"
+    else:
+        answer[name] = "wrong baud rate or parity"
+print(answer)

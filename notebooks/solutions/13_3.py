@@ -1,0 +1,5 @@
+# 4 = holding registers; number 21 is address 20 (numbers start at 1, addresses at 0).
+import modbus_edu as mb
+
+answer = mb.parse_reference("40021").address
+print(answer)          # 20
