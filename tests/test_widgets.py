@@ -596,9 +596,15 @@ def test_continuous_polling_runs_on_the_asyncio_loop():
     async def scenario():
         assert master.start()
         assert master.polling and master.start_button.disabled and not master.stop_button.disabled
-        await asyncio.sleep(0.2)  # the loop keeps running: polling does not block it
+        ticks = 0
+        for _ in range(500):  # the loop keeps running while the tool polls: it does not block it
+            await asyncio.sleep(0.01)
+            ticks += 1
+            if master.counts["polls"] >= 3:
+                break
         master.stop()
         await asyncio.sleep(0)
+        assert ticks >= 2
 
     asyncio.run(scenario())
     assert not master.polling
@@ -704,9 +710,17 @@ def test_meter_dashboard_through_a_master_and_periodic_reading():
 
     async def scenario():
         assert dash.start()
-        await asyncio.sleep(0.15)
+        for _ in range(500):
+            await asyncio.sleep(0.01)
+            if dash.counts["valid"] >= 2:
+                break
         dash.stop()
 
     asyncio.run(scenario())
     assert dash.counts["valid"] >= 2 and not dash.start_button.disabled
     assert dash.start() is False and "asyncio" in dash.message.text
+
+
+def test_meter_dashboard_without_a_source_reads_a_simulated_meter():
+    dash = MeterDashboard()
+    assert dash.device is not None and dash.read_once()["VL1"] == pytest.approx(403.6, abs=3)

@@ -33,7 +33,8 @@ class MeterDashboard(W.VBox):
     ``source`` is a device (a :class:`~modbus_edu.devices.PowerMeter`, or any slave with the same
     register map) -- the dashboard then puts it on a virtual RS-485 line with the device's own serial
     settings (003: 19200 baud 8N1) and reads it through a :class:`~modbus_edu.master.Master` -- or a
-    ``Master`` already connected to a real or virtual meter.  The register map comes from the device
+    ``Master`` already connected to a real or virtual meter.  Without a source it reads a simulated
+    ``PowerMeter(unit=1, trial=1, live=True)``.  The register map comes from the device
     module (:data:`modbus_edu.devices.meter.METER_MAP`, 003's Table 5; a device may carry its own as
     ``register_map``); each read is :func:`modbus_edu.devices.meter.read_meter` (function 03, one
     request per contiguous block, unsigned 32-bit values high word first, scaled).
@@ -56,7 +57,7 @@ class MeterDashboard(W.VBox):
 
     def __init__(
         self,
-        source: Slave | Master,
+        source: Slave | Master | None = None,
         *,
         unit: int | None = None,
         entries: Iterable[MeterRegister] | None = None,
@@ -79,6 +80,10 @@ class MeterDashboard(W.VBox):
         self.device: Slave | None = None
         self.master: Master | None = None
 
+        if source is None:
+            from ..devices.meter import PowerMeter
+
+            source = PowerMeter(unit=1, trial=1, live=True)
         if entries is None:
             entries = getattr(source, "register_map", None) or METER_MAP
         self.entries: tuple[MeterRegister, ...] = tuple(entries)
