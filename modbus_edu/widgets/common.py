@@ -26,11 +26,17 @@ __all__ = [
     "parse_bit_list",
     "message_html",
     "MessageLine",
+    "guarded",
+    "MONO",
+    "DISSECTION_CSS",
+    "dissection_html",
+    "field_colours",
     "frame_html",
     "legend_html",
     "text_field",
     "dropdown",
     "shown",
+    "is_shown",
 ]
 
 #: Soft background colours, one per field of a frame (cycled when a frame has more fields).
@@ -270,6 +276,18 @@ def legend_html(dissection: Any) -> str:
             f'border:1px solid #999;vertical-align:middle;margin-right:4px"></span>{esc(row.field)}</span>'
         )
     return f'<div class="mbe-legend" style="font-size:0.9em">{"".join(items)}</div>'
+
+
+#: Spacing for the dissection table of :meth:`modbus_edu.explain.Dissection._repr_html_` inside a panel.
+DISSECTION_CSS = (
+    "<style>.mbe-dissection table.modbus-edu-dissection td, .mbe-dissection table.modbus-edu-dissection th"
+    " {padding: 1px 8px; text-align: left; vertical-align: top}</style>"
+)
+
+
+def dissection_html(dissection: Any) -> str:
+    """The library's HTML table of a dissection, with some room between the columns."""
+    return DISSECTION_CSS + dissection._repr_html_()
 
 
 # --- small widget factories ----------------------------------------------------------------------

@@ -13,6 +13,7 @@ from ..framing import Frame, make_frame
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu, request_class, response_class
 from .common import (
     MessageLine,
+    dissection_html,
     dropdown,
     esc,
     frame_html,
@@ -269,4 +270,4 @@ class FrameBuilder(W.VBox):
             + f'<div style="margin-top:4px;font-size:0.9em">{"bytes" if chars else "hex"}: '
             f'<code class="mbe-frame-hex">{esc(hex_text(data))}</code></div>'
         )
-        self.dissection_view.value = self.dissection._repr_html_()
+        self.dissection_view.value = dissection_html(self.dissection)

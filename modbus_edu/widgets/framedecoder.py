@@ -9,7 +9,7 @@ import ipywidgets as W
 from ..errors import ModbusError
 from ..explain import Dissection, explain
 from ..framing import parse_hex
-from .common import MessageLine, dropdown, esc, frame_html, guarded, hex_text, legend_html
+from .common import MessageLine, dissection_html, dropdown, esc, frame_html, guarded, hex_text, legend_html
 
 __all__ = ["FrameDecoder"]
 
@@ -103,4 +103,4 @@ class FrameDecoder(W.VBox):
         self.frame_view.value = body + (
             f'<div style="margin-top:4px;font-size:0.9em">bytes: <code class="mbe-frame-hex">'
             f"{esc(hex_text(data))}</code></div>")
-        self.dissection_view.value = d._repr_html_()
+        self.dissection_view.value = dissection_html(d)
