@@ -724,3 +724,27 @@ def test_meter_dashboard_through_a_master_and_periodic_reading():
 def test_meter_dashboard_without_a_source_reads_a_simulated_meter():
     dash = MeterDashboard()
     assert dash.device is not None and dash.read_once()["VL1"] == pytest.approx(403.6, abs=3)
+
+
+def test_rtu_master_tool_on_a_pyserial_url():
+    """The serial path: the master tool opens ``socket://`` (a serial line tunnelled through TCP) to a
+    slave served by the library's SerialServer on 127.0.0.1."""
+    from modbus_edu.links.serial import SerialServer, TcpSerialPort
+    from modbus_edu.slave import Slave
+
+    slave = Slave(unit=1)
+    slave.bank.holding_registers.write(0, [11, 22, 33])
+    with SerialServer(slave, TcpSerialPort("127.0.0.1", 0), baudrate=19200) as server:
+        host, port = server.port.address
+        master = TestTool("rtu_master", connection="serial", url=f"socket://{host}:{port}", baudrate=19200,
+                          unit=1, address=0, length=3, timeout=2.0)
+        assert master.serial_box.layout.display != "none" and master.tcp_box.layout.display == "none"
+        assert master.connect(), master.message.text
+        try:
+            assert master.poll_once() == [11, 22, 33]
+            assert master.write_cell(1, "99")
+            assert slave.bank.holding_registers[1] == 99
+            assert master.counts == {"polls": 1, "valid": 1, "timeouts": 0, "errors": 0}
+        finally:
+            master.disconnect()
+    assert not master.connected
