@@ -1,0 +1,535 @@
+"""The command line, run as a real subprocess: ``python -m modbus_edu`` (and the ``modbus-edu`` script).
+
+Every subcommand, its ``--help``, and every kind of bad input: the exit status, the one-line message
+on stderr, and never a traceback.  ``serve`` runs as a real server on a loopback port, read by a
+pymodbus client; ``poll`` reads the course's own servers.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import os
+import select
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from modbus_edu.devices.meter import METER_MAP, TRIAL_ENERGY_KWH, TRIALS, PowerMeter
+from modbus_edu.framing import RtuFrame
+from modbus_edu.links.serial import SerialServer, TcpSerialPort
+from modbus_edu.links.tcp import TcpServer
+from modbus_edu.pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
+
+CLI = [sys.executable, "-m", "modbus_edu"]
+ROOT = Path(__file__).resolve().parents[1]
+ENV = {**os.environ, "PYTHONUNBUFFERED": "1"}
+
+
+def _run(args: tuple[str, ...], stdin: str | None = None, timeout: float = 60) -> subprocess.CompletedProcess:
+    return subprocess.run([*CLI, *args], input=stdin, capture_output=True, text=True, timeout=timeout,
+                          cwd=ROOT, env=ENV)
+
+
+# Commands that need no server are known when this module is imported: they are all started at once,
+# a few at a time in parallel (each is a fresh Python process, most of whose time is start-up).
+_STATIC: dict[tuple[tuple[str, ...], str | None], Future] = {}
+_POOL = ThreadPoolExecutor(max_workers=6)
+
+
+def static(*args: str, stdin: str | None = None) -> tuple[str, ...]:
+    """Register a command whose result does not depend on anything running; returns ``args``."""
+    key = (args, stdin)
+    if key not in _STATIC:
+        _STATIC[key] = None  # type: ignore[assignment]
+    return args
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _start_static_commands(request):
+    selected = sum(1 for item in request.session.items if item.module is request.module)
+    if selected >= 10:  # worth it only when most of this module runs (not for one test picked by -k)
+        for key in _STATIC:
+            _STATIC[key] = _POOL.submit(_run, *key)
+    yield
+    _POOL.shutdown(wait=True)
+
+
+def run(*args: str, stdin: str | None = None) -> subprocess.CompletedProcess:
+    future = _STATIC.get((args, stdin))
+    if future is not None:
+        return future.result()
+    return _run(args, stdin)
+
+
+def ok(*args: str, stdin: str | None = None) -> str:
+    result = run(*args, stdin=stdin)
+    assert result.returncode == 0, result.stderr
+    assert "Traceback" not in result.stderr
+    return result.stdout
+
+
+def fails(
+    *args: str, code: int = 1, message: str = "", stdin: str | None = None
+) -> subprocess.CompletedProcess:
+    """Run, and check the contract for bad input: exit status, one line on stderr, no traceback."""
+    result = run(*args, stdin=stdin)
+    assert result.returncode == code, (result.returncode, result.stdout, result.stderr)
+    assert "Traceback" not in result.stderr and "Traceback" not in result.stdout
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("modbus-edu: error: "), lines[0]
+    assert message.lower() in lines[0].lower(), lines[0]
+    return result
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+# the fixed commands of the tests below (started together, see ``static``)
+for _args, _stdin in [
+    (("--help",), None),
+    *(((sub, "--help"), None) for sub in ("crc", "lrc", "decode", "build", "serve", "poll")),
+    (("crc", "01", "03", "00", "00", "00", "01"), None),
+    (("crc", "--text", "123456789"), None),
+    (("crc", "-v", "0103"), None),
+    (("lrc", "05 06 10 01 02 00"), None),
+    (("lrc", "050310000002"), None),
+    (("crc",), None),
+    (("decode", "01", "03", "00", "00", "00", "01", "84", "0A"), None),
+    (("decode", "01 18 00 00 00 06 01 03 00 00 00 01"), None),
+    (("decode", ":050304FF0600648B"), None),
+    (("decode", "--json", "--mode", "rtu", "--role", "response", "01 03 02 04 D2 3A D9"), None),
+    (("decode", "-"), "01 03 00 00 00 01 84 0A\n01 03 02 04 D2 3A D9\n"),
+    (("decode", "01 03 00 00 00 01 84 0B"), None),
+    (("decode", "--json", "01 03 00 00 00 01 84 0B"), None),
+    (("build", "--mode", "rtu", "--unit", "1", "--function", "3", "--address", "0", "--count", "1"), None),
+    (("build", "--mode", "tcp", "--unit", "1", "--function", "read_holding_registers", "--address", "0",
+      "--count", "1", "--transaction-id", "0x0118"), None),
+    (("build", "--mode", "ascii", "--unit", "5", "--function", "6", "--address", "0x1001",
+      "--value", "0x0200"), None),
+    (("build", "--function", "16", "--address", "1", "--values", "10,20"), None),
+    (("build", "--function", "5", "--address", "0x00AC", "--value", "on"), None),
+    (("build", "--function", "15", "--address", "0", "--values", "1,0,1"), None),
+    (("build", "--function", "3", "--role", "response", "--values", "0x04D2"), None),
+    (("build", "--function", "3", "--role", "response", "--exception", "2"), None),
+    (("build", "--json", "--function", "4", "--address", "0", "--count", "2"), None),
+]:
+    static(*_args, stdin=_stdin)
+
+
+def register(prefix: tuple[str, ...], cases: list, stdin: str | None = None) -> list:
+    """Register the commands of parametrized cases ``(args, ...)`` as static; return the cases."""
+    for case in cases:
+        static(*prefix, *case[0], stdin=stdin)
+    return cases
+
+
+def _readline(stream, timeout: float) -> str:
+    ready, _, _ = select.select([stream], [], [], timeout)
+    assert ready, "the server printed nothing in time"
+    return stream.readline()
+
+
+@contextlib.contextmanager
+def serving(*args: str, port: int = 0) -> Iterator[tuple[subprocess.Popen, int]]:
+    """``modbus-edu serve ... --tcp 127.0.0.1:PORT`` as a subprocess; yields it and the port it listens on.
+
+    Stops it with SIGINT (Ctrl-C) and checks that it exits cleanly with status 0.
+    """
+    proc = subprocess.Popen([*CLI, "serve", *args, "--tcp", f"127.0.0.1:{port}"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV)
+    try:
+        line = _readline(proc.stdout, 20)
+        assert "serving" in line and "127.0.0.1:" in line, line + proc.stderr.read()
+        bound = int(line.split("127.0.0.1:")[1].split(";")[0])
+        if port:
+            assert bound == port
+        yield proc, bound
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=15)
+        assert proc.returncode == 0, err
+        assert "Traceback" not in err
+        assert "requests:" in err  # the live count
+        assert out.startswith("stopped:") or "stopped:" in out
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+
+
+# --- help ------------------------------------------------------------------------------------------
+def test_help_for_the_program_and_every_subcommand():
+    text = ok("--help")
+    for sub in ("crc", "lrc", "decode", "build", "serve", "poll"):
+        assert sub in text
+    for sub, option in (("crc", "--text"), ("lrc", "HEX"), ("decode", "--json"), ("build", "--function"),
+                        ("serve", "--tcp"), ("poll", "--csv")):
+        text = ok(sub, "--help")
+        assert text.startswith(f"usage: modbus-edu {sub}") and option in text
+
+
+def test_console_script_is_installed():
+    script = shutil.which("modbus-edu", path=str(Path(sys.executable).parent))
+    assert script is not None, "pip install -e . creates the modbus-edu script"
+    result = subprocess.run([script, "crc", "--text", "123456789"], capture_output=True, text=True,
+                            timeout=30)
+    assert result.returncode == 0 and "0x4B37" in result.stdout
+
+
+# --- crc, lrc ---------------------------------------------------------------------------------------
+def test_crc_value_and_wire_order():
+    out = ok("crc", "01", "03", "00", "00", "00", "01")
+    assert "0x0A84" in out
+    assert "low byte first: 84 0A" in out
+    assert "01 03 00 00 00 01 84 0A" in out
+    assert "0x4B37" in ok("crc", "--text", "123456789")
+    assert "37 4B" in ok("crc", "--text", "123456789")
+
+
+def test_crc_verbose_shows_the_table_steps():
+    out = ok("crc", "-v", "0103")
+    assert "table value" in out
+    assert len([line for line in out.splitlines() if line.startswith("  01") or line.startswith("  03")]) == 2
+
+
+def test_lrc_value_and_frame():
+    out = ok("lrc", "05 06 10 01 02 00")
+    assert "0xE2" in out and ":050610010200E2" in out
+    assert "0xE6" in ok("lrc", "050310000002")
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    register((), [
+        (["crc", "010"], "odd number of hex digits"),
+        (["crc", "01", "0G"], "not a hex digit"),
+        (["lrc", ":050610010200E2"], "without ':'"),
+        (["lrc", "0x"], "not followed by hex digits"),
+    ]),
+)
+def test_crc_lrc_bad_input(args, message):
+    fails(*args, message=message)
+
+
+def test_crc_without_bytes_is_a_usage_error():
+    fails("crc", code=2, message="the following arguments are required")
+
+
+# --- decode -----------------------------------------------------------------------------------------
+def test_decode_rtu_table():
+    out = ok("decode", "01", "03", "00", "00", "00", "01", "84", "0A")
+    assert out.startswith("RTU request: unit 1, Read Holding Registers, address 0, count 1")
+    assert "starting address" in out and "CRC" in out and "correct" in out
+
+
+def test_decode_detects_tcp_and_ascii():
+    out = ok("decode", "01 18 00 00 00 06 01 03 00 00 00 01")  # source 000's MBAP request
+    assert out.startswith("TCP request: transaction 280")
+    out = ok("decode", ":050304FF0600648B")  # source 004's response
+    assert out.startswith("ASCII response: unit 5")
+
+
+def test_decode_json():
+    data = json.loads(ok("decode", "--json", "--mode", "rtu", "--role", "response", "01 03 02 04 D2 3A D9"))
+    assert data["ok"] is True and data["role"] == "response"
+    assert data["frame"]["fields"]["registers"] == [1234]
+    assert [row["field"] for row in data["rows"]][0].startswith("unit")
+
+
+def test_decode_frames_from_stdin():
+    out = ok("decode", "-", stdin="01 03 00 00 00 01 84 0A\n01 03 02 04 D2 3A D9\n")
+    assert "RTU request" in out and "RTU response" in out
+
+
+def test_decode_bad_crc_shows_the_table_and_fails():
+    result = fails("decode", "01 03 00 00 00 01 84 0B", message="CRC mismatch")
+    assert "mismatch: computed 0x0A84" in result.stdout
+    result = fails("decode", "--json", "01 03 00 00 00 01 84 0B", message="CRC mismatch")
+    assert json.loads(result.stdout)["error_type"] == "CrcError"
+
+
+@pytest.mark.parametrize(
+    "args, code, message",
+    register((), [
+        (["decode", "010300000001840"], 1, "odd number of hex digits"),
+        (["decode", "01 03 zz"], 1, "not a hex digit"),
+        (["decode", "01 07 41 E2"], 1, "function code 0x07"),
+        (["decode", "--mode", "foo", "01"], 2, "invalid choice"),
+        (["decode", "--role", "both", "01"], 2, "invalid choice"),
+        (["decode", "-"], 1, "no frames"),
+    ], stdin=""),
+)
+def test_decode_bad_input(args, code, message):
+    fails(*args, code=code, message=message, stdin="")
+
+
+# --- build ------------------------------------------------------------------------------------------
+def test_build_rtu_tcp_ascii():
+    out = ok("build", "--mode", "rtu", "--unit", "1", "--function", "3", "--address", "0", "--count", "1")
+    assert out.splitlines()[0] == "01 03 00 00 00 01 84 0A"
+    assert "RTU request" in out
+    out = ok("build", "--mode", "tcp", "--unit", "1", "--function", "read_holding_registers",
+             "--address", "0", "--count", "1", "--transaction-id", "0x0118")
+    assert out.splitlines()[0] == "01 18 00 00 00 06 01 03 00 00 00 01"
+    out = ok("build", "--mode", "ascii", "--unit", "5", "--function", "6", "--address", "0x1001",
+             "--value", "0x0200")
+    assert out.splitlines()[0] == ":050610010200E2\\r\\n"
+
+
+def test_build_writes_and_responses():
+    out = ok("build", "--function", "16", "--address", "1", "--values", "10,20")
+    assert out.splitlines()[0] == "01 10 00 01 00 02 04 00 0A 00 14 12 6E"
+    out = ok("build", "--function", "5", "--address", "0x00AC", "--value", "on")
+    assert out.splitlines()[0].startswith("01 05 00 AC FF 00")
+    out = ok("build", "--function", "15", "--address", "0", "--values", "1,0,1")
+    assert out.splitlines()[0].startswith("01 0F 00 00 00 03 01 05")
+    out = ok("build", "--function", "3", "--role", "response", "--values", "0x04D2")
+    assert out.splitlines()[0] == "01 03 02 04 D2 3A D9"
+    out = ok("build", "--function", "3", "--role", "response", "--exception", "2")
+    assert out.splitlines()[0] == "01 83 02 C0 F1"
+    data = json.loads(ok("build", "--json", "--function", "4", "--address", "0", "--count", "2"))
+    assert data["hex"].startswith("01 04 00 00 00 02") and data["dissection"]["ok"] is True
+
+
+@pytest.mark.parametrize(
+    "args, code, message",
+    register(("build",), [
+        (["--function", "7", "--address", "0", "--count", "1"], 1, "function 7"),
+        (["--function", "read_everything"], 1, "unknown function"),
+        (["--function", "3", "--address", "0"], 1, "needs --count"),
+        (["--function", "3", "--address", "0", "--count", "200"], 1, "quantity"),
+        (["--function", "6", "--address", "0", "--value", "70000"], 1, "0..65535"),
+        (["--function", "5", "--address", "0", "--value", "maybe"], 1, "on/off"),
+        (["--function", "3", "--address", "0", "--count", "1", "--unit", "248"], 1, "--unit"),
+        (["--function", "3", "--exception", "2"], 1, "--role response"),
+        (["--address", "0"], 2, "--function"),
+        (["--mode", "udp", "--function", "3"], 2, "invalid choice"),
+    ]),
+)
+def test_build_bad_input(args, code, message):
+    fails("build", *args, code=code, message=message)
+
+
+# --- serve, read by pymodbus -------------------------------------------------------------------------
+def test_serve_meter_read_by_pymodbus():
+    from pymodbus.client import ModbusTcpClient
+
+    with serving("meter", "--trial", "2") as (_, port):
+        client = ModbusTcpClient("127.0.0.1", port=port, timeout=3)
+        assert client.connect()
+        try:
+            for entry in METER_MAP:
+                rr = client.read_holding_registers(entry.address, count=2, device_id=1)
+                assert not rr.isError(), entry.name
+                raw = client.convert_from_registers(rr.registers, data_type=client.DATATYPE.UINT32,
+                                                    word_order="big")
+                expected = TRIAL_ENERGY_KWH[2] if entry.name == "kWh" else TRIALS[2][entry.name]
+                assert raw / entry.scale == pytest.approx(expected, abs=1e-9), entry.name
+            rr = client.read_holding_registers(0x04, count=1, device_id=1)
+            assert rr.isError() and rr.exception_code == 2
+        finally:
+            client.close()
+
+
+def test_serve_arduino_read_by_pymodbus_on_a_chosen_port():
+    from pymodbus.client import ModbusTcpClient
+
+    port = free_port()
+    with serving("arduino", "--unit", "3", port=port) as (_, bound):
+        client = ModbusTcpClient("127.0.0.1", port=bound, timeout=3)
+        assert client.connect()
+        try:
+            assert not client.write_coil(1, True, device_id=3).isError()
+            assert client.read_coils(0, count=3, device_id=3).bits[:3] == [False, True, False]
+            assert not client.write_coils(0, [True, True, False], device_id=3).isError()
+            assert client.read_coils(0, count=3, device_id=3).bits[:3] == [True, True, False]
+            assert not client.read_discrete_inputs(0, count=2, device_id=3).isError()
+            pots = client.read_input_registers(0, count=2, device_id=3).registers
+            assert all(0 <= p <= 1023 for p in pots)
+            assert not client.write_register(1, 42, device_id=3).isError()
+            assert not client.write_registers(0, [800, 43], device_id=3).isError()
+            assert client.read_holding_registers(0, count=2, device_id=3).registers == [800, 43]
+            rr = client.read_holding_registers(2, count=1, device_id=3)  # 40003 was never added
+            assert rr.isError() and rr.exception_code == 2
+        finally:
+            client.close()
+
+
+def test_serve_bank_and_sigterm_also_stops_cleanly():
+    proc = subprocess.Popen([*CLI, "serve", "bank", "--tcp", "0"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV)
+    try:
+        line = _readline(proc.stdout, 20)
+        assert "Modbus/TCP 127.0.0.1:" in line  # a bare port listens on loopback only
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=15)
+        assert proc.returncode == 0 and "Traceback" not in err
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+
+
+def test_serve_meter_on_a_serial_url():
+    listener = socket.socket()
+    listener.bind(("127.0.0.1", 0))
+    listener.listen(1)
+    listener.settimeout(20)
+    port = listener.getsockname()[1]
+    proc = subprocess.Popen([*CLI, "serve", "meter", "--serial", f"socket://127.0.0.1:{port}"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV)
+    try:
+        conn, _ = listener.accept()
+        line = _readline(proc.stdout, 20)
+        assert "19200 baud 8N1, RTU" in line
+        conn.settimeout(10)
+        conn.sendall(RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=4)).encode())
+        expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0, 4036, 4, 0xA704])).encode()
+        reply = b""
+        while len(reply) < len(expected):
+            chunk = conn.recv(256)
+            assert chunk
+            reply += chunk
+        assert reply == expected
+        conn.close()
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=15)
+        assert proc.returncode == 0 and "Traceback" not in err
+    finally:
+        listener.close()
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+
+
+@pytest.mark.parametrize(
+    "args, code, message",
+    register(("serve",), [
+        (["meter", "--tcp", "127.0.0.1:99999"], 1, "bad port 99999"),
+        (["meter", "--tcp", "localhost:http"], 1, "bad address"),
+        (["meter", "--serial", "loop://", "--baud", "12"], 2, "not a serial speed"),
+        (["meter", "--trial", "3"], 2, "invalid choice"),
+        (["toaster"], 2, "invalid choice"),
+        (["meter", "--tcp", "0", "--serial", "loop://"], 1, "choose one wire"),
+        (["arduino", "--unit", "0"], 1, "--unit"),
+        (["meter", "--serial", "/dev/no-such-port"], 1, "cannot open serial port"),
+    ]),
+)
+def test_serve_bad_settings(args, code, message):
+    fails("serve", *args, code=code, message=message)
+
+
+def test_serve_on_a_port_in_use_fails():
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen(1)
+        fails("serve", "meter", "--tcp", f"127.0.0.1:{busy.getsockname()[1]}", message="cannot listen")
+
+
+# --- poll ---------------------------------------------------------------------------------------------
+@pytest.fixture()
+def meter_server():
+    with TcpServer(PowerMeter(trial=1)) as server:
+        yield server.address[1]
+
+
+def test_poll_prints_values_statistics_and_csv(meter_server, tmp_path):
+    log = tmp_path / "poll.csv"
+    result = run("poll", "--tcp", f"127.0.0.1:{meter_server}", "--unit", "1", "--function", "3",
+                 "--address", "0", "--count", "4", "--format", "uint32_ABCD", "--polls", "3",
+                 "--interval", "0.05", "--csv", str(log), "--verbose")
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0] == "#1 [0] 4036  [2] 304900"  # VL1 403.6 V x 10, AL1 304 900 mA
+    assert lines[-1].startswith("stats: requests 3, valid 3, timeouts 0")
+    assert result.stderr.count("tx -> ") == 3 and result.stderr.count("rx <- ") == 3
+    with log.open() as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == ["time", "poll", "status", "0", "2"]
+    assert [r[1:] for r in rows[1:]] == [[str(i), "ok", "4036", "304900"] for i in (1, 2, 3)]
+
+
+def test_poll_hex_and_bits(meter_server):
+    out = ok("poll", "--tcp", f"127.0.0.1:{meter_server}", "--address", "0x30", "--count", "2",
+             "--format", "hex", "--polls", "1")
+    assert out.startswith("#1 [48] 0x0000  [49] 0x0010")
+
+
+def test_poll_exception_response_is_reported(meter_server):
+    result = fails("poll", "--tcp", f"127.0.0.1:{meter_server}", "--address", "4", "--count", "1",
+                   "--polls", "2", "--interval", "0", message="no valid response in 2 polls")
+    assert "#1 exception 02: illegal data address" in result.stdout
+    assert "exceptions 2" in result.stdout
+
+
+def test_poll_timeout_is_counted():
+    with socket.socket() as mute:  # accepts connections, never answers
+        mute.bind(("127.0.0.1", 0))
+        mute.listen(1)
+        result = fails("poll", "--tcp", f"127.0.0.1:{mute.getsockname()[1]}", "--polls", "1",
+                       "--timeout", "0.2", message="no valid response")
+    assert "#1 timeout" in result.stdout and "timeouts 1" in result.stdout
+
+
+def test_poll_over_a_serial_url():
+    with SerialServer(PowerMeter(trial=2), TcpSerialPort("127.0.0.1", 0), baudrate=19200) as server:
+        host, port = server.port.address
+        out = ok("poll", "--serial", f"socket://{host}:{port}", "--baud", "19200", "--address", "0",
+                 "--count", "2", "--polls", "1", "--timeout", "2")
+    assert out.startswith("#1 [0] 0  [1] 4126")
+
+
+def test_poll_connection_refused():
+    fails("poll", "--tcp", f"127.0.0.1:{free_port()}", "--polls", "1", message="connection refused")
+
+
+# (these fail before connecting: port 1 is never tried)
+@pytest.mark.parametrize(
+    "args, code, message",
+    register(("poll",), [
+        (["--tcp", "no-such-host.invalid:502"], 1, "unknown host"),
+        (["--tcp", "127.0.0.1"], 1, "bad address"),
+        (["--serial", "/dev/no-such-port"], 1, "cannot open serial port"),
+        ([], 1, "give --tcp"),
+        (["--tcp", "127.0.0.1:1", "--function", "6"], 1, "use --function 1, 2, 3 or 4"),
+        (["--tcp", "127.0.0.1:1", "--function", "99"], 1, "function 99"),
+        (["--tcp", "127.0.0.1:1", "--format", "float16_ABCD"], 1, "unknown --format"),
+        (["--tcp", "127.0.0.1:1", "--count", "126"], 1, "--count"),
+        (["--tcp", "127.0.0.1:1", "--unit", "256"], 1, "--unit"),
+        (["--tcp", "127.0.0.1:1", "--timeout", "0"], 1, "--timeout"),
+        (["--tcp", "127.0.0.1:1", "--interval", "x"], 2, "invalid float"),
+        (["--serial", "loop://", "--parity", "X"], 2, "invalid choice"),
+    ]),
+)
+def test_poll_bad_input(args, code, message):
+    fails("poll", *args, code=code, message=message)
+
+
+def test_keyboard_interrupt_during_poll_prints_statistics_and_exits_0(meter_server):
+    proc = subprocess.Popen([*CLI, "poll", "--tcp", f"127.0.0.1:{meter_server}", "--interval", "0.05"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV)
+    try:
+        assert _readline(proc.stdout, 20).startswith("#1 [0] 0")
+        time.sleep(0.2)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=15)
+        assert proc.returncode == 0, err
+        assert "Traceback" not in err
+        assert out.splitlines()[-1].startswith("stats: requests")
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
