@@ -254,12 +254,8 @@ def cmd_decode(args: argparse.Namespace) -> int:
     if bad:
         err = bad[0].error
         where = f"frame {results.index(bad[0]) + 1}: " if len(results) > 1 else ""
-        raise _Reported(f"{where}{err}")
+        raise ModbusError(f"{where}{err}")  # the table above shows where; stderr gets the one line
     return 0
-
-
-class _Reported(ModbusError):
-    """An error already shown in the output (a dissection): print the one line, exit 1."""
 
 
 def _request_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
