@@ -502,8 +502,9 @@ def _looks_like_mbap(data: bytes) -> bool:
 def detect_mode(data: bytes) -> str:
     """Best guess of a raw frame's mode: ``"ascii"``, ``"tcp"`` or ``"rtu"``.
 
-    * it starts with ``:``: ASCII (unless it is really an RTU frame for unit 58, 0x3A: characters that
-      are not hex digits and a correct RTU CRC);
+    * it starts with ``:``: ASCII, unless its characters are not hex digits and it is really an RTU
+      frame for unit 58 (0x3A; a correct RTU CRC) or a TCP frame whose transaction id starts with 0x3A
+      (a valid MBAP header);
     * its first 6 bytes are a valid MBAP header (protocol 0, a length of 2..254 equal to the bytes that
       follow): TCP, unless the last two bytes are also a correct RTU CRC (then RTU);
     * anything else: RTU (the mode without a marker).
@@ -522,8 +523,11 @@ def detect_mode(data: bytes) -> str:
     rtu_crc_ok = len(data) >= 4 and crc16(data[:-2]) == int.from_bytes(data[-2:], "little")
     if data.startswith(b":"):
         body = data[1:-2] if data.endswith(b"\r\n") else data[1:]
-        if rtu_crc_ok and not all(ch in _HEX_DIGITS for ch in body):
-            return "rtu"
+        if not all(ch in _HEX_DIGITS for ch in body):
+            if rtu_crc_ok:
+                return "rtu"
+            if _looks_like_mbap(data):
+                return "tcp"
         return "ascii"
     if _looks_like_mbap(data) and not rtu_crc_ok:
         return "tcp"
