@@ -61,7 +61,7 @@ from .links import (  # noqa: F401
     loopback_serial,
     loopback_tcp,
 )
-from .links.serial import SerialLink, SerialServer, serial_link  # noqa: F401
+from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
 from .links.tcp import TcpLink, TcpServer, tcp_link  # noqa: F401
 from .master import Master, MasterStats  # noqa: F401
 from .pdu import (  # noqa: F401

@@ -30,6 +30,7 @@ identifier*.  In this module the field is called ``unit`` in all three modes.
 from __future__ import annotations
 
 import re
+import struct
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -97,6 +98,9 @@ BROADCAST = 0
 
 MAX_SERIAL_UNIT = 247
 """Highest slave address on a serial line; 248..255 are reserved."""
+
+_UNIT_BYTES = tuple(bytes([unit]) for unit in range(256))  # one-byte unit fields, built once
+_MBAP = struct.Struct(">HHHB")  # transaction id, protocol id, length, unit id: all big-endian
 
 _MIN_LENGTH_FIELD = 2  # unit id + function code
 _MAX_LENGTH_FIELD = 1 + _pdu.MAX_PDU_SIZE  # 254
@@ -220,12 +224,14 @@ class RtuFrame:
     mode: ClassVar[str] = "rtu"
 
     def __post_init__(self) -> None:
-        _check_unit(self.unit, MAX_SERIAL_UNIT, "RTU")
-        _check_pdu(self.pdu, "RtuFrame")
+        if not (type(self.unit) is int and 0 <= self.unit <= MAX_SERIAL_UNIT
+                and isinstance(self.pdu, _pdu.Pdu)):  # the usual case, checked in one go
+            _check_unit(self.unit, MAX_SERIAL_UNIT, "RTU")
+            _check_pdu(self.pdu, "RtuFrame")
 
     def encode(self) -> bytes:
         """The frame in wire order: unit, PDU, CRC low byte, CRC high byte."""
-        body = bytes([self.unit]) + self.pdu.encode()
+        body = _UNIT_BYTES[self.unit] + self.pdu.encode()
         return body + crc16(body).to_bytes(2, "little")
 
     @classmethod
@@ -392,6 +398,9 @@ class TcpFrame:
 
     def __post_init__(self) -> None:
         tid = self.transaction_id
+        if (type(tid) is int and 0 <= tid <= 0xFFFF and self.protocol_id == 0 and type(self.unit) is int
+                and 0 <= self.unit <= 255 and isinstance(self.pdu, _pdu.Pdu)):
+            return  # the usual case, checked in one go; the checks below name what is wrong
         if isinstance(tid, bool) or not isinstance(tid, int) or not 0 <= tid <= 0xFFFF:
             raise MbapError(f"transaction_id {tid!r} does not fit the MBAP's two bytes: expected 0..65535")
         if self.protocol_id != 0:
@@ -402,13 +411,7 @@ class TcpFrame:
     def encode(self) -> bytes:
         """MBAP header (big-endian fields) followed by the PDU."""
         body = self.pdu.encode()
-        return (
-            self.transaction_id.to_bytes(2, "big")
-            + self.protocol_id.to_bytes(2, "big")
-            + (1 + len(body)).to_bytes(2, "big")
-            + bytes([self.unit])
-            + body
-        )
+        return _MBAP.pack(self.transaction_id, self.protocol_id, 1 + len(body), self.unit) + body
 
     @classmethod
     def decode(cls, data: bytes, role: str = "request") -> TcpFrame:

@@ -21,6 +21,8 @@ caller passes ``offset`` to :func:`decode_pdu` so that they count from the start
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import struct
 from dataclasses import dataclass
 from enum import IntEnum
@@ -217,8 +219,9 @@ def unpack_bits(data: bytes) -> tuple[bool, ...]:
 
 def _expect_length(data: bytes, length: int, name: str, base: int) -> None:
     if len(data) < length:
+        where = f"byte {base}" if len(data) == 1 else f"bytes {base}-{base + len(data) - 1}"
         raise TruncatedError(
-            f"{name} is truncated: {len(data)} bytes at bytes {base}-{base + len(data) - 1}, "
+            f"{name} is truncated: {len(data)} byte{'s' if len(data) != 1 else ''} at {where}, "
             f"expected {length} bytes (the PDU ends at byte {base + length - 1})")
     if len(data) > length:
         raise TrailingBytesError(
@@ -245,6 +248,11 @@ def _hex(data: bytes) -> str:
 
 
 # --- the classes -----------------------------------------------------------------------------------
+
+@functools.cache
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(item.name for item in dataclasses.fields(cls))
+
 
 class Pdu:
     """Base of every PDU class.
@@ -294,7 +302,7 @@ class Pdu:
     def _from_wire(cls, *values: Any) -> Pdu:
         """Build an instance from fields that ``decode`` has already checked, skipping the checks again."""
         obj = object.__new__(cls)
-        for name, value in zip(cls.__dataclass_fields__, values):
+        for name, value in zip(_field_names(cls), values):
             object.__setattr__(obj, name, value)
         return obj
 
