@@ -45,6 +45,9 @@ def execute(path: Path | str, timeout: int = 120) -> float:
     elapsed = time.perf_counter() - start
     for cell in notebook.cells:
         cell.metadata.pop("execution", None)
+    # Widget models are live objects of a kernel: their saved state is large, changes on every run
+    # (new model ids) and is rebuilt when a learner runs the cell, so it is not stored.
+    notebook.metadata.pop("widgets", None)
     nbformat.write(notebook, path)
     return elapsed
 

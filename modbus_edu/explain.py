@@ -88,6 +88,9 @@ class Dissection:
         """True when the frame decoded without error."""
         return self.error is None
 
+    def __repr__(self) -> str:
+        return f"<Dissection {self.summary}>"
+
     @property
     def summary(self) -> str:
         """One line: ``RTU request: unit 1, Read Holding Registers, address 0, count 1``."""

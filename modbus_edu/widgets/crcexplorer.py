@@ -310,3 +310,8 @@ class CrcExplorer(W.VBox):
         ax.set_ylabel("register")
         ax.set_title(f"{dict((v, k) for k, v in METHODS)[self.method.value]}: {hex_text(self.data)}")
         return ax
+
+    def __repr__(self) -> str:
+        return (f"<CrcExplorer {self.method.value}: {len(self.data)} bytes, step {self.position} of "
+                f"{len(self.steps)}, result 0x{self.result:0{2 if self.method.value == 'lrc' else 4}X}, "
+                f"on the wire {self.wire.hex(' ').upper()}>")

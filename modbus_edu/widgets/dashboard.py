@@ -321,3 +321,6 @@ class MeterDashboard(W.VBox):
         """``[(label, "403.6 V"), ...]``: the last reading as 003's Table 6 prints it."""
         chosen = [e for e in self.entries if names is None or e.name in names]
         return [(e.label, e.format(self.values[e.name])) for e in chosen if e.name in self.values]
+
+    def __repr__(self) -> str:
+        return f"<MeterDashboard {len(self.entries)} values, counts={self.counts}>"

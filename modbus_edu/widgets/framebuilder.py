@@ -271,3 +271,7 @@ class FrameBuilder(W.VBox):
             f'<code class="mbe-frame-hex">{esc(hex_text(data))}</code></div>'
         )
         self.dissection_view.value = dissection_html(self.dissection)
+
+    def __repr__(self) -> str:
+        shown = self.dissection.summary if self.dissection is not None else f"error: {self.error}"
+        return f"<FrameBuilder {self.frame.hex(' ').upper() or '(no frame)'} | {shown}>"

@@ -104,3 +104,8 @@ class FrameDecoder(W.VBox):
             f'<div style="margin-top:4px;font-size:0.9em">bytes: <code class="mbe-frame-hex">'
             f"{esc(hex_text(data))}</code></div>")
         self.dissection_view.value = dissection_html(d)
+
+    def __repr__(self) -> str:
+        if self.dissection is not None:
+            return f"<FrameDecoder {self.dissection.summary}>"
+        return f"<FrameDecoder error: {self.error}>" if self.error else "<FrameDecoder (empty)>"
