@@ -115,7 +115,8 @@ class Dissection:
         mode = _MODE_NAMES.get(self.mode, self.mode.upper())
         return f"{mode} {self.role or 'frame'}: not valid"
 
-    def _raw_text(self, row: Row) -> str:
+    def raw_text(self, row: Row) -> str:
+        """A row's bytes as shown: hex for RTU and TCP, the characters (with CR, LF) for ASCII."""
         if self.mode == "ascii":
             return _ascii_text(row.raw)
         return _hex(row.raw)
@@ -124,7 +125,7 @@ class Dissection:
         """The dissection as an aligned plain-text table, the summary above it and any error below it."""
         header = ("offset", "bytes" if self.mode != "ascii" else "chars", "field", "value", "meaning")
         table = [header] + [
-            (str(r.offset), self._raw_text(r), r.field, _value_text(r.value), r.meaning) for r in self.rows
+            (str(r.offset), self.raw_text(r), r.field, _value_text(r.value), r.meaning) for r in self.rows
         ]
         widths = [max(len(line[i]) for line in table) for i in range(4)]
         lines = [self._heading]
@@ -153,7 +154,7 @@ class Dissection:
         for r in self.rows:
             style = "" if r.ok else ' style="background-color: #fdd"'
             out.append(
-                f"<tr{style}><td>{r.offset}</td><td style=\"{mono}\">{esc(self._raw_text(r))}</td>"
+                f"<tr{style}><td>{r.offset}</td><td style=\"{mono}\">{esc(self.raw_text(r))}</td>"
                 f"<td>{esc(r.field)}</td><td style=\"{mono}\">{esc(_value_text(r.value))}</td>"
                 f"<td>{esc(r.meaning)}</td></tr>"
             )

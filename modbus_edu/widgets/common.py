@@ -222,23 +222,6 @@ def guarded(message: MessageLine, fn: Callable[..., Any]) -> Callable[..., Any]:
 
 
 # --- frames as coloured bytes ------------------------------------------------------------------------
-def _raw_text(raw: bytes, mode: str) -> str:
-    if mode == "ascii":
-        parts = []
-        for ch in raw:
-            if ch == 0x0D:
-                parts.append("CR")
-            elif ch == 0x0A:
-                parts.append("LF")
-            elif 0x20 < ch < 0x7F:
-                parts.append(chr(ch))
-            else:
-                parts.append(f"<{ch:02X}>")
-        # hex characters stay together ("FF06"), control characters are spaced ("CR LF")
-        return " ".join(parts) if any(len(p) > 1 for p in parts) else "".join(parts)
-    return hex_text(raw)
-
-
 def field_colours(rows: Iterable[Any]) -> list[str]:
     """One palette colour per row, in order (a frame's rows are its fields)."""
     return [PALETTE[i % len(PALETTE)] for i, _ in enumerate(rows)]
@@ -258,7 +241,7 @@ def frame_html(dissection: Any) -> str:
         title = f"{row.field}: {row.meaning}" if row.meaning else row.field
         spans.append(
             f'<span class="mbe-field" title="{esc(title)}" style="background:{colour};{border}'
-            f'padding:2px 4px;margin-right:3px;border-radius:4px">{esc(_raw_text(row.raw, dissection.mode))}'
+            f'padding:2px 4px;margin-right:3px;border-radius:4px">{esc(dissection.raw_text(row))}'
             f"</span>"
         )
     return (f'<div class="mbe-frame-bytes" style="{MONO}; font-size: 1.15em; line-height: 2em">'
