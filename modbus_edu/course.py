@@ -45,9 +45,8 @@ def execute(path: Path | str, timeout: int = 120) -> float:
     elapsed = time.perf_counter() - start
     for cell in notebook.cells:
         cell.metadata.pop("execution", None)
-    # Widget models are live objects of a kernel: their saved state is large, changes on every run
-    # (new model ids) and is rebuilt when a learner runs the cell, so it is not stored.
-    notebook.metadata.pop("widgets", None)
+    # The widgets' saved state stays in the metadata: JupyterLab draws the panels from it when a
+    # learner opens the notebook, before the kernel has run anything.
     nbformat.write(notebook, path)
     return elapsed
 
