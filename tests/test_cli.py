@@ -56,7 +56,7 @@ def static(*args: str, stdin: str | None = None) -> tuple[str, ...]:
 
 @pytest.fixture(scope="module", autouse=True)
 def _start_static_commands(request):
-    selected = sum(1 for item in request.session.items if item.module is request.module)
+    selected = sum(1 for item in request.session.items if getattr(item, "module", None) is request.module)
     if selected >= 10:  # worth it only when most of this module runs (not for one test picked by -k)
         for key in _STATIC:
             _STATIC[key] = _POOL.submit(_run, *key)
