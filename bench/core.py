@@ -201,9 +201,12 @@ def main(argv: list[str] | None = None) -> int:
           f"best of {args.repeat} x ~{args.seconds} s; ratio = ours / pymodbus (> 1: we are faster)")
     print("frames: an FC3 response with 10 registers, unit 1")
     print(format_table(rows))
-    slower = [row.task for row in rows if row.ratio < 1.0]
-    if slower:
-        print("slower than pymodbus: " + "; ".join(slower))
+    targets = [row for row in rows if "build" not in row.task]
+    slower = [row.task for row in targets if row.ratio < 1.0]
+    print("targets (every ratio >= 1.0): crc16 and the four object <-> bytes rows: "
+          + ("met" if not slower else "missed: " + "; ".join(slower)))
+    print("the 'build + encode' rows are extra: they add object construction, where our constructors "
+          "check every field and pymodbus's check none")
     return 0
 
 
