@@ -41,6 +41,7 @@ latencies in ``stats.latencies`` are those of the simulated wire.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+from functools import lru_cache
 from typing import Any
 
 from . import pdu as _pdu
@@ -57,7 +58,7 @@ from .errors import (
 from .framing import decode_frame, make_frame
 from .links.base import Link
 from .pdu import ExceptionResponse, Pdu
-from .traffic import TrafficLog
+from .traffic import TrafficLog, pdu_note
 
 __all__ = ["Master", "MasterStats"]
 
@@ -142,6 +143,16 @@ def _check_seconds(name: str, value: Any) -> float:
     if not value >= 0:
         raise ConfigError(f"{name} must be >= 0 s, got {value!r}")
     return value
+
+
+@lru_cache(maxsize=256, typed=True)
+def _request_frame(mode: str, unit: int, request: Pdu) -> bytes:
+    """The bytes of a serial (RTU / ASCII) request frame, remembered for the last 256 different ones.
+
+    A master polls: it sends the same few requests over and over.  Framing is a pure function of the
+    mode, the unit and the (immutable) request, so each different frame is built once.
+    """
+    return make_frame(mode, unit, request, 0).encode()
 
 
 def _peek(data: bytes, mode: str) -> tuple[int | None, int | None, int | None]:
@@ -342,15 +353,23 @@ class Master:
             if stale is None:
                 break
             stats.mismatches += 1
-            log.add(clock.now, "rx", mode, stale, source=self._source(stale), dest="master", role="response",
-                    note="stale: arrived after its request had given up; discarded")
+            log.record(clock.now, "rx", mode, stale, source=self._source(stale), dest="master",
+                       role="response", note="stale: arrived after its request had given up; discarded")
         # 3. send
-        tid = self._next_tid() if mode == "tcp" else 0
-        frame = make_frame(mode, unit, request, tid).encode()
+        if mode == "tcp":
+            tid = self._next_tid()
+            frame = make_frame(mode, unit, request, tid).encode()
+        else:
+            tid = 0
+            try:
+                frame = _request_frame(mode, unit, request)
+            except TypeError:  # an unhashable request (a PDU class of one's own): build it each time
+                frame = make_frame(mode, unit, request, 0).encode()
         sent = clock.now
         stats.requests += 1
-        log.add(sent, "tx", mode, frame, source="master",
-                dest="broadcast" if unit == 0 else f"unit {unit}", role="request", note=request.summary())
+        # source, dest, note, role (positional: this runs on every poll)
+        log.record(sent, "tx", mode, frame, "master", "broadcast" if unit == 0 else f"unit {unit}",
+                   pdu_note(request), "request")
         link.send(frame)
         if unit == 0:
             stats.broadcasts += 1
@@ -391,26 +410,25 @@ class Master:
                     f"(waited {waited:.6f} s on the link's clock)"
                 )
             now = clock.now
-            p_tid, p_unit, p_function = _peek(data, mode)
             try:
                 decoded = decode_frame(data, mode, "response")
             except ChecksumError as exc:
                 stats.checksum_errors += 1
-                log.add(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
-                        note=f"checksum error: {exc}")
+                log.record(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
+                           note=f"checksum error: {exc}")
                 raise
             except (FrameError, PduError) as exc:
                 # Envelope and unit/function readable but not ours? Then it is a mismatch, not a bad answer.
-                why = self._mismatch(unit, function, tid, p_tid, p_unit, p_function)
+                why = self._mismatch(unit, function, tid, *_peek(data, mode))
                 if why and not isinstance(exc, FrameError):
                     stats.mismatches += 1
                     mismatched.append(why)
-                    log.add(now, "rx", mode, data, source=self._source(data), dest="master",
-                            role="response", note=f"mismatch, ignored: {why}")
+                    log.record(now, "rx", mode, data, source=self._source(data), dest="master",
+                               role="response", note=f"mismatch, ignored: {why}")
                     continue
                 stats.bad_responses += 1
-                log.add(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
-                        note=f"bad response: {exc}")
+                log.record(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
+                           note=f"bad response: {exc}")
                 raise
             response = decoded.pdu
             why = self._mismatch(unit, function, tid, getattr(decoded, "transaction_id", None), decoded.unit,
@@ -418,25 +436,26 @@ class Master:
             if why:
                 stats.mismatches += 1
                 mismatched.append(why)
-                log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
-                        note=f"mismatch, ignored: {why}")
+                log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
+                           role="response", note=f"mismatch, ignored: {why}")
                 continue
             if isinstance(response, ExceptionResponse):
                 stats.exceptions += 1
                 stats.latencies.append(now - sent)
-                log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
-                        note=response.summary())
+                log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
+                           role="response", note=pdu_note(response))
                 return response
             problem = self._misfit(request, response)
             if problem:
                 stats.bad_responses += 1
-                log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
-                        note=f"bad response: {problem}")
+                log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
+                           role="response", note=f"bad response: {problem}")
                 raise PduError(f"the response of unit {unit} does not fit {request.title}: {problem}")
             stats.valid_responses += 1
             stats.latencies.append(now - sent)
-            log.add(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master", role="response",
-                    note=response.summary())
+            # source, dest, note, role (positional: this runs on every poll)
+            log.record(now, "rx", mode, data, f"unit {decoded.unit}", "master", pdu_note(response),
+                       "response")
             return response
 
     def _mismatch(self, unit: int, function: int, tid: int, r_tid: int | None, r_unit: int | None,

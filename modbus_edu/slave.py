@@ -43,6 +43,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, fields
+from functools import lru_cache
 from typing import Any
 
 from . import pdu as _pdu
@@ -58,9 +59,9 @@ from .errors import (
     PduError,
     UnknownFunctionError,
 )
-from .framing import MODES, decode_frame, make_frame
+from .framing import MODES, Frame, decode_frame, make_frame
 from .pdu import ExceptionCode, ExceptionResponse, Pdu
-from .traffic import TrafficLog
+from .traffic import TrafficLog, pdu_note
 
 __all__ = ["Slave", "SlaveCounters", "dispatch"]
 
@@ -105,6 +106,18 @@ def _check_mode(mode: str) -> str:
     if mode not in MODES:
         raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
     return mode
+
+
+@lru_cache(maxsize=256, typed=True)
+def _decode_request(data: bytes, mode: str) -> Frame:
+    """``decode_frame(data, mode, "request")``, remembered for the last 256 different frames.
+
+    A master polls: it sends the same few requests over and over, and decoding a frame is a pure
+    function of its bytes whose result is immutable, so each different request is decoded once.  A frame
+    that fails to decode raises every time (errors are not remembered).  Not for TCP: there every request
+    carries a new transaction id.
+    """
+    return decode_frame(data, mode, "request")
 
 
 def _peek_unit_function(data: bytes, mode: str) -> tuple[int, int]:
@@ -166,6 +179,9 @@ class Slave:
         """The newest 1000 frames this slave received (``rx``) and sent (``tx``)."""
         self.clock: Any = None
         """A clock for the log's time stamps, set by the link the slave is attached to (or None: 0.0)."""
+        self.sender = "master"
+        """Who sent the frame being handled, for the log: ``"master"``, unless a link that knows better
+        passes the frame through :meth:`hear` (on a multidrop bus a slave also hears the other slaves)."""
         self.last_error: BaseException | None = None
         """The exception a hook raised last (the cause of an exception 04), for debugging."""
 
@@ -192,6 +208,23 @@ class Slave:
         return unit != 0 and (self.unit is None or unit == self.unit)
 
     # -- frames ---------------------------------------------------------------------------------
+    def hear(self, frame: bytes, mode: str = "rtu", source: str = "master") -> bytes | None:
+        """:meth:`handle` a frame that ``source`` put on the line: what a link that knows the sender calls.
+
+        On an RS-485 bus every node hears every frame, the other slaves' responses included.  The
+        slave ignores those (they carry another unit), but its log should say who sent them:
+        ``"slave 2 -> slave 1; for unit 2: ignored"``, not ``"master -> slave 1"``.  The label is
+        :attr:`sender` while the frame is handled.  An answer is always logged as going to the master:
+        a slave takes every request for one from the master (it cannot tell), and on a serial line only
+        the master takes in responses.
+        """
+        previous = self.sender
+        self.sender = source
+        try:
+            return self.handle(frame, mode)
+        finally:
+            self.sender = previous
+
     def handle(self, frame: bytes, mode: str = "rtu") -> bytes | None:
         """Process one received frame; return the bytes of the answer, or ``None`` for no answer.
 
@@ -199,24 +232,28 @@ class Slave:
         malformed, for another unit, or a broadcast.  A TCP response carries the request's transaction
         identifier.  Both frames go to :attr:`log`, the received one with a note saying what became of it.
         """
-        mode = _check_mode(mode)
-        if not isinstance(frame, (bytes, bytearray, memoryview)):
-            raise FrameError(f"Slave.handle expects the bytes of one frame, got {type(frame).__name__}")
-        data = bytes(frame)
-        now = self._now()
-        answer, response, note = self._handle(data, mode)
+        if mode not in MODES:
+            mode = _check_mode(mode)
+        if frame.__class__ is not bytes:
+            if not isinstance(frame, (bytes, bytearray, memoryview)):
+                raise FrameError(f"Slave.handle expects the bytes of one frame, got {type(frame).__name__}")
+            frame = bytes(frame)
+        clock = self.clock
+        now = clock.now if clock is not None else 0.0
+        answer, response, note = self._handle(frame, mode)
         log = self.log
-        log.add(now, "rx", mode, data, source="master", dest=self.name, role="request", note=note)
+        sender = self.sender
+        log.record(now, "rx", mode, frame, sender, self.name, note, "request")
         if answer is not None:
-            log.add(now, "tx", mode, answer, source=self.name, dest="master", role="response",
-                    note=response.summary() if hasattr(response, "summary") else "")
+            log.record(now, "tx", mode, answer, self.name, "master",
+                       pdu_note(response) if hasattr(response, "summary") else "", "response")
         return answer
 
     def _handle(self, data: bytes, mode: str) -> tuple[bytes | None, Pdu | None, str]:
         """(answer bytes, response PDU, note for the log) for one received frame."""
         counters = self.counters
         try:
-            decoded = decode_frame(data, mode, "request")
+            decoded = decode_frame(data, mode, "request") if mode == "tcp" else _decode_request(data, mode)
         except ChecksumError as exc:
             counters.checksum_errors += 1
             return None, None, f"dropped: {exc}"

@@ -5,6 +5,12 @@ and receives (``"rx"``); a loopback wire's monitor logs everything on the line, 
 sent ``"tx"`` and what a slave sent ``"rx"``.  Times are on the clock of the link (virtual seconds on
 a loopback wire), so a log replays identically every time.
 
+The master, the slave and the wire monitor log every frame with :meth:`TrafficLog.record`, which keeps the
+entry as a plain tuple and makes the :class:`Traffic` object only when someone looks at it.  A ten-minute
+poll logs tens of thousands of frames: tuples of strings and numbers are invisible to Python's garbage
+collector, while as many objects would be scanned by it over and over (on a long simulated poll, a third
+of the time).
+
 >>> log = TrafficLog()
 >>> log.append(Traffic(0.0, "tx", "rtu", bytes.fromhex("010300000001840A"), source="master", dest="unit 1"))
 >>> print(log.to_text())
@@ -14,6 +20,7 @@ a loopback wire), so a log replays identically every time.
 
 from __future__ import annotations
 
+import dataclasses
 import html
 from collections import deque
 from collections.abc import Iterator
@@ -22,12 +29,12 @@ from typing import Any
 
 from .errors import ConfigError, ModbusError
 
-__all__ = ["Traffic", "TrafficLog"]
+__all__ = ["Traffic", "TrafficLog", "pdu_note"]
 
 DIRECTIONS = ("tx", "rx")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Traffic:
     """One frame seen by a master, a slave or a monitor.
 
@@ -53,10 +60,25 @@ class Traffic:
     role: str | None = None
     duration: float = 0.0
 
-    def __post_init__(self) -> None:
-        if self.direction not in DIRECTIONS:
-            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {self.direction!r}")
-        object.__setattr__(self, "data", bytes(self.data))
+    def __init__(
+        self,
+        time: float,
+        direction: str,
+        mode: str,
+        data: bytes,
+        source: str = "",
+        dest: str = "",
+        note: str = "",
+        role: str | None = None,
+        duration: float = 0.0,
+    ) -> None:
+        if direction not in DIRECTIONS:
+            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {direction!r}")
+        # The entry is frozen (assigning to a field raises): its fields are written once, here, directly.
+        self.__dict__.update(
+            time=time, direction=direction, mode=mode, data=data if data.__class__ is bytes else bytes(data),
+            source=source, dest=dest, note=note, role=role, duration=duration,
+        )
 
     @property
     def hex(self) -> str:
@@ -115,6 +137,71 @@ class Traffic:
         return "  ".join(parts) + (f"  {extra}" if extra else "")
 
 
+_Row = tuple  # (time, direction, mode, data, source, dest, note, role, duration): a recorded entry
+
+# --- notes for PDUs ----------------------------------------------------------------------------------
+_NOTES: dict[tuple, str] = {}
+_NOTES_MAX = 512
+_FIELD_NAMES: dict[type, tuple[str, ...] | None] = {}
+_INT_OR_BOOL = (int, bool)
+
+
+def _field_names(cls: type) -> tuple[str, ...] | None:
+    """The fields of one of the library's PDU classes (None for any other class: its notes are not kept)."""
+    try:
+        return _FIELD_NAMES[cls]
+    except KeyError:
+        names = None
+        if cls.__module__ == "modbus_edu.pdu" and dataclasses.is_dataclass(cls):
+            names = tuple(f.name for f in dataclasses.fields(cls))
+        _FIELD_NAMES[cls] = names
+        return names
+
+
+def pdu_note(pdu: Any) -> str:
+    """``pdu.summary()``, the note the master and the slave log with a frame, remembered.
+
+    A master polling a meter sends the same request thousands of times and often gets the same answer;
+    writing its summary costs more than the rest of the log entry, so each distinct PDU's text is written
+    once and looked up afterwards.  A summary depends only on the PDU's class and field values (PDUs are
+    frozen), so it is remembered under exactly those: the class, each field's value *and its exact type*
+    (a register holding an ``IntEnum`` prints differently from one holding the same plain ``int``).
+    PDUs with values of other types, and classes from outside the library, are simply summarised again.
+    """
+    cls = pdu.__class__
+    names = _field_names(cls)
+    if names is None:
+        return pdu.summary()
+    key: list[Any] = [cls]
+    for name in names:
+        value = getattr(pdu, name)
+        kind = value.__class__
+        if kind is tuple:
+            kinds = set(map(type, value))
+            if len(kinds) > 1:
+                return pdu.summary()
+            kind = kinds.pop() if kinds else None
+            if kind is not None and kind not in _INT_OR_BOOL:
+                return pdu.summary()
+        elif kind not in _INT_OR_BOOL:
+            return pdu.summary()
+        key.append(kind)
+        key.append(value)
+    frozen = tuple(key)
+    note = _NOTES.get(frozen)
+    if note is None:
+        note = pdu.summary()
+        if len(_NOTES) >= _NOTES_MAX:
+            _NOTES.clear()
+        _NOTES[frozen] = note
+    return note
+
+
+def _entry(item: Traffic | _Row) -> Traffic:
+    """The :class:`Traffic` of a stored item (a recorded row becomes one now)."""
+    return Traffic(*item) if item.__class__ is tuple else item  # type: ignore[return-value]
+
+
 class TrafficLog:
     """A list of :class:`Traffic` entries, with search, text and HTML views.
 
@@ -123,7 +210,11 @@ class TrafficLog:
     """
 
     def __init__(self, entries: list[Traffic] | None = None, maxlen: int | None = None) -> None:
-        self._entries: deque[Traffic] = deque(entries or (), maxlen=maxlen)
+        self._entries: deque[Traffic | _Row] = deque(entries or (), maxlen=maxlen)
+        # record() keeps rows only when add() and append() are this class's own: a subclass that
+        # overrides them (the command line's log that prints every entry) still sees every entry.
+        cls = type(self)
+        self._rows = cls.add is TrafficLog.add and cls.append is TrafficLog.append
 
     @property
     def maxlen(self) -> int | None:
@@ -139,27 +230,58 @@ class TrafficLog:
         self._entries.append(entry)
         return entry
 
+    def record(
+        self,
+        time: float,
+        direction: str,
+        mode: str,
+        data: bytes,
+        source: str = "",
+        dest: str = "",
+        note: str = "",
+        role: str | None = None,
+        duration: float = 0.0,
+    ) -> None:
+        """Log a frame like :meth:`add`, but keep it as a plain tuple until someone looks at it.
+
+        What the master, the slaves and the wire monitor use: reading the log (``log[i]``, iterating,
+        :meth:`search`, :meth:`to_text`) gives the same :class:`Traffic` entries as :meth:`add` would.
+        """
+        if not self._rows:
+            self.add(time, direction, mode, data, source=source, dest=dest, note=note, role=role,
+                     duration=duration)
+            return
+        if direction not in DIRECTIONS:
+            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {direction!r}")
+        if data.__class__ is not bytes:
+            data = bytes(data)
+        self._entries.append((time, direction, mode, data, source, dest, note, role, duration))
+
     def annotate(self, text: str, index: int = -1) -> None:
         """Add ``text`` to the note of entry ``index`` (default: the newest; no-op on an empty log)."""
         entries = self._entries
         if not entries:
             return
         old = entries[index]
-        entries[index] = replace(old, note=f"{old.note}; {text}" if old.note else text)
+        if old.__class__ is tuple:
+            note = old[6]
+            entries[index] = (*old[:6], f"{note}; {text}" if note else text, *old[7:])
+            return
+        entries[index] = replace(old, note=f"{old.note}; {text}" if old.note else text)  # type: ignore[arg-type]
 
     def clear(self) -> None:
         """Forget every entry."""
         self._entries.clear()
 
     def __iter__(self) -> Iterator[Traffic]:
-        return iter(list(self._entries))
+        return iter(list(map(_entry, self._entries)))
 
     def __len__(self) -> int:
         return len(self._entries)
 
     def __getitem__(self, index: int) -> Traffic:
         try:
-            return self._entries[index]
+            return _entry(self._entries[index])
         except IndexError:
             raise ModbusError(
                 f"traffic log index {index} is out of range: the log holds {len(self._entries)} entries"
@@ -185,7 +307,7 @@ class TrafficLog:
         """
         needle = text.strip().lower() if text else None
         found = []
-        for entry in self._entries:
+        for entry in map(_entry, self._entries):
             if unit is not None and entry.unit != unit:
                 continue
             if function is not None:
@@ -213,7 +335,7 @@ class TrafficLog:
     # -- showing --------------------------------------------------------------------------------
     def to_text(self, newest_first: bool = False) -> str:
         """An aligned table: time, direction, mode, bytes, and who/what."""
-        entries = list(self._entries)
+        entries = list(map(_entry, self._entries))
         if newest_first:
             entries.reverse()
         width = max([len(e.text) for e in entries] + [5])
@@ -229,7 +351,7 @@ class TrafficLog:
 
     def _repr_html_(self) -> str:
         rows = []
-        for i, e in enumerate(self._entries):
+        for i, e in enumerate(map(_entry, self._entries)):
             colour = "#e8f0fe" if e.direction == "tx" else "#e6f4ea"
             rows.append(
                 f'<tr style="background:{colour}"><td>{i}</td><td>{e.time:.6f}</td><td>{e.direction}</td>'

@@ -37,6 +37,22 @@ def test_cancel_and_past_times():
     assert clock.now == 5.5
 
 
+def test_schedule_is_call_at_without_a_timer():
+    clock = VirtualClock(start=1.0)
+    seen = []
+    clock.call_at(2.0, seen.append, "timer")
+    assert clock.schedule(2.0, seen.append, "scheduled") is None
+    clock.schedule(0.5, seen.append, "late")  # in the past: runs now, after what is due now
+    timer = clock.call_at(1.5, seen.append, "cancelled")
+    timer.cancel()
+    assert clock.pending == 3 and clock.next_time == 1.0
+    assert clock.step() and seen == ["late"] and clock.now == 1.0
+    clock.run_until(3.0)
+    assert seen == ["late", "timer", "scheduled"] and clock.events_run == 3
+    with pytest.raises(ConfigError):
+        clock.schedule(float("nan"), seen.append, "never")
+
+
 def test_callbacks_may_schedule_more_and_step_moves_time():
     clock = VirtualClock()
     seen = []

@@ -210,6 +210,29 @@ def test_three_slaves_on_one_bus():
         Master(link, timeout=0.1).read_holding_registers(unit=4, address=0, count=1)
 
 
+def test_each_slave_logs_who_sent_the_frames_it_hears():
+    # On a bus every slave hears every frame: the master's requests and the other slaves' answers.
+    one, two = Slave(unit=1), Slave(unit=2)
+    link = loopback_serial([one, two])
+    master = Master(link)
+    master.read_holding_registers(unit=1, address=0, count=1)
+    master.read_holding_registers(unit=2, address=0, count=1)
+    assert [(e.direction, e.label(), e.note) for e in one.log] == [
+        ("rx", "master -> slave 1", ""),
+        ("tx", "slave 1 -> master", "Read Holding Registers response: registers [0]"),
+        ("rx", "master -> slave 1", "for unit 2: ignored"),
+        ("rx", "slave 2 -> slave 1", "for unit 2: ignored"),
+    ]
+    assert [(e.direction, e.label()) for e in two.log] == [
+        ("rx", "master -> slave 2"), ("rx", "slave 1 -> slave 2"),
+        ("rx", "master -> slave 2"), ("tx", "slave 2 -> master"),
+    ]
+    # what a slave heard from another is exactly what the monitor saw that slave send
+    sent = {(e.source, e.data) for e in link.monitor}
+    assert all((e.source, e.data) in sent for s in (one, two) for e in s.log if e.direction == "rx")
+    assert one.sender == two.sender == "master"  # only while a frame is being handled
+
+
 def test_attach_and_detach():
     a, b = Slave(unit=1), Slave(unit=2)
     link = loopback_serial(a)

@@ -376,3 +376,54 @@ def test_traffic_entries_and_log_views():
     empty = TrafficLog()
     empty.annotate("nothing")
     assert empty.to_text().startswith("      time")
+
+
+def test_recorded_entries_read_like_added_ones():
+    from modbus_edu.traffic import Traffic, TrafficLog
+
+    fields = (1.5, "rx", "rtu", bytearray(b"\x01\x03"), "unit 1", "master", "a note", "response", 0.25)
+    added, recorded = TrafficLog(), TrafficLog(maxlen=2)
+    added.add(*fields[:4], source="unit 1", dest="master", note="a note", role="response", duration=0.25)
+    recorded.record(*fields)
+    assert recorded[0] == added[0] == Traffic(*fields) and isinstance(recorded[0].data, bytes)
+    assert list(recorded) == list(added) and recorded.to_text() == added.to_text()
+    assert recorded._repr_html_() == added._repr_html_()
+    assert len(recorded.search(text="a NOTE", unit=1, function=3)) == 1
+    recorded.annotate("late")
+    added.annotate("late")
+    assert recorded[-1].note == "a note; late" and recorded[-1] == added[-1]
+    recorded.record(2.0, "tx", "rtu", b"\x01")
+    recorded.record(3.0, "tx", "rtu", b"\x02")
+    assert [e.time for e in recorded] == [2.0, 3.0]  # maxlen keeps the newest
+    with pytest.raises(ConfigError):
+        recorded.record(4.0, "up", "rtu", b"")
+
+    class Echo(TrafficLog):  # a log that does something with every entry still sees recorded ones
+        def add(self, *args, **kwargs):
+            entry = super().add(*args, **kwargs)
+            self.seen = entry
+            return entry
+
+    echo = Echo()
+    echo.record(*fields)
+    assert echo.seen == echo[0] == Traffic(*fields)
+
+
+def test_notes_of_equal_pdus_are_remembered_but_only_for_exactly_equal_values():
+    from enum import IntEnum
+
+    from modbus_edu.pdu import ReadCoilsResponse, WriteMultipleRegistersRequest
+    from modbus_edu.traffic import pdu_note
+
+    class Mode(IntEnum):
+        AUTO = 5
+
+    plain = WriteMultipleRegistersRequest(address=0, values=[5, 6])
+    fancy = WriteMultipleRegistersRequest(address=0, values=[Mode.AUTO, 6])
+    assert plain == fancy and plain.summary() != fancy.summary()  # the enum prints as itself
+    for pdu in (plain, fancy, plain, fancy):
+        assert pdu_note(pdu) == pdu.summary()
+    three = ReadCoilsResponse(bits=[True, False, True])
+    eight = ReadCoilsResponse(bits=[True, False, True] + [False] * 5)  # the same byte on the wire
+    assert pdu_note(three) == three.summary() and pdu_note(eight) == eight.summary() != three.summary()
+    assert pdu_note(ExceptionResponse(3, 2)) == ExceptionResponse(3, 2).summary()

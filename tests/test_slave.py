@@ -369,3 +369,30 @@ def test_counters_add_up_and_reset(slave):
     assert len(slave.log) == 7  # 5 received + 2 answers
     assert [e.direction for e in slave.log][:2] == ["rx", "tx"]
     assert "17" in repr(slave)
+
+
+def test_the_log_says_who_sent_each_frame():
+    slave = Slave(unit=1)
+    request = rtu("01 03 00 00 00 01")
+    slave.handle(request, "rtu")
+    assert [(e.source, e.dest) for e in slave.log] == [("master", "slave 1"), ("slave 1", "master")]
+    # a link that knows the sender passes the frame through hear(): another slave's answer, say
+    assert slave.hear(rtu("02 03 02 00 07"), "rtu", "slave 2") is None
+    assert (slave.log[-1].source, slave.log[-1].dest, slave.log[-1].note) == (
+        "slave 2", "slave 1", "for unit 2: ignored")
+    assert slave.hear(request, "rtu", "master") is not None
+    assert [e.label() for e in slave.log][-2:] == ["master -> slave 1", "slave 1 -> master"]
+    # the label is restored afterwards, even when handling fails
+    with pytest.raises(FrameError):
+        slave.hear("not bytes", "rtu", "slave 9")  # type: ignore[arg-type]
+    assert slave.sender == "master"
+
+
+def test_the_same_request_again_gets_the_same_answer_and_counts_again(slave):
+    # each different serial request is decoded once and remembered: repeating it changes nothing else
+    request = rtu("11 03 00 00 00 01")
+    answers = {slave.handle(request, "rtu") for _ in range(3)}
+    assert len(answers) == 1 and slave.counters.requests == 3 and slave.counters.responses == 3
+    bad = request[:-1] + bytes([request[-1] ^ 0xFF])
+    assert slave.handle(bad, "rtu") is None and slave.handle(bad, "rtu") is None
+    assert slave.counters.checksum_errors == 2

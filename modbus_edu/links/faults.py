@@ -198,18 +198,22 @@ class Faults:
 
     def silences(self, unit: int | None) -> bool:
         """True if slave ``unit`` is cut off the bus now (without using up one of its ``requests``)."""
+        if not self._silenced:
+            return False
         fault = self._silenced.get(unit) if unit is not None else None
         return fault is not None and (fault.remaining is None or fault.remaining > 0)
 
     def is_silenced(self, unit: int | None) -> bool:
         """True (and one use consumed) if slave ``unit`` is cut off for this frame."""
-        if self._take(self._silenced, unit) is None:
+        if not self._silenced or self._take(self._silenced, unit) is None:
             return False
         self.injected["silenced"] += 1
         return True
 
     def extra_delay(self, unit: int | None) -> float:
         """Extra seconds slave ``unit`` waits before this answer (one use consumed)."""
+        if not self._delays:
+            return 0.0
         fault = self._take(self._delays, unit)
         if fault is None:
             return 0.0
@@ -218,6 +222,8 @@ class Faults:
 
     def wrong_unit(self, unit: int | None) -> int | None:
         """The unit slave ``unit`` answers as this time, or None to answer normally."""
+        if not self._answer_as:
+            return None
         fault = self._take(self._answer_as, unit)
         if fault is None:
             return None

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 from collections import deque
 from collections.abc import Iterable
+from functools import partial
 
 from ..clock import VirtualClock
 from ..errors import ConfigError, LinkError
@@ -110,11 +111,14 @@ class _LoopbackLink(Link):
 
     def receive(self, timeout: float) -> bytes | None:
         """Run the virtual clock until a complete frame has arrived (then return it) or ``timeout`` passes."""
-        self._check_open()
-        timeout = _check_timeout(timeout)
+        if self.closed:
+            self._check_open()
+        if timeout.__class__ is not float or not timeout >= 0:
+            timeout = _check_timeout(timeout)
         inbox = self._inbox
         if not inbox:
-            self.clock.run_until(self.clock.now + timeout, inbox.__len__)
+            clock = self.clock
+            clock.run_until(clock.now + timeout, inbox.__len__)
         return inbox.popleft() if inbox else None
 
     def run(self, seconds: float) -> None:
@@ -171,7 +175,7 @@ class LoopbackSerialLink(_LoopbackLink):
             raise ConfigError(f"expected a Slave, got {type(slave).__name__}")
         if id(slave) in self._slave_nodes:
             return
-        node = self.bus.attach(slave.name, lambda frame, t, s=slave: self._slave_hears(s, frame, t))
+        node = self.bus.attach(slave.name, partial(self._slave_hears, slave))
         self._slave_nodes[id(slave)] = node
         self._slaves.append(slave)
         if slave.clock is None:
@@ -191,23 +195,27 @@ class LoopbackSerialLink(_LoopbackLink):
 
     def _slave_hears(self, slave: Slave, frame: bytes, when: float) -> None:
         faults = self.faults
+        mode = self.mode
         if faults.silences(slave.unit):
             # cut off the bus: it hears nothing; a frame addressed to it uses up one of the fault's requests
-            unit = _frame_unit(frame, self.mode)
+            unit = _frame_unit(frame, mode)
             if unit is not None and (unit == 0 or slave.accepts(unit)):
                 faults.is_silenced(slave.unit)
                 self._annotate(f"{slave.name} is silenced: it does not hear this frame")
             return
-        answer = slave.handle(frame, self.mode)
+        # who sent it: the master, or (on a multidrop bus) another slave answering the master
+        sender = self.bus.current_sender
+        source = sender.name if sender is not None else "master"
+        answer = slave.hear(frame, mode, source)
         if answer is None:
             return
         other = faults.wrong_unit(slave.unit)
         if other is not None:
-            answer = _rewrite_unit(answer, self.mode, other)
+            answer = _rewrite_unit(answer, mode, other)
         delay = slave.response_delay(when) + faults.extra_delay(slave.unit)
         node = self._slave_nodes[id(slave)]
         if delay > 0:
-            self.clock.call_at(when + delay, node.transmit, answer, "master")  # type: ignore[attr-defined]
+            self.clock.schedule(when + delay, node.transmit, answer, "master")  # type: ignore[attr-defined]
         else:
             node.transmit(answer, "master")  # type: ignore[attr-defined]
 
@@ -303,7 +311,7 @@ class LoopbackTcpLink(_LoopbackLink):
             )
         arrival = self.clock.now + self.latency
         self._in_flight_until = max(self._in_flight_until, arrival)
-        self.clock.call_at(arrival, self._server_receives, data)
+        self.clock.schedule(arrival, self._server_receives, data)
 
     def flush(self) -> None:
         """Run the clock until every request sent so far has reached the server and been handled."""
@@ -317,13 +325,13 @@ class LoopbackTcpLink(_LoopbackLink):
             start = max(self.clock.now, self._server_busy_until)
             if start > self.clock.now:
                 self._server_busy_until = start  # queued behind the request being answered
-                self.clock.call_at(start, self._serve, frame)
+                self.clock.schedule(start, self._serve, frame)
             else:
                 self._serve(frame)
 
     def _serve(self, frame: bytes) -> None:
         now = self.clock.now
-        self.monitor.add(now, "tx", "tcp", frame, source="client", dest=self._dest(frame), role="request")
+        self.monitor.record(now, "tx", "tcp", frame, "client", self._dest(frame), "", "request")
         unit = frame[6] if len(frame) > 6 else None
         faults = self.faults
         replies: list[tuple[float, bytes, Slave]] = []
@@ -345,11 +353,11 @@ class LoopbackTcpLink(_LoopbackLink):
         for delay, answer, slave in replies:
             done = now + delay
             self._server_busy_until = max(self._server_busy_until, done)
-            self.clock.call_at(done, self._server_sends, answer, slave.name)
+            self.clock.schedule(done, self._server_sends, answer, slave.name)
 
     def _server_sends(self, answer: bytes, name: str) -> None:
-        self.monitor.add(self.clock.now, "rx", "tcp", answer, source=name, dest="client", role="response")
-        self.clock.call_at(self.clock.now + self.latency, self._client_receives, answer)
+        self.monitor.record(self.clock.now, "rx", "tcp", answer, name, "client", "", "response")
+        self.clock.schedule(self.clock.now + self.latency, self._client_receives, answer)
 
     def _client_receives(self, data: bytes) -> None:
         self._inbox.extend(self._client_splitter.feed(data))

@@ -39,7 +39,9 @@ from __future__ import annotations
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, fields
-from functools import cached_property
+from functools import cached_property, reduce
+from itertools import repeat
+from operator import add
 
 from ..clock import Timer, VirtualClock
 from ..errors import ConfigError
@@ -216,6 +218,8 @@ class SerialBus:
         self._sender: Node | None = None
         self._broken = False
         self._done: Timer | None = None
+        self.current_sender: Node | None = None
+        """While a frame is being handed to the receivers: the node that sent it (None otherwise)."""
 
     def attach(self, name: str, on_frame: Callable[[bytes, float], None], is_master: bool = False) -> Node:
         node = Node(self, name, is_master, on_frame)
@@ -234,37 +238,83 @@ class SerialBus:
         if self.free_at > now + _EPS:
             start = self.free_at
             self.stats.waits += 1
-        role = "request" if node.is_master else "response"
-        notes: list[str] = []
+        is_master = node.is_master
+        role = "request" if is_master else "response"
+        note = ""
         gaps: dict[int, float] = {}
         if self.faults.touches_wire:
             data, gaps, notes = self.faults.corrupt(data, role, timing.bytesize)
+            note = "; ".join(notes)
         c = timing.char_time
-        times = []
-        t = start
-        for index in range(len(data)):
-            if index in gaps:
-                t += gaps[index] * c
-            t += c
-            times.append(t)
-        end = times[-1] if times else start
+        # Byte i ends at start + (i + 1) character times (+ any gap before it).  The times are summed
+        # one character at a time, exactly as the line would count them: adding c n times is not
+        # bit-for-bit the same float as n * c, and every timing the course prints comes from this sum.
+        times: list[float] | None = None
+        if gaps or timing.mode != "rtu":
+            times = []
+            t = start
+            for index in range(len(data)):
+                if index in gaps:
+                    t += gaps[index] * c
+                t += c
+                times.append(t)
+            end = times[-1] if times else start
+        else:
+            # RTU without gaps: the receivers only need the first and the last byte's times
+            end = reduce(add, repeat(c, len(data)), start)
         node.tx_end = end
         self.free_at = end + timing.frame_gap
-        self.monitor.add(
-            start, "tx" if node.is_master else "rx", timing.mode, data, source=node.name,
-            dest=dest or ("slaves" if node.is_master else "master"), note="; ".join(notes),
-            role=role, duration=end - start,
+        self.monitor.record(
+            start, "tx" if is_master else "rx", timing.mode, data, node.name,
+            dest or ("slaves" if is_master else "master"), note, role, end - start,
         )
-        if data:
-            clock.call_at(start, self._line, node, data, times)
+        if not data:
+            return end
+        if times is None and start == now and not self._buf and self._done is None:
+            # The line is idle and the frame starts now: the receivers take it in at once.  (Later, or
+            # while a frame is still open, the bytes reach them in an event at ``start``.)
+            self._line_rtu_whole(node, data, start, end)
+        else:
+            clock.schedule(start, self._line, node, data, start, end, times)
         return end
 
     # -- receiving (one decoder: every receiver hears the same thing) --------------------------------
-    def _line(self, sender: Node, data: bytes, times: list[float]) -> None:
-        if self.timing.mode == "rtu":
+    def _line(self, sender: Node, data: bytes, start: float, end: float, times: list[float] | None) -> None:
+        """The bytes of one transmission reach the receivers, all in one event at its start.
+
+        ``times[i]`` is when byte ``i``'s last bit arrives.  Without gaps (``times`` is None: RTU only)
+        the bytes follow each other back to back, and only the first one can end or break a frame.
+        """
+        if times is None:
+            self._line_rtu_whole(sender, data, start, end)
+        elif self.timing.mode == "rtu":
             self._line_rtu(sender, data, times)
         else:
             self._line_ascii(sender, data, times)
+
+    def _line_rtu_whole(self, sender: Node, data: bytes, start: float, end: float) -> None:
+        """:meth:`_line_rtu` for bytes sent back to back: the same decisions, without a loop.
+
+        Between two back-to-back bytes the silence is zero (a float rounding of it at most), so it
+        never exceeds t1.5: only the silence before the first byte can close or break a frame.
+        """
+        timing = self.timing
+        c = timing.char_time
+        t = start + c  # the first byte's time, computed as the per-byte sum computes it
+        buf = self._buf
+        if buf:
+            silence = (t - c) - self._last
+            if silence >= timing.t35 - _EPS:
+                self._schedule_done()  # what came before was a complete frame
+                buf = self._buf
+            elif silence > timing.t15 + _EPS and not self._broken:
+                self._broken = True
+        if not buf:
+            self._first = t - c
+            self._sender = sender
+        buf += data
+        self._last = end
+        self._schedule_done(keep_open=True)
 
     def _line_rtu(self, sender: Node, data: bytes, times: list[float]) -> None:
         timing = self.timing
@@ -300,7 +350,7 @@ class SerialBus:
         if keep_open:
             self._done = self.clock.call_at(when, self._close_frame)
             return
-        self.clock.call_at(when, self._deliver, bytes(self._buf), self._sender, self._first, self._broken)
+        self.clock.schedule(when, self._deliver, bytes(self._buf), self._sender, self._first, self._broken)
         self._buf = bytearray()
         self._broken = False
 
@@ -336,7 +386,7 @@ class SerialBus:
             buf.append(byte)
             self._last = t
             if byte == 0x0A and len(buf) >= 2 and buf[-2] == 0x0D:
-                self.clock.call_at(t, self._deliver, bytes(buf), self._sender, self._first, False)
+                self.clock.schedule(t, self._deliver, bytes(buf), self._sender, self._first, False)
                 buf.clear()
             elif len(buf) >= 513:
                 self.stats.discarded_frames += 1
@@ -357,13 +407,17 @@ class SerialBus:
             return
         self.stats.frames += 1
         now = self.clock.now
-        for node in list(self.nodes):
-            if node is sender:
-                continue
-            if first < node.tx_end - _EPS:
-                self.stats.ignored_frames += 1
-                continue
-            node.on_frame(frame, now)
+        previous, self.current_sender = self.current_sender, sender
+        try:
+            for node in list(self.nodes):
+                if node is sender:
+                    continue
+                if first < node.tx_end - _EPS:
+                    self.stats.ignored_frames += 1
+                    continue
+                node.on_frame(frame, now)
+        finally:
+            self.current_sender = previous
 
     def pending_input(self) -> deque[bytes]:  # pragma: no cover - convenience for debugging
         return deque([bytes(self._buf)]) if self._buf else deque()
