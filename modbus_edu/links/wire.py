@@ -174,7 +174,8 @@ class BusStats:
 
 
 class Node:
-    """One transceiver on the bus.  ``on_frame(frame, first_byte_time, end_time)`` receives frames."""
+    """One transceiver on the bus.  ``on_frame(frame, time)`` receives each complete frame (``time``: when
+    it was complete; the bus's ``current_sender`` is then the node that sent it)."""
 
     def __init__(self, bus: SerialBus, name: str, is_master: bool,
                  on_frame: Callable[[bytes, float], None]) -> None:
