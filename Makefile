@@ -32,10 +32,17 @@ bench: $(STAMP)
 	$(BIN)/python bench/core.py
 	$(BIN)/python bench/roles.py
 
-## coverage: how much of modbus_edu the notebooks alone exercise
+## coverage: how much of modbus_edu the notebooks alone exercise: copies of the notebooks are executed
+## with coverage started in every kernel (through a start-up hook that exists only while this runs)
 coverage: $(STAMP)
 	$(BIN)/python -m coverage erase
-	$(BIN)/python -m coverage run --source=modbus_edu -m pytest -q -p no:cacheprovider notebooks --nbval --sanitize-with notebooks/sanitize.cfg
+	rm -rf .coverage-notebooks && cp -r notebooks .coverage-notebooks
+	hook=$$($(BIN)/python -c "import sysconfig; print(sysconfig.get_paths()['purelib'])")/modbus_edu_coverage.pth; \
+	echo "import coverage; coverage.process_startup()" > $$hook; \
+	COVERAGE_PROCESS_START=$(CURDIR)/pyproject.toml COVERAGE_FILE=$(CURDIR)/.coverage \
+	    $(BIN)/python -m modbus_edu.course execute .coverage-notebooks; status=$$?; rm -f $$hook; exit $$status
+	rm -rf .coverage-notebooks
+	$(BIN)/python -m coverage combine -q
 	$(BIN)/python -m coverage report
 
 lint: $(STAMP)
