@@ -345,7 +345,7 @@ class ArduinoSlave(Slave):
         now = self._now()
         if self.loop_time and now < self._waiting_until:
             self.overruns += 1
-            self.log.add(now, "rx", mode, bytes(frame), source="master", dest=self.name, role="request",
+            self.log.add(now, "rx", mode, bytes(frame), source=self.sender, dest=self.name, role="request",
                          note="dropped: an earlier request is still waiting in the buffer")
             return None
         if self.loop_time:
