@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 NOTEBOOK_PATTERN = re.compile(r"^\d\d_[a-z0-9_]+\.ipynb$")
-LINK_PATTERN = re.compile(r"\]\(((?:\.?/)?(?:solutions/)?[^)\s#]+\.ipynb)(?:#[^)]*)?\)")
+LINK_PATTERN = re.compile(r"\]\((?![a-z]+://)((?:\.?/)?(?:solutions/)?[^)\s#?]+\.ipynb)(?:#[^)]*)?\)")
 
 
 def course_notebooks(folder: Path | str) -> list[Path]:
