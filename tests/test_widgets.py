@@ -748,3 +748,20 @@ def test_rtu_master_tool_on_a_pyserial_url():
         finally:
             master.disconnect()
     assert not master.connected
+
+
+def test_tx_and_rx_lamps_show_the_last_exchange():
+    """Source 000's TX/RX indicators: both light on an answered poll, only TX when nobody answers."""
+    slave = TestTool(role="rtu_slave", unit=1, length=4)
+    master = TestTool(role="rtu_master", partner=slave, unit=1, address=0, length=4)
+    assert master.lamps == {"tx": False, "rx": False}
+    master.poll_once()
+    assert master.lamps == {"tx": True, "rx": True}
+    assert slave.lamps == {"tx": True, "rx": True}  # the slave received a request and sent an answer
+    assert "mbe-tt-lamp-tx mbe-tt-lamp-on" in master.counters.value
+    master.refresh()  # nothing new on the wire: the lamps go dark
+    assert master.lamps == {"tx": False, "rx": False}
+    master.unit.value = 7  # no slave answers unit 7
+    master.poll_once()
+    assert master.lamps == {"tx": True, "rx": False}
+    assert master.counts["timeouts"] == 1

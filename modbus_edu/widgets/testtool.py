@@ -189,6 +189,9 @@ class TestTool(W.VBox):
         self._answering = True
         self._updating = False
         self._empty_log = TrafficLog()
+        self._lamp_log: TrafficLog | None = None  # the log the TX/RX lamps last looked at, and how far
+        self._lamp_seen = 0
+        self.lamps: dict[str, bool] = {"tx": False, "rx": False}
 
         self._build()
         self._apply_role()
@@ -1144,10 +1147,27 @@ class TestTool(W.VBox):
             extra = ""
             self.request_count.value = (f'<span style="margin-left:10px">request count: '
                                         f'<b class="mbe-tt-request-count">{d.get("requests", 0)}</b></span>')
-        html = "".join(chip.format(k=esc(k), c=c, v=v) for k, c, v in items)
+        html = self._lamps_html() + "".join(chip.format(k=esc(k), c=c, v=v) for k, c, v in items)
         self.counters.value = (f"<div>{html}</div>" +
                                (f'<div style="font-size:0.85em;color:#868e96">{extra}</div>'
                                 if extra else ""))
+
+    def _update_lamps(self) -> None:
+        """Source 000's TX and RX indicators: lit when a frame went that way since the last redraw."""
+        log = self.traffic
+        if log is not self._lamp_log or len(log) < self._lamp_seen:  # another log, or it was cleared
+            self._lamp_log, self._lamp_seen = log, 0
+        directions = {log[i].direction for i in range(self._lamp_seen, len(log))}
+        self._lamp_seen = len(log)
+        self.lamps = {"tx": "tx" in directions, "rx": "rx" in directions}
+
+    def _lamps_html(self) -> str:
+        self._update_lamps()
+        colours = {"tx": "#f08c00", "rx": "#2f9e44"}
+        return "".join(
+            f'<span class="mbe-tt-lamp-{d}{" mbe-tt-lamp-on" if on else ""}" style="display:inline-block;'
+            f'margin-right:12px"><span style="color:{colours[d] if on else "#ced4da"};font-size:1.2em">'
+            f'&#9679;</span> {d.upper()}</span>' for d, on in self.lamps.items())
 
     def _render_buttons(self) -> None:
         if self.is_master:
