@@ -34,7 +34,7 @@ from .datamodel import (  # noqa: F401
     table_kind,
 )
 from .errors import *  # noqa: F401,F403
-from .explain import Dissection, Row, explain  # noqa: F401
+from .explain import Dissection, Row, explain, explain_pdu  # noqa: F401
 from .framing import (  # noqa: F401
     AsciiFrame,
     AsciiSplitter,

@@ -20,6 +20,18 @@ raising it.  ``explain(..., strict=True)`` raises that error.
 
 The same dissection feeds the notebooks (``_repr_html_``: a table), the command line (``to_text`` and
 ``to_dict``) and the widgets.
+
+A bare PDU (function code first, no unit and no check) gets the same table from ``explain_pdu``: give
+it a PDU object or its bytes.  Its offsets count from the function code::
+
+    >>> print(explain_pdu(bytes.fromhex("03 06 02 2B 00 00 00 64")))
+    PDU response: Read Holding Registers, registers [555, 0, 100]
+    offset  bytes  field          value  meaning
+    0       03     function code  3      Read Holding Registers (response)
+    1       06     byte count     6      2 bytes per register
+    2       02 2B  register 0     555    0x022B = 555 (high byte first)
+    4       00 00  register 1     0      0x0000 = 0 (high byte first)
+    6       00 64  register 2     100    0x0064 = 100 (high byte first)
 """
 
 from __future__ import annotations
@@ -31,7 +43,7 @@ from typing import Any
 
 from . import pdu as _pdu
 from .crc import crc16, lrc
-from .errors import FrameError, ModbusError
+from .errors import ConfigError, FrameError, ModbusError
 from .framing import (
     _HEX_DIGITS,
     MAX_SERIAL_UNIT,
@@ -46,9 +58,9 @@ from .framing import (
     parse_hex,
 )
 
-__all__ = ["Row", "Dissection", "explain"]
+__all__ = ["Row", "Dissection", "explain", "explain_pdu"]
 
-_MODE_NAMES = {"rtu": "RTU", "ascii": "ASCII", "tcp": "TCP"}
+_MODE_NAMES = {"rtu": "RTU", "ascii": "ASCII", "tcp": "TCP", "pdu": "PDU"}
 
 
 @dataclass(frozen=True)
@@ -73,7 +85,8 @@ class Dissection:
     """The result of :func:`explain`: rows, the decoded frame (or None) and the first error (or None).
 
     ``mode`` is the mode used (given or detected), ``role`` the role used (given, or the one that
-    decodes when none was given; None when the bytes could not even be read).
+    decodes when none was given; None when the bytes could not even be read).  A dissection of a bare
+    PDU (:func:`explain_pdu`) has the mode ``"pdu"``, no frame, and the decoded PDU in ``pdu``.
     """
 
     data: bytes
@@ -82,6 +95,7 @@ class Dissection:
     rows: list[Row] = field(default_factory=list)
     frame: Frame | None = None
     error: ModbusError | None = None
+    pdu: _pdu.Pdu | None = None
 
     @property
     def ok(self) -> bool:
@@ -95,6 +109,8 @@ class Dissection:
     def summary(self) -> str:
         """One line: ``RTU request: unit 1, Read Holding Registers, address 0, count 1``."""
         mode = _MODE_NAMES.get(self.mode, self.mode.upper())
+        if self.pdu is not None and self.frame is None:
+            return f"{mode} {self.role}: {_pdu_summary(self.pdu)}"
         if self.frame is not None:
             head = f"{mode} {self.role}: "
             if isinstance(self.frame, TcpFrame):
@@ -103,16 +119,18 @@ class Dissection:
             if self.frame.unit == 0 and not isinstance(self.frame, TcpFrame):
                 unit += " (broadcast)"
             return f"{head}{unit}, {_pdu_summary(self.frame.pdu)}"
-        what = f"{mode} {self.role}" if self.role else f"{mode} frame"
+        what = f"{mode} {self.role}" if self.role else mode if self.mode == "pdu" else f"{mode} frame"
         return f"{what}, not valid: {self.error}"
 
     # --- views ---------------------------------------------------------------------------------------
     @property
     def _heading(self) -> str:
         """The summary, or for a broken frame a short title (the error is shown below the table)."""
-        if self.frame is not None:
+        if self.frame is not None or self.pdu is not None:
             return self.summary
         mode = _MODE_NAMES.get(self.mode, self.mode.upper())
+        if self.mode == "pdu" and not self.role:
+            return f"{mode}: not valid"
         return f"{mode} {self.role or 'frame'}: not valid"
 
     def raw_text(self, row: Row) -> str:
@@ -167,7 +185,11 @@ class Dissection:
         return "\n".join(out)
 
     def to_dict(self) -> dict[str, Any]:
-        """A JSON-serialisable dict: mode, role, data, rows (bytes as hex), error, frame, summary."""
+        """A JSON-serialisable dict: mode, role, data, rows (bytes as hex), error, frame, summary.
+
+        A PDU's dissection (mode ``"pdu"``) has ``"pdu"`` (its class, function code and fields) in
+        place of the frame's details.
+        """
         rows = []
         for r in self.rows:
             item: dict[str, Any] = {
@@ -181,7 +203,7 @@ class Dissection:
             if self.mode == "ascii":
                 item["chars"] = _ascii_text(r.raw)
             rows.append(item)
-        return {
+        out = {
             "mode": self.mode,
             "role": self.role,
             "data": _hex(self.data),
@@ -193,6 +215,9 @@ class Dissection:
             "error_type": None if self.error is None else type(self.error).__name__,
             "rows": rows,
         }
+        if self.mode == "pdu":
+            out["pdu"] = None if self.pdu is None else _pdu_dict(self.pdu)
+        return out
 
 
 # --- formatting helpers ----------------------------------------------------------------------------
@@ -242,15 +267,21 @@ def _jsonable(value: Any) -> Any:
 def _frame_dict(frame: Frame | None) -> dict[str, Any] | None:
     if frame is None:
         return None
-    pdu = frame.pdu
     out: dict[str, Any] = {"type": type(frame).__name__, "unit": frame.unit}
     if isinstance(frame, TcpFrame):
         out["transaction_id"] = frame.transaction_id
         out["protocol_id"] = frame.protocol_id
-    out["function_code"] = pdu.function_code
-    out["pdu"] = type(pdu).__name__
-    out["fields"] = {f.name: _jsonable(getattr(pdu, f.name)) for f in dataclasses.fields(pdu)}
+    out.update(_pdu_dict(frame.pdu))
     return out
+
+
+def _pdu_dict(pdu: _pdu.Pdu) -> dict[str, Any]:
+    """``{"function_code": 3, "pdu": "ReadHoldingRegistersRequest", "fields": {...}}``."""
+    return {
+        "function_code": pdu.function_code,
+        "pdu": type(pdu).__name__,
+        "fields": {f.name: _jsonable(getattr(pdu, f.name)) for f in dataclasses.fields(pdu)},
+    }
 
 
 def _pdu_summary(pdu: _pdu.Pdu) -> str:
@@ -557,7 +588,11 @@ def _pdu_bytes(data: bytes, mode: str) -> bytes:
 
 def _guess_role(data: bytes, mode: str) -> str:
     """When neither role decodes: the one whose expected PDU length fits, else 'request'."""
-    pdu_bytes = _pdu_bytes(data, mode)
+    return _guess_pdu_role(_pdu_bytes(data, mode))
+
+
+def _guess_pdu_role(pdu_bytes: bytes) -> str:
+    """For PDU bytes that decode in neither role: the role whose expected length fits, else 'request'."""
     if pdu_bytes and pdu_bytes[0] & 0x80:
         return "response"
     for role in ROLES:
@@ -624,3 +659,55 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
         raise error
     return result
 
+
+
+def explain_pdu(pdu: _pdu.Pdu | bytes | str, role: str | None = None, *, strict: bool = False) -> Dissection:
+    """Dissect a bare PDU field by field: the same table as :func:`explain`, without unit and check.
+
+    ``pdu`` is a PDU object (``mb.ReadHoldingRegistersRequest(address=107, count=3)``), its bytes
+    (function code first) or hex text.  ``role`` is ``"request"`` or ``"response"``; None takes the
+    object's own role, or for bytes tries request, then response, and keeps the one that decodes.  The
+    result is a :class:`Dissection` of mode ``"pdu"``: offsets count from the function code, ``.pdu``
+    is the decoded PDU (None if the bytes do not decode), and the views are those of a frame's
+    dissection (``to_text``, ``_repr_html_`` in a notebook, ``to_dict``).
+
+    Never raises for any bytes: the first error is in ``.error`` (``strict=True`` raises it).  A role
+    that is not one of the names above, or a PDU object given another role than its own, raises
+    :class:`~modbus_edu.errors.ConfigError`.
+    """
+    if role is not None:
+        role = _check_role(role)
+    if isinstance(pdu, _pdu.Pdu):
+        if role is not None and role != pdu.role:
+            raise ConfigError(f"{type(pdu).__name__} is a {pdu.role}, not a {role}: leave role out for a "
+                              f"PDU object")
+        data = pdu.encode()
+        rows = [Row(f.offset, f.raw, f.name, f.value, f.meaning) for f in pdu.fields()]
+        return Dissection(data=data, mode="pdu", role=pdu.role, rows=_fill_gaps(rows, data, "bytes"),
+                          pdu=pdu)
+    try:
+        data = parse_hex(pdu) if isinstance(pdu, str) else _as_bytes(pdu, "explain_pdu")
+    except FrameError as exc:
+        if strict:
+            raise
+        return Dissection(data=b"", mode="pdu", role=role, error=exc)
+    decoded: _pdu.Pdu | None = None
+    errors: dict[str, ModbusError] = {}
+    for r in [role] if role else list(ROLES):
+        try:
+            decoded = _pdu.decode_pdu(data, r)
+        except ModbusError as exc:
+            errors[r] = exc
+            continue
+        role = r
+        break
+    if decoded is not None:
+        rows = [Row(f.offset, f.raw, f.name, f.value, f.meaning) for f in decoded.fields()]
+        return Dissection(data=data, mode="pdu", role=role, rows=_fill_gaps(rows, data, "bytes"), pdu=decoded)
+    if role is None:
+        role = _guess_pdu_role(data)
+    error = errors[role]
+    if strict:
+        raise error
+    rows = _fill_gaps(_binary_rows(data, _pdu_pieces(data, role, 0)), data, "bytes")
+    return Dissection(data=data, mode="pdu", role=role, rows=rows, error=error)

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from modbus_edu import pdu as P
 from modbus_edu.crc import crc16
 from modbus_edu.errors import AsciiFormatError, ConfigError, CrcError, LrcError, MbapError, ModbusError
-from modbus_edu.explain import Dissection, Row, explain
+from modbus_edu.explain import Dissection, Row, explain, explain_pdu
 from modbus_edu.framing import MODES, AsciiFrame, RtuFrame, TcpFrame, parse_hex
 
 FUZZ = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -282,3 +282,93 @@ def test_generated_frames_dissect_cleanly(mode, unit, tid, registers) -> None:
     assert d.ok and d.frame == frame and d.role == "response"
     assert_covers(d)
     assert [r.value for r in d.rows if r.field.startswith("register ")] == list(registers)
+
+
+# --- explain_pdu: the same table for a bare PDU ------------------------------------------------------------
+PDUS = [  # one of each class, as notebook 02 shows them
+    P.ReadCoilsRequest(address=19, count=37),
+    P.ReadCoilsResponse(bits=[1, 0, 1, 1, 0, 0, 1, 1, 1, 0, 1]),
+    P.ReadDiscreteInputsRequest(address=196, count=22),
+    P.ReadDiscreteInputsResponse(bits=[0, 0, 1, 1, 0, 1, 0, 1]),
+    P.ReadHoldingRegistersRequest(address=107, count=3),
+    P.ReadHoldingRegistersResponse(registers=[555, 0, 100]),
+    P.ReadInputRegistersRequest(address=8, count=1),
+    P.ReadInputRegistersResponse(registers=[10]),
+    P.WriteSingleCoilRequest(address=172, value=True),
+    P.WriteSingleCoilResponse(address=172, value=False),
+    P.WriteSingleRegisterRequest(address=1, value=3),
+    P.WriteSingleRegisterResponse(address=1, value=3),
+    P.WriteMultipleCoilsRequest(address=19, values=[1, 0, 1, 1, 0, 0, 1, 1, 1, 0]),
+    P.WriteMultipleCoilsResponse(address=19, count=10),
+    P.WriteMultipleRegistersRequest(address=1, values=[0x000A, 0x0102]),
+    P.WriteMultipleRegistersResponse(address=1, count=2),
+    P.ExceptionResponse(function=3, code=2),
+]
+
+
+@pytest.mark.parametrize("pdu", PDUS, ids=lambda p: type(p).__name__)
+def test_explain_pdu_of_an_object_is_its_fields(pdu: P.Pdu) -> None:
+    d = explain_pdu(pdu)
+    assert (d.mode, d.role, d.pdu, d.frame, d.error, d.ok) == ("pdu", pdu.role, pdu, None, None, True)
+    assert d.data == pdu.encode()
+    assert [(r.offset, r.raw, r.field, r.value, r.meaning) for r in d.rows] == [
+        (f.offset, f.raw, f.name, f.value, f.meaning) for f in pdu.fields()]
+    assert_covers(d)
+    assert_views(d)
+    assert d.summary.startswith(f"PDU {pdu.role}: ")
+    # the bytes give the same table (the role given: some requests and responses share their bytes)
+    # (a bits response decodes to whole bytes of bits: the padding shows, so compare with the decoded PDU)
+    again = explain_pdu(d.data, role=pdu.role)
+    decoded = P.decode_pdu(d.data, pdu.role)
+    assert again.ok and again.pdu == decoded and again.rows == explain_pdu(decoded).rows
+    assert explain_pdu(d.data.hex(" "), role=pdu.role).rows == again.rows
+    # in a notebook the object shows as that table
+    assert pdu._repr_html_() == d._repr_html_()
+
+
+def test_explain_pdu_text_and_dict() -> None:
+    d = explain_pdu("03 06 02 2B 00 00 00 64")
+    assert d.role == "response" and repr(d) == "<Dissection PDU response: Read Holding Registers, " \
+                                               "registers [555, 0, 100]>"
+    lines = d.to_text().splitlines()
+    assert lines[0] == "PDU response: Read Holding Registers, registers [555, 0, 100]"
+    assert lines[1].split() == ["offset", "bytes", "field", "value", "meaning"]
+    assert lines[3].split()[:5] == ["1", "06", "byte", "count", "6"]
+    out = d.to_dict()
+    assert json.loads(json.dumps(out)) == out
+    assert out["mode"] == "pdu" and out["frame"] is None
+    assert out["pdu"] == {"function_code": 3, "pdu": "ReadHoldingRegistersResponse",
+                          "fields": {"registers": [555, 0, 100]}}
+    assert "pdu" not in explain("01 03 00 00 00 01 84 0A").to_dict()  # a frame's dict is unchanged
+
+
+def test_explain_pdu_records_errors_and_still_shows_rows() -> None:
+    d = explain_pdu("03 00 00 00 C8")  # 200 registers: too many
+    assert not d.ok and d.pdu is None and d.role == "request"
+    assert type(d.error).__name__ == "QuantityError" and "at bytes 3-4" in str(d.error)
+    assert d.rows[0].field == "function code" and not d.rows[-1].ok
+    assert_covers(d)
+    assert_views(d)
+    extra = explain_pdu("03 00 6B 00 03 FF", role="request")
+    assert [r.field for r in extra.rows][-1] == "extra bytes" and extra.rows[-1].raw == b"\xff"
+    assert explain_pdu("83 02").role == "response"  # only a response can start with 0x83
+    assert explain_pdu(b"").error is not None and explain_pdu(b"").rows == []
+    assert explain_pdu("zz").summary.startswith("PDU, not valid: ")
+    with pytest.raises(ModbusError):
+        explain_pdu("03 00 00 00 C8", strict=True)
+    with pytest.raises(ConfigError):
+        explain_pdu(P.ReadCoilsRequest(address=0, count=1), role="response")
+    with pytest.raises(ConfigError):
+        explain_pdu(b"\x03", role="master")
+
+
+@FUZZ
+@given(st.binary(max_size=40))
+def test_explain_pdu_never_raises(data: bytes) -> None:
+    for role in (None, "request", "response"):
+        d = explain_pdu(data, role=role)
+        assert_covers(d)
+        assert (d.pdu is None) != (d.error is None)
+        d.to_text()
+        d._repr_html_()
+        json.dumps(d.to_dict())
