@@ -1260,10 +1260,10 @@ def _silent_wires(seed: int = _LAB_SEED) -> tuple[dict[str, Any], dict[str, str]
             slave = Slave(unit=2, bank=slave.bank)       # its address switch says 2, the drawing says 1
             link = loopback_serial(slave, baudrate=9600)
         elif cause == "wrong baud rate or parity":
-            link = loopback_serial(slave, baudrate=9600, seed=seed)
-            # a receiver at another baud rate samples every bit at the wrong moment: every byte it
-            # assembles differs from the byte sent; imitated here by damaging every byte on the line
-            link.faults.bit_error_rate = 1.0
+            # its configuration says 19200 baud, the master's line runs at 9600: the wire honours the
+            # slave's own settings, so its receiver samples every bit at the wrong moment
+            slave.serial_settings = {"baudrate": 19200, "parity": "N", "stopbits": 1}  # type: ignore[attr-defined]
+            link = loopback_serial(slave, baudrate=9600)
         else:
             link = loopback_serial([], baudrate=9600)    # the slave is off, or its cable is not connected
         wires[name] = link
@@ -1321,7 +1321,8 @@ def lab(puzzle: str) -> Any:
 
 @exercise("13.1", "three silent slaves",
           hint="poll each wire, then look at what the slave saw: link.slaves[0].counters (other_unit: a "
-               "request for another address; checksum_errors: damaged bytes) and link.monitor. "
+               "request for another address; checksum_errors: bytes that arrived garbled, as a receiver "
+               "at another baud rate assembles them) and its log, link.slaves[0].log. "
                "No slave at all leaves no trace.",
           wrong={"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"})
 def _check_13_1(answer: Any) -> str | None:

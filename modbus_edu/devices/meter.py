@@ -321,6 +321,16 @@ class PowerMeter(Slave):
         live = " live" if self.live else ""
         return f"<PowerMeter unit={self.unit} trial={self.trial}{live} {self.counters.as_dict()}>"
 
+    @property
+    def serial_settings(self) -> dict[str, Any]:
+        """003's line settings, ``{"baudrate": 19200, "parity": "N", "stopbits": 1, "bytesize": 8}``.
+
+        A loopback wire reads them: on a line with other settings the meter hears garbage and never
+        answers.  ``loopback_serial(meter, **meter.serial_settings)`` gives a wire that matches.
+        """
+        return {"baudrate": self.BAUDRATE, "parity": self.PARITY, "stopbits": self.STOPBITS,
+                "bytesize": self.DATABITS}
+
     # -- values -----------------------------------------------------------------------------------
     def _signal(self, index: int, e: MeterRegister) -> Noise:
         """Seeded drift of one quantity, in raw register units (raw = value x scale)."""

@@ -34,7 +34,7 @@ from ..slave import Slave
 from ..traffic import TrafficLog
 from .base import Link
 from .faults import Faults
-from .wire import BusStats, SerialBus, SerialTiming
+from .wire import BusStats, SerialBus, SerialTiming, same_format, uart_receive
 
 __all__ = ["LoopbackSerialLink", "LoopbackTcpLink", "loopback_serial", "loopback_tcp"]
 
@@ -141,6 +141,19 @@ class LoopbackSerialLink(_LoopbackLink):
     character time, t1.5 and t3.5; ``bus`` is the :class:`~modbus_edu.links.wire.SerialBus`;
     ``monitor`` a :class:`~modbus_edu.traffic.TrafficLog` of everything on the line; ``faults`` the
     :class:`~modbus_edu.links.faults.Faults` injected; ``stats`` what the line saw.
+
+    **A slave's own line settings.**  A slave that has a ``serial_settings`` attribute (a mapping with
+    any of the keys ``"baudrate"``, ``"parity"``, ``"stopbits"``, ``"bytesize"``; a missing key means
+    "as the line") listens and talks with those settings, as a real device does with what its
+    configuration says.  :class:`~modbus_edu.devices.ArduinoSlave` and
+    :class:`~modbus_edu.devices.PowerMeter` have one; on a plain :class:`~modbus_edu.slave.Slave` you may
+    set one (``slave.serial_settings = {"baudrate": 19200}``).  The attribute is read for every frame,
+    so correcting it mends the wire.  When the settings match the line's (the usual case) nothing
+    changes.  When they differ, the slave's receiver samples the line at its own speed and format
+    (:func:`~modbus_edu.links.wire.uart_receive`): it assembles garbage (framing errors, characters with
+    a parity error dropped), its CRC check fails (``slave.counters``), and it never answers; the
+    monitor's note says what its receiver made of the frame.  (A stop-bit difference alone goes
+    unnoticed, as on a real line.)
     """
 
     def __init__(
@@ -165,6 +178,7 @@ class LoopbackSerialLink(_LoopbackLink):
         self.bus = SerialBus(self.timing, self.clock, self.faults, self.monitor)
         self._node = self.bus.attach("master", self._on_frame, is_master=True)
         self._slave_nodes: dict[int, object] = {}
+        self._uarts: dict[int, tuple[tuple, SerialTiming | None]] = {}
         for slave in _slave_list(slaves):
             self.attach(slave)
 
@@ -184,6 +198,7 @@ class LoopbackSerialLink(_LoopbackLink):
     def detach(self, slave: Slave) -> None:
         """Disconnect a slave from the bus."""
         node = self._slave_nodes.pop(id(slave), None)
+        self._uarts.pop(id(slave), None)
         if node is not None:
             self.bus.detach(node)  # type: ignore[arg-type]
             self._slaves.remove(slave)
@@ -192,6 +207,36 @@ class LoopbackSerialLink(_LoopbackLink):
     def stats(self) -> BusStats:
         """What the line saw: frames, broken frames, discarded frames, ..."""
         return self.bus.stats
+
+    def uart_of(self, slave: Slave) -> SerialTiming | None:
+        """The slave's own line settings when they differ from the line's, else None.
+
+        Read from ``slave.serial_settings`` (see the class documentation); a bad value raises
+        :class:`~modbus_edu.errors.ConfigError` naming the slave.
+        """
+        settings = getattr(slave, "serial_settings", None)
+        if not settings:
+            return None
+        line = self.timing
+        try:
+            get = settings.get
+        except AttributeError:
+            raise ConfigError(f"{slave.name}: serial_settings must be a mapping such as "
+                              f"{{'baudrate': 9600, 'parity': 'N', 'stopbits': 1}}, got {settings!r}"
+                              ) from None
+        key = (get("baudrate", line.baudrate), get("parity", line.parity), get("stopbits", line.stopbits),
+               get("bytesize", line.bytesize))
+        cached = self._uarts.get(id(slave))
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        baudrate, parity, stopbits, bytesize = key
+        try:
+            uart = SerialTiming(baudrate, parity, stopbits, bytesize, "rtu" if bytesize == 8 else "ascii")
+        except ConfigError as exc:
+            raise ConfigError(f"{slave.name}'s serial_settings: {exc}") from None
+        result = None if same_format(uart, line) else uart
+        self._uarts[id(slave)] = (key, result)
+        return result
 
     def _slave_hears(self, slave: Slave, frame: bytes, when: float) -> None:
         faults = self.faults
@@ -203,6 +248,14 @@ class LoopbackSerialLink(_LoopbackLink):
                 faults.is_silenced(slave.unit)
                 self._annotate(f"{slave.name} is silenced: it does not hear this frame")
             return
+        uart = self.uart_of(slave)
+        if uart is not None:
+            # the slave's UART samples the line with its own settings: it assembles something else
+            reading = uart_receive(frame, self.timing, uart)
+            self._annotate(f"{slave.name} listens at {uart}: its receiver assembles {reading.describe()}")
+            frame = reading.data
+            if not frame:
+                return
         # who sent it: the master, or (on a multidrop bus) another slave answering the master
         sender = self.bus.current_sender
         source = sender.name if sender is not None else "master"
@@ -215,9 +268,9 @@ class LoopbackSerialLink(_LoopbackLink):
         delay = slave.response_delay(when) + faults.extra_delay(slave.unit)
         node = self._slave_nodes[id(slave)]
         if delay > 0:
-            self.clock.schedule(when + delay, node.transmit, answer, "master")  # type: ignore[attr-defined]
+            self.clock.schedule(when + delay, node.transmit, answer, "master", uart)  # type: ignore[attr-defined]
         else:
-            node.transmit(answer, "master")  # type: ignore[attr-defined]
+            node.transmit(answer, "master", uart)  # type: ignore[attr-defined]
 
     def _annotate(self, text: str) -> None:
         self.monitor.annotate(text)

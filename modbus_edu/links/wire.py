@@ -32,13 +32,35 @@ until the 3.5-character silence after the last frame has passed).  A real RS-485
 simultaneous transmissions instead; here they are queued, which keeps the simulation simple and makes
 the timing of a well-behaved bus exact.  A node never hears itself; a node does not hear a frame that
 started before its own transmission ended (half duplex: it was talking).
+
+**Line settings that do not match.**  Every node's UART must use the line's baud rate, parity, stop bits
+and data bits.  One that does not (a slave set to 19200 baud on a 9600 baud line, to even parity on a
+line without parity) takes the same voltages apart at the wrong moments.  :func:`uart_receive` models
+that bit by bit: the sender's characters become a waveform (line idle = 1; a start bit 0, the data bits
+lowest first, the parity bit, the stop bits 1), and the receiver does what a UART does: it waits for a
+falling edge (1 to 0), checks half a bit later that the line is still 0 (else it was a glitch), then
+samples the middle of each of its own bit times: data bits, parity bit, first stop bit.  A stop bit
+read as 0 is a **framing error**; a parity bit that disagrees with the data is a **parity error**.
+The receiver then hunts for the next falling edge.  Like a microcontroller's serial driver (the
+Arduino's, for one), it **drops a character with a parity error** and keeps one with a framing error
+(its bits are garbage).  So at another baud rate the receiver assembles a different number of
+characters, most with framing errors; with a parity mismatch it loses characters and the rest no longer
+line up with their parity and stop bits; the frame's CRC (or LRC) fails and a slave never answers.  A
+stop-bit difference alone is harmless, as on real lines: a receiver checks the first stop bit only.
+The model is exact arithmetic (fractions of a second), with no randomness: the same bytes and settings
+always give the same garbage.  Two simplifications: the frame boundaries are the line's (a receiver at
+another speed would also time its 3.5-character silence differently), and a node that transmits with
+its own settings does so in the line's character times (the bytes recorded by the monitor are what a
+receiver with the line's settings assembles).
 """
 
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, fields
+from fractions import Fraction
 from functools import cached_property, reduce
 from itertools import repeat
 from operator import add
@@ -48,7 +70,8 @@ from ..errors import ConfigError
 from ..traffic import TrafficLog
 from .faults import Faults
 
-__all__ = ["SerialTiming", "SerialBus", "BusStats", "character_time"]
+__all__ = ["SerialTiming", "SerialBus", "BusStats", "character_time", "UartChar", "UartReading",
+           "uart_receive", "same_format"]
 
 PARITIES = {"N": 0, "E": 1, "O": 1}
 _EPS = 1e-9  # one nanosecond: tolerance when comparing silences computed in floating point
@@ -146,6 +169,145 @@ def character_time(baudrate: int, parity: str = "N", stopbits: float = 1, bytesi
     return SerialTiming(baudrate, parity, stopbits, bytesize, "rtu" if bytesize == 8 else "ascii").char_time
 
 
+# --- a receiver whose settings differ from the sender's -----------------------------------------------
+@dataclass(frozen=True)
+class UartChar:
+    """One character as a receiving UART assembled it: its data bits and the UART's two error flags."""
+
+    value: int
+    parity_error: bool = False
+    framing_error: bool = False
+
+    @property
+    def ok(self) -> bool:
+        return not (self.parity_error or self.framing_error)
+
+
+@dataclass(frozen=True)
+class UartReading:
+    """What a receiver made of a transmission (see :func:`uart_receive`).
+
+    ``chars`` every character it assembled, with its error flags; ``data`` the bytes its serial driver
+    passes on: every character except those with a parity error (dropped).
+    """
+
+    chars: tuple[UartChar, ...]
+
+    @property
+    def data(self) -> bytes:
+        return bytes(c.value for c in self.chars if not c.parity_error)
+
+    @property
+    def parity_errors(self) -> int:
+        return sum(1 for c in self.chars if c.parity_error)
+
+    @property
+    def framing_errors(self) -> int:
+        return sum(1 for c in self.chars if c.framing_error)
+
+    def describe(self) -> str:
+        """``"9 characters, 7 with a framing error, 2 with a parity error (dropped)"``."""
+        n = len(self.chars)
+        text = f"{n} character{'s' if n != 1 else ''}"
+        errors = []
+        if self.framing_errors:
+            errors.append(f"{self.framing_errors} with a framing error")
+        if self.parity_errors:
+            errors.append(f"{self.parity_errors} with a parity error (dropped)")
+        return text + (", " + ", ".join(errors) if errors else "")
+
+
+def same_format(a: SerialTiming, b: SerialTiming) -> bool:
+    """True when two UARTs agree on baud rate, parity, stop bits and data bits."""
+    return (a.baudrate == b.baudrate and a.parity == b.parity and a.stopbits == b.stopbits
+            and a.bytesize == b.bytesize)
+
+
+def _parity_bit(value: int, parity: str) -> int:
+    """The parity bit that goes with ``value``'s data bits: even parity makes the count of 1s even."""
+    ones = bin(value).count("1") & 1
+    return ones if parity == "E" else ones ^ 1
+
+
+def uart_receive(data: bytes, sent: SerialTiming, heard: SerialTiming) -> UartReading:
+    """What a UART set to ``heard`` assembles from ``data`` sent back to back with ``sent``'s settings.
+
+    Bit-level and exact (times are fractions): the sender's characters become a waveform, and the
+    receiver waits for a falling edge, checks the start bit half a bit later, and samples the middle of
+    each of its own bit times (data bits lowest first, the parity bit, the first stop bit).  A stop bit
+    read as 0 is a framing error, a parity bit that disagrees a parity error; then the receiver hunts
+    for the next falling edge.  With equal settings the bytes come back unchanged, without errors.
+
+    >>> line, fast = SerialTiming(9600), SerialTiming(19200)
+    >>> uart_receive(bytes.fromhex("01 03"), line, line).data.hex(" ")
+    '01 03'
+    >>> uart_receive(bytes.fromhex("01 03 00 00 00 01 84 0A"), line, fast).describe()
+    '9 characters, 7 with a framing error'
+    """
+    # the sender's waveform: level changes (start time, level), idle (1) before and after
+    bit = 1 / Fraction(sent.baudrate)
+    stop = Fraction(sent.stopbits) * bit
+    mask = (1 << sent.bytesize) - 1
+    starts: list[Fraction] = []
+    levels: list[int] = []
+    t = Fraction(0)
+    level = 1
+    for byte in data:
+        byte &= mask
+        bits = [0] + [byte >> k & 1 for k in range(sent.bytesize)]
+        if sent.parity != "N":
+            bits.append(_parity_bit(byte, sent.parity))
+        for b in bits:
+            if b != level:
+                starts.append(t)
+                levels.append(b)
+                level = b
+            t += bit
+        if level != 1:
+            starts.append(t)
+            levels.append(1)
+            level = 1
+        t += stop
+    end = t
+    edges = [s for s, lv in zip(starts, levels) if lv == 0]
+
+    def line_at(when: Fraction) -> int:
+        if when < 0 or when >= end:
+            return 1
+        index = bisect_right(starts, when) - 1
+        return levels[index] if index >= 0 else 1
+
+    # the receiver
+    rbit = 1 / Fraction(heard.baudrate)
+    half = rbit / 2
+    n = heard.bytesize
+    has_parity = heard.parity != "N"
+    chars: list[UartChar] = []
+    hunt_from = Fraction(0)
+    j = 0
+    while True:
+        j = bisect_left(edges, hunt_from, j)
+        if j >= len(edges):
+            break
+        edge = edges[j]
+        if line_at(edge + half):
+            hunt_from = edge + half  # back to 1 already: a glitch, not a start bit
+            continue
+        value = 0
+        for k in range(n):
+            if line_at(edge + half + (k + 1) * rbit):
+                value |= 1 << k
+        parity_error = False
+        at = edge + half + (n + 1) * rbit
+        if has_parity:
+            parity_error = line_at(at) != _parity_bit(value, heard.parity)
+            at += rbit
+        framing_error = line_at(at) == 0
+        chars.append(UartChar(value, parity_error, framing_error))
+        hunt_from = at  # the middle of the first stop bit: hunt for the next start bit from here
+    return UartReading(tuple(chars))
+
+
 @dataclass
 class BusStats:
     """What the line itself saw.
@@ -186,9 +348,12 @@ class Node:
         self.tx_end = float("-inf")
         """When this node's latest transmission leaves the line (its last bit)."""
 
-    def transmit(self, data: bytes, dest: str = "") -> float:
-        """Queue ``data`` for transmission now (or when the line is free); return when it will end."""
-        return self.bus.transmit(self, data, dest)
+    def transmit(self, data: bytes, dest: str = "", uart: SerialTiming | None = None) -> float:
+        """Queue ``data`` for transmission now (or when the line is free); return when it will end.
+
+        ``uart``: the node's own settings, when they differ from the line's (see :func:`uart_receive`).
+        """
+        return self.bus.transmit(self, data, dest, uart)
 
     def __repr__(self) -> str:
         return f"<Node {self.name}>"
@@ -232,7 +397,13 @@ class SerialBus:
             self.nodes.remove(node)
 
     # -- transmitting -------------------------------------------------------------------------------
-    def transmit(self, node: Node, data: bytes, dest: str = "") -> float:
+    def transmit(self, node: Node, data: bytes, dest: str = "", uart: SerialTiming | None = None) -> float:
+        """Put ``data`` on the line for ``node``; return when its last bit will have left.
+
+        ``uart`` is the sender's own character format when it is not the line's: the bytes then go on
+        the line as the line's receivers assemble them (:func:`uart_receive`), and the monitor's note
+        says so.
+        """
         timing, clock = self.timing, self.clock
         now = clock.now
         start = now
@@ -242,10 +413,15 @@ class SerialBus:
         is_master = node.is_master
         role = "request" if is_master else "response"
         note = ""
+        if uart is not None and not same_format(uart, timing):
+            reading = uart_receive(data, uart, timing)
+            note = (f"sent at {uart} on a {timing} line: the line's receivers assemble "
+                    f"{reading.describe()}")
+            data = reading.data
         gaps: dict[int, float] = {}
         if self.faults.touches_wire:
             data, gaps, notes = self.faults.corrupt(data, role, timing.bytesize)
-            note = "; ".join(notes)
+            note = "; ".join(([note] if note else []) + notes)
         c = timing.char_time
         # Byte i ends at start + (i + 1) character times (+ any gap before it).  The times are summed
         # one character at a time, exactly as the line would count them: adding c n times is not

@@ -1,6 +1,7 @@
-# Poll each wire and ask the slave what it saw:
+# Poll each wire and ask the slave what it saw (the monitor shows the same good request on every wire):
 #  - other_unit climbs: the slave hears requests for another address -> wrong unit id;
-#  - checksum_errors climb: every byte arrives damaged -> wrong baud rate or parity;
+#  - checksum_errors climb: its receiver, set to another baud rate, assembles other bytes than those
+#    sent (slave.log shows them), so the CRC never matches -> wrong baud rate or parity;
 #  - no slave at all on the wire, nothing counted -> no slave on the line (off, or not connected).
 import modbus_edu as mb
 from modbus_edu.exercises import lab
