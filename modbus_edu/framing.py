@@ -544,7 +544,8 @@ def parse_hex(text: str | bytes) -> bytes:
     """Turn hex as people write it into bytes.
 
     Accepted: ``"01 03 00 00"``, ``"01030000"``, ``"0x01,0x03"``, ``"01-03"``, ``"0x1, 0x3"`` (a lone
-    digit is one byte), any mix of upper and lower case; separators are spaces, tabs, newlines, commas,
+    digit is a byte only when written ``0x``: in ``"01 3"`` it is more likely a typing slip), any mix
+    of upper and lower case; separators are spaces, tabs, newlines, commas,
     semicolons and dashes.  Text that starts with ``:`` is an ASCII frame and is returned as its ASCII
     characters, with CR LF appended when missing (a typed ``\\r\\n`` is understood as CR LF too).
 
@@ -585,7 +586,8 @@ def parse_hex(text: str | bytes) -> bytes:
     for match in _TOKEN.finditer(text):
         token, start = match.group(), match.start()
         digits_at = start
-        if token[:2] in ("0x", "0X"):
+        prefixed = token[:2] in ("0x", "0X")
+        if prefixed:
             token, digits_at = token[2:], start + 2
             if not token:
                 raise AsciiFormatError(f"'0x' at position {start} is not followed by hex digits in {text!r}")
@@ -595,7 +597,7 @@ def parse_hex(text: str | bytes) -> bytes:
                     f"not a hex digit: {ch!r} at position {digits_at + i} in {text!r}; expected 0-9 or A-F "
                     f"(bytes separated by spaces, commas or dashes, optionally written 0x..)"
                 )
-        if len(token) == 1:
+        if len(token) == 1 and prefixed:
             token = "0" + token
         elif len(token) % 2:
             raise AsciiFormatError(
@@ -659,8 +661,13 @@ class RtuSplitter(_Splitter):
 
     Resynchronising: when the first buffered byte cannot start a frame (a unit address above 247, an
     unknown function code, an impossible length) or the CRC at the expected length is wrong, the splitter
-    drops that one byte, counts it in :attr:`discarded`, and tries again from the next byte.  A valid
-    frame behind junk is therefore found as soon as it is complete.  ``feed`` never raises for any bytes.
+    drops that one byte, counts it in :attr:`discarded`, and tries again from the next byte.  Junk can
+    also look like the start of a long frame (``01 10 ...`` announcing an FC16 request) and make the
+    splitter wait for bytes that never come; so while it waits, it also looks further on, and a complete
+    frame with a correct CRC there wins: the bytes before it are dropped as junk.  (A correct CRC by
+    chance inside a real frame's data is about 1 in 65536 per candidate: the price of cutting frames
+    without timing.)  A valid frame behind junk is therefore found as soon as it is complete.  ``feed``
+    never raises for any bytes.
     Frames are returned as cut, CRC verified; decode them with :meth:`RtuFrame.decode`.
 
     :meth:`flush` is the silence: it tells the splitter that the pending bytes will not be continued, so
@@ -696,6 +703,10 @@ class RtuSplitter(_Splitter):
         while buf:
             total = self._frame_length(0)
             if total is None or (total > 0 and total > len(buf)):
+                later = self._complete_frame_after(0)
+                if later is not None:  # what we wait for is junk: a whole frame stands behind it
+                    self._drop(later)
+                    continue
                 if not final:
                     break
                 self._drop(1)  # no more bytes will come: this start cannot be completed
@@ -709,6 +720,17 @@ class RtuSplitter(_Splitter):
             frames.append(bytes(buf[:total]))
             del buf[:total]
         return frames
+
+    def _complete_frame_after(self, start: int) -> int | None:
+        """The first offset after ``start`` where a complete frame with a correct CRC is buffered."""
+        buf = self._buffer
+        for offset in range(start + 1, len(buf) - 3):
+            total = self._frame_length(offset)
+            if total is not None and 0 < total <= len(buf) - offset:
+                end = offset + total
+                if crc16(bytes(buf[offset:end - 2])) == int.from_bytes(buf[end - 2:end], "little"):
+                    return offset
+        return None
 
     def flush(self) -> list[bytes]:
         """End of frame by silence: cut what can be cut from the pending bytes, discard the rest."""

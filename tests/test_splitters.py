@@ -185,14 +185,30 @@ def test_rtu_resync_after_a_corrupted_frame() -> None:
     assert splitter.discarded == len(bad)
 
 
-def test_rtu_flush_is_the_silence_after_a_frame() -> None:
-    """Junk that announces a long FC16 request holds a real frame back until the line goes silent."""
+def test_rtu_junk_announcing_a_long_frame_does_not_hold_back_a_complete_frame() -> None:
+    """Junk that announces a long FC16 request: the complete frame behind it comes out at once."""
     good = RtuFrame(1, P.ReadHoldingRegistersRequest(0, 1)).encode()
     junk = bytes([0x01, 0x10, 0x00, 0x00, 0x00, 0x40, 0x80])  # 'byte count 128': wait for 128 + 2 bytes
     splitter = RtuSplitter("request")
-    assert splitter.feed(junk + good) == []
-    assert splitter.pending == junk + good
-    assert splitter.flush() == [good]
+    assert splitter.feed(junk + good * 3) == [good] * 3
+    assert splitter.discarded == len(junk) and splitter.pending == b""
+
+
+def test_rtu_a_long_frame_fed_byte_by_byte_is_not_cut_short() -> None:
+    """While a real long frame arrives, the look-ahead finds no false frame inside its data."""
+    long = RtuFrame(1, P.WriteMultipleRegistersRequest(0, list(range(0, 1230, 10)))).encode()
+    splitter = RtuSplitter("request")
+    out = [frame for byte in long for frame in splitter.feed(bytes([byte]))]
+    assert out == [long] and splitter.discarded == 0
+
+
+def test_rtu_flush_is_the_silence_after_a_frame() -> None:
+    """Junk whose announced frame is still incomplete waits for the silence; flush drops it."""
+    junk = bytes([0x01, 0x10, 0x00, 0x00, 0x00, 0x40, 0x80, 0x12, 0x34])
+    splitter = RtuSplitter("request")
+    assert splitter.feed(junk) == []
+    assert splitter.pending == junk
+    assert splitter.flush() == []
     assert splitter.discarded == len(junk) and splitter.pending == b""
 
 
