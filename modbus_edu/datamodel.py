@@ -297,12 +297,13 @@ class Table:
                 )
             return bytearray(int(v) for v in values)  # pragma: no cover - e.g. numpy bools
         try:
-            return array("H", values)
+            if bool not in map(type, values):  # True would pass as 1: a register is a number, not a flag
+                return array("H", values)
         except (TypeError, OverflowError, ValueError):
             pass
         for i, v in enumerate(values):
             ok = False
-            if not isinstance(v, float):
+            if not isinstance(v, (float, bool)):
                 try:
                     ok = 0 <= operator.index(v) <= 65535
                 except TypeError:

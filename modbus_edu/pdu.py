@@ -24,6 +24,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 import struct
+from collections.abc import Iterable, Mapping
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 from enum import IntEnum
 from typing import Any, ClassVar
@@ -182,7 +184,15 @@ def _check_register(value: Any, index: int | None = None) -> int:
     return value
 
 
+def _check_sequence(values: Any, name: str, what: str) -> None:
+    """A mapping or a set is iterable but has no order of values: refuse it, as a plain value."""
+    if isinstance(values, (Mapping, AbstractSet, str, bytes)) or not isinstance(values, Iterable):
+        raise ValueRangeError(f"{name} must be a sequence (list or tuple) of {what}, "
+                              f"got {type(values).__name__} {values!r}")
+
+
 def _check_bits(values: Any, name: str) -> tuple[bool, ...]:
+    _check_sequence(values, name, "booleans")
     try:
         items = tuple(values)
     except TypeError:
@@ -194,6 +204,8 @@ def _check_bits(values: Any, name: str) -> tuple[bool, ...]:
 
 
 def _check_registers(values: Any, name: str) -> tuple[int, ...]:
+    if type(values) not in (list, tuple):
+        _check_sequence(values, name, "integers")
     try:
         items = tuple(values)
     except TypeError:
@@ -234,6 +246,8 @@ def _pdu_bytes(data: Any, offset: int) -> bytes:
     if isinstance(data, str):
         raise PduError(f"a PDU is bytes, got the text {data[:30]!r}: turn hex text into bytes first, "
                        f"e.g. bytes.fromhex('03 00 00 00 01')")
+    if isinstance(data, int):  # bytes(5) would be five zero bytes, not the byte 5
+        raise PduError(f"a PDU is bytes, got the number {data!r}: write bytes([{data}]) for one byte")
     try:
         data = bytes(data)
     except (TypeError, ValueError):
@@ -1066,8 +1080,9 @@ def pdu_length(data: bytes, role: str) -> int | None:
     a receiver finds the end of an RTU frame without relying on silence on the line.
     """
     _check_role(role)
-    if not data:
+    if isinstance(data, (bytes, bytearray, memoryview)) and not len(data):
         return None
+    data = _pdu_bytes(data, 0)
     function = data[0]
     if role == "response":
         if function & 0x80:

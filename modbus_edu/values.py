@@ -221,7 +221,7 @@ def encode_value(value: int | float, type: str = "uint16", order: str = "ABCD") 
             ) from None
     else:
         try:
-            if isinstance(value, float):
+            if isinstance(value, (float, bool)):
                 raise TypeError
             number = operator.index(value)
         except TypeError:

@@ -488,3 +488,11 @@ def test_small_corners():
         Reference("coils", 1.0)
     with pytest.raises(IllegalAddressError, match=r"holding register address 70000 is outside"):
         t.declare(70000)
+
+
+def test_a_register_refuses_a_bool() -> None:
+    # True would be stored as 1: a register is a number, not a flag
+    bank = DataBank()
+    with pytest.raises(ValueRangeError, match="bool"):
+        bank.holding_registers.write(0, [1, True])
+    assert bank.holding_registers.read(0, 2) == [0, 0]

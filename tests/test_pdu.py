@@ -794,3 +794,22 @@ def test_messages_never_use_python_jargon() -> None:
         message = str(info.value)
         assert not re.search(r"unpack|struct|index out of range|Traceback", message), message
         assert re.search(r"byte", message), message
+
+
+@pytest.mark.parametrize("values", [{1: 2}, {1, 2}, "12", 5])
+def test_values_must_be_an_ordered_sequence(values) -> None:
+    # a dict or a set iterates, but has no order of values: it must not become a frame silently
+    with pytest.raises(ValueRangeError, match="sequence"):
+        WriteMultipleRegistersRequest(address=0, values=values)
+    with pytest.raises(ValueRangeError, match="sequence"):
+        WriteMultipleCoilsRequest(address=0, values=values)
+
+
+@pytest.mark.parametrize("data", [5, None, 1.5, "03 00"])
+def test_pdu_length_and_decode_pdu_refuse_what_is_not_bytes(data) -> None:
+    # bytes(5) would be five zero bytes: a number is refused, not read as a PDU
+    with pytest.raises(ModbusError):
+        pdu_length(data, "request")
+    with pytest.raises(ModbusError):
+        decode_pdu(data, "request")
+    assert pdu_length(b"", "request") is None

@@ -438,3 +438,8 @@ def test_parse_formatted_examples_and_errors():
         parse_formatted(5, "hex")
     with pytest.raises(ModbusError):
         parse_formatted("1", "octal")
+
+
+def test_integer_types_refuse_a_bool() -> None:
+    with pytest.raises(ValueFormatError, match="bool"):
+        encode_value(True, "uint16")
