@@ -458,6 +458,9 @@ class DataBank:
 
         Every reference is declared (on a sparse bank) and set.
         """
+        if not isinstance(values, Mapping):
+            raise DataModelError(f"from_references() takes a mapping such as {{'40001': 5}}, "
+                                 f"got {type(values).__name__} {values!r}")
         bank = cls(sparse=sparse)
         for ref, value in values.items():
             bank.add(ref, value)

@@ -496,3 +496,8 @@ def test_a_register_refuses_a_bool() -> None:
     with pytest.raises(ValueRangeError, match="bool"):
         bank.holding_registers.write(0, [1, True])
     assert bank.holding_registers.read(0, 2) == [0, 0]
+
+
+def test_from_references_takes_a_mapping() -> None:
+    with pytest.raises(DataModelError, match="mapping"):
+        DataBank.from_references(5)

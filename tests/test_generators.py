@@ -305,3 +305,9 @@ def test_autofill_with_a_virtual_clock_if_present():
         seen.append(bank.input_registers[0])
         clock.advance(1.0)
     assert seen == [0, 5, 10, 15]
+
+
+@pytest.mark.parametrize("t", [float("nan"), float("inf"), "x", None])
+def test_a_generator_refuses_a_time_that_is_not_a_finite_number(t) -> None:
+    with pytest.raises(ConfigError, match="finite number of seconds"):
+        Sine(100, 10, 5).value(t)

@@ -125,7 +125,7 @@ class Generator:
 
     def value(self, t: float, channel: int = 0) -> int:
         """The register value at time ``t`` (seconds): rounded, clamped to 0..65535."""
-        return clamp_register(self.raw(float(t), channel))
+        return clamp_register(self.raw(_time(t), channel))
 
     def values(self, t: float, count: int) -> list[int]:
         """``count`` values at time ``t``, one per channel 0..count-1."""
@@ -146,6 +146,13 @@ class Constant(Generator):
 
     def raw(self, t: float, channel: int = 0) -> float:
         return self.level
+
+
+def _time(t: Any) -> float:
+    """A time in seconds, checked: a finite number (the clocks' ``now``)."""
+    if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
+        raise ConfigError(f"a generator's time is a finite number of seconds (a clock's now), got {t!r}")
+    return float(t)
 
 
 @dataclass(frozen=True)
