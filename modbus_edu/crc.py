@@ -136,7 +136,8 @@ class CrcStep:
 
     ``action`` is ``"xor_byte"`` (the message byte XORed into the register), ``"shift"`` (the LSB was 0:
     shift right only) or ``"shift_xor"`` (the LSB was 1: shift right, then XOR with 0xA001).
-    ``bit`` is None for the XOR-in step and 0..7 for the eight shifts.
+    ``bit`` is None for the XOR-in step and 0..7 for the eight shifts.  ``shifted`` is the register
+    right after the shift, before any XOR with the polynomial (for the XOR-in step: ``after``).
     """
 
     byte_index: int
@@ -146,6 +147,7 @@ class CrcStep:
     before: int
     after: int
     lsb: int | None
+    shifted: int = 0
 
     def describe(self) -> str:
         """One line for a learner: what happened to the register in this step."""
@@ -167,14 +169,15 @@ def crc16_trace(data: bytes) -> Iterator[CrcStep]:
     for index, byte in enumerate(_as_bytes(data)):
         before = register
         register ^= byte
-        yield CrcStep(index, byte, None, "xor_byte", before, register, None)
+        yield CrcStep(index, byte, None, "xor_byte", before, register, None, register)
         for bit in range(8):
             before = register
             lsb = register & 1
             register >>= 1
+            shifted = register
             if lsb:
                 register ^= POLYNOMIAL
-            yield CrcStep(index, byte, bit, "shift_xor" if lsb else "shift", before, register, lsb)
+            yield CrcStep(index, byte, bit, "shift_xor" if lsb else "shift", before, register, lsb, shifted)
 
 
 @dataclass(frozen=True)

@@ -284,3 +284,12 @@ def test_bad_input_raises_a_modbus_error() -> None:
     with pytest.raises(ModbusError):
         lrc([256])
     assert crc16([0x01, 0x03, 0x00, 0x00, 0x00, 0x01]) == 0x0A84
+
+
+def test_trace_records_the_register_between_shift_and_xor() -> None:
+    for step in crc16_trace(b"\x01\x03\x00\x00\x00\x01"):
+        if step.action == "xor_byte":
+            assert step.shifted == step.after
+        else:
+            assert step.shifted == step.before >> 1
+            assert step.after == (step.shifted ^ 0xA001 if step.lsb else step.shifted)

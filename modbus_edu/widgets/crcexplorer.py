@@ -236,7 +236,7 @@ class CrcExplorer(W.VBox):
                     lines.append(self._reg_line("XOR byte", s.byte, f"(0x{s.byte:02X} into the low half)"))
                     lines.append(self._reg_line("=", s.after))
                 else:
-                    shifted = s.after ^ POLYNOMIAL if s.action == "shift_xor" else s.after
+                    shifted = s.shifted
                     lines.append(self._reg_line("register", s.before, f"LSB = {s.lsb}"))
                     lines.append(self._reg_line(">> 1", shifted, "shift right, a 0 comes in on the left"))
                     if s.action == "shift_xor":
@@ -278,8 +278,7 @@ class CrcExplorer(W.VBox):
                 return ""
             return '<div style="color:#868e96">the result appears after the last step</div>'
         if self.method.value == "lrc":
-            total = self.register
-            value = (-total) & 0xFF
+            total, value = self.register, lrc(self.data)
             text = (f"LRC = two's complement of 0x{total:02X} = 0x{value:02X}; in the frame it is written "
                     f"as the two characters '{value:02X}' before CR LF")
         else:
