@@ -21,7 +21,7 @@ lab: $(STAMP)
 ## test: install everything and run the whole test suite (lint, unit, interop, browser, strict nbval)
 test: $(STAMP)
 	$(BIN)/python -m ruff check modbus_edu tests bench
-	$(BIN)/python -m pytest tests notebooks --nbval --sanitize-with notebooks/sanitize.cfg
+	$(BIN)/python -m pytest tests notebooks --nbval --nbval-sanitize-with notebooks/sanitize.cfg
 
 ## notebooks: re-execute every notebook in place, in order, from a fresh kernel
 notebooks: $(STAMP)
