@@ -30,9 +30,15 @@ as methods.  For each request it:
    :class:`~modbus_edu.errors.ChecksumError` / frame error of the bad response).
 
 Each attempt counts once in ``stats.requests`` and ends in exactly one of ``valid_responses``,
-``exceptions``, ``timeouts``, ``checksum_errors``, ``bad_responses`` -- except a **broadcast** (unit 0),
-which nobody answers: the master sends it, lets it leave the line (``link.flush()``), waits the
-turnaround delay and returns (``stats.broadcasts``).
+``exceptions``, ``timeouts``, ``checksum_errors``, ``bad_responses`` -- except a **broadcast** (unit 0
+on a serial line), which nobody answers: the master sends it, lets it leave the line (``link.flush()``),
+waits the turnaround delay and returns (``stats.broadcasts``).  A broadcast can only write: a read of
+unit 0 on a serial line raises :class:`~modbus_edu.errors.ConfigError`.
+
+Modbus/TCP has no broadcast.  There unit 0, like the recommended 0xFF, means "the device at this IP
+address itself" (*Modbus Messaging on TCP/IP Implementation Guide* V1.0b, section 4.4.1.2): a request
+to unit 0 on a TCP link, read or write, waits for its answer like any other (a server that cannot route
+it, a gateway, answers exception 0x0B).
 
 Everything is timed on ``link.clock``: on a loopback link a ten-minute poll runs in a blink, and the
 latencies in ``stats.latencies`` are those of the simulated wire.
@@ -40,6 +46,7 @@ latencies in ``stats.latencies`` are those of the simulated wire.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from typing import Any
@@ -74,7 +81,7 @@ class MasterStats:
     ``checksum_errors``  responses with a wrong CRC / LRC
     ``bad_responses``    responses that broke a framing rule or did not fit the request
     ``mismatches``       frames ignored: another unit, function or transaction id, or stale
-    ``broadcasts``       broadcast requests (no answer expected)
+    ``broadcasts``       broadcast requests (unit 0 on a serial line: no answer expected)
     ``retries``          attempts that were retries
     ``latencies``        seconds from sending to a response (valid or exception), on the link's clock
     """
@@ -133,6 +140,15 @@ _READS = {
     3: _pdu.ReadHoldingRegistersRequest,
     4: _pdu.ReadInputRegistersRequest,
 }
+
+
+class _DefaultCount(int):
+    """The default number of polls, 10, told apart from a 10 passed by the caller (older spelling)."""
+
+
+_DEFAULT_POLLS = _DefaultCount(10)
+
+_POLL_SETTINGS = "interval, count (the number of polls), function, unit, address, quantity, with_time"
 
 
 def _check_seconds(name: str, value: Any) -> float:
@@ -255,8 +271,12 @@ class Master:
         """FC 16: set ``len(values)`` holding registers from ``address``."""
         self.execute(unit, _pdu.WriteMultipleRegistersRequest(address=address, values=values))
 
+    def _is_broadcast(self, unit: int) -> bool:
+        """Unit 0 on a serial line is a broadcast; on Modbus/TCP it is the device itself (no broadcast)."""
+        return unit == 0 and self.link.mode != "tcp"
+
     def _read(self, function: int, unit: int, address: int, count: int) -> list:
-        if unit == 0:
+        if self._is_broadcast(unit):
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         request = _READS[function](address=address, count=count)
         response = self.execute(unit, request)
@@ -272,40 +292,85 @@ class Master:
 
     def poll(
         self,
+        interval: float = 1.0,
+        count: int = _DEFAULT_POLLS,
+        *,
         function: int = 3,
         unit: int = 1,
         address: int = 0,
-        count: int = 1,
-        interval: float = 1.0,
-        polls: int = 10,
-        *,
+        quantity: int = 1,
         with_time: bool = False,
+        **older: Any,
     ) -> list:
-        """Read ``polls`` times, one every ``interval`` seconds on the link's clock.
+        """Read ``count`` times, one poll every ``interval`` seconds on the link's clock.
 
-        Returns one result per poll: the values, or the :class:`~modbus_edu.errors.ModbusError` that
-        happened (a timeout, an exception response, ...).  With ``with_time=True`` each result is a
-        ``(time, result)`` pair, the time at which the poll started.  Polls start at fixed times
-        ``start + i * interval``; one that would start late (the previous poll took longer than the
-        interval) starts at once.  On a virtual clock this takes no real time at all.
+        Each poll reads ``quantity`` registers (function 3 or 4) or coils / discrete inputs (1 or 2)
+        from ``address`` of ``unit`` -- the spec's "quantity of registers".  Returns one result per
+        poll: the values, or the :class:`~modbus_edu.errors.ModbusError` that happened (a timeout, an
+        exception response, ...).  With ``with_time=True`` each result is a ``(time, result)`` pair, the
+        time at which the poll started.  Polls start at fixed times ``start + i * interval``; one that
+        would start late (the previous poll took longer than the interval) starts at once.  On a virtual
+        clock this takes no real time at all::
+
+            master.poll(0.5, 20, unit=1, address=0, quantity=2)   # 20 polls of 2 registers, every 0.5 s
+
+        Settings that cannot work (function 5, ``quantity=0``, a read of unit 0 on a serial line) raise
+        :class:`~modbus_edu.errors.ConfigError` or a :class:`~modbus_edu.errors.PduError` before the first
+        poll.  The older spelling ``poll(function=3, unit=1, address=0, count=<quantity>,
+        interval=1.0, polls=<number of polls>)`` still works (``count`` then keeps its older meaning,
+        the quantity) and warns with a :class:`PendingDeprecationWarning`.
         """
+        if older:
+            count, quantity = self._older_poll_spelling(count, quantity, older)
         interval = _check_seconds("interval", interval)
-        if isinstance(polls, bool) or not isinstance(polls, int) or polls < 0:
-            raise ConfigError(f"polls must be an integer >= 0, got {polls!r}")
+        if isinstance(count, bool) or not isinstance(count, int) or count < 0:
+            raise ConfigError(f"count (the number of polls) must be a whole number >= 0, got {count!r}")
+        if isinstance(quantity, bool) or not isinstance(quantity, int):
+            raise ConfigError(
+                f"quantity (registers or coils read by each poll) must be a whole number, got {quantity!r}"
+            )
+        if function not in _READS:
+            raise ConfigError(f"poll reads with function 1, 2, 3 or 4, got {function!r}")
+        if self._is_broadcast(unit):
+            raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
+        _READS[function](address=address, count=quantity)  # a bad address or quantity: raise it now
         clock = self.link.clock
         start = clock.now
         results: list = []
-        for i in range(polls):
+        for i in range(count):
             due = start + i * interval
             if due > clock.now:
                 clock.sleep(due - clock.now)
             began = clock.now
             try:
-                result: Any = self.read_once(function, unit, address, count)
+                result: Any = self.read_once(function, unit, address, quantity)
             except ModbusError as exc:
                 result = exc
             results.append((began, result) if with_time else result)
         return results
+
+    @staticmethod
+    def _older_poll_spelling(count: int, quantity: int, older: dict[str, Any]) -> tuple[Any, Any]:
+        """(count, quantity) from ``poll(..., count=<quantity>, polls=<number of polls>)``, the older form."""
+        unknown = sorted(set(older) - {"polls"})
+        if unknown:
+            raise ConfigError(
+                f"poll() has no setting {', '.join(unknown)}; its settings are {_POLL_SETTINGS}"
+            )
+        if count is not _DEFAULT_POLLS:  # the older form's count was the quantity
+            if quantity != 1:
+                raise ConfigError(
+                    "poll(): with the older polls= spelling, count is the quantity; give either "
+                    "count= and polls= (older) or quantity= and count= (the number of polls)"
+                )
+            quantity = count
+        warnings.warn(
+            "poll(count=<quantity>, polls=<number of polls>) is the older spelling: write "
+            "poll(interval, count=<number of polls>, quantity=<registers or coils per poll>)",
+            PendingDeprecationWarning,
+            stacklevel=3,
+        )
+        return older["polls"], quantity
 
     # -- the general path ----------------------------------------------------------------------------
     def execute(self, unit: int, request: Pdu, *, check: bool = True) -> Pdu | None:
@@ -313,11 +378,12 @@ class Master:
 
         Exception responses raise :class:`~modbus_edu.errors.ModbusExceptionError`, unless
         ``check=False`` (then the :class:`~modbus_edu.pdu.ExceptionResponse` is returned).  A broadcast
-        (unit 0) returns ``None``.  See the module's documentation for timeouts, retries and mismatches.
+        (unit 0 on a serial line) returns ``None``; on Modbus/TCP unit 0 is the device itself and is
+        answered.  See the module's documentation for timeouts, retries and mismatches.
         """
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
-        if unit == 0 and request.function_code in (1, 2, 3, 4):
+        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4):
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         error: ModbusError | None = None
         for attempt in range(self.retries + 1):
@@ -367,11 +433,12 @@ class Master:
                 frame = make_frame(mode, unit, request, 0).encode()
         sent = clock.now
         stats.requests += 1
+        broadcast = unit == 0 and mode != "tcp"  # Modbus/TCP has no broadcast: unit 0 is the device itself
         # source, dest, note, role (positional: this runs on every poll)
-        log.record(sent, "tx", mode, frame, "master", "broadcast" if unit == 0 else f"unit {unit}",
+        log.record(sent, "tx", mode, frame, "master", "broadcast" if broadcast else f"unit {unit}",
                    pdu_note(request), "request")
         link.send(frame)
-        if unit == 0:
+        if broadcast:
             stats.broadcasts += 1
             link.flush()
             if self.delay:

@@ -8,8 +8,8 @@ It never speaks first.  For each frame that reaches it, in this order (the order
    master will time out.  Counted in ``counters.checksum_errors`` / ``counters.bad_frames``.
 2. **Check the unit.**  A request for another unit is none of its business: silence
    (``counters.other_unit``).  On a serial bus every slave hears every frame, so this is normal.
-   Unit 0 is the **broadcast** address: every slave carries out the write, and none answers
-   (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
+   Unit 0 is the **broadcast** address of a serial line: every slave carries out the write, and none
+   answers (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
 3. **Carry out the request** on the bank and answer, or answer an **exception response** (the function
    code with its top bit set, and an exception code):
 
@@ -22,9 +22,14 @@ It never speaks first.  For each frame that reaches it, in this order (the order
    ==  =========================  ===============================================================
 
 Units: a ``Slave(unit=5)`` answers unit 5 only, in every mode.  ``Slave(unit=None)`` answers any unit
-(1..247 on a serial line, 1..255 on TCP): handy as the only device behind a Modbus/TCP server, where the
-unit identifier often does not matter (clients send 1, 0xFF, ...).  In this library unit 0 is broadcast
-in every mode, TCP included: acted on, never answered.
+(1..247 on a serial line, 1..255 on TCP).  :meth:`handle` applies the serial-line rule to unit 0
+(broadcast: acted on, never answered) whatever the mode, because a slave cannot know how it was reached.
+Modbus/TCP has no broadcast: the *Modbus Messaging on TCP/IP Implementation Guide* (V1.0b, section
+4.4.1.2, "Unit Identifier") says that a server reached directly by its IP address does not need the unit
+identifier, that clients should send 0xFF, and that 0 is accepted too, to talk to the device itself.
+The server that knows the device was reached that way says so by calling :meth:`handle_direct`: the
+slave answers whatever the unit id, and its response carries the request's unit id back
+(:class:`~modbus_edu.links.tcp.TcpServer` does it for units 0 and 0xFF when it serves a single slave).
 
 Hooks let a simulated device come alive: ``on_read(slave, table_kind, address, count)`` runs *before* a
 read (update the values there: a meter measures when asked), ``on_write(slave, table_kind, address,
@@ -75,7 +80,8 @@ _WRITE_FUNCTIONS = frozenset({5, 6, 15, 16})
 class SlaveCounters:
     """What a slave has seen (the diagnostic counters of a real device, simplified).
 
-    ``requests``         requests carried out or answered: for this unit, or broadcast
+    ``requests``         requests carried out or answered: for this unit, broadcast, or handed to
+                         :meth:`Slave.handle_direct` (a Modbus/TCP request for the device itself)
     ``responses``        responses sent, exception responses included
     ``exceptions``       exception responses sent
     ``checksum_errors``  frames dropped because the CRC / LRC did not match
@@ -134,7 +140,9 @@ class Slave:
 
     ``Slave(unit=1, bank=None)`` -- ``bank`` defaults to a dense ``DataBank()`` (every address exists
     and holds 0).  Keywords: ``processing_time`` (seconds before the answer starts, on links with a
-    clock), ``on_read`` / ``on_write`` hooks, ``name`` (for logs).
+    clock), ``on_read`` / ``on_write`` hooks, ``name`` (for logs).  A setting of the wrong kind (a bank
+    that is not a :class:`~modbus_edu.datamodel.DataBank`, a hook that cannot be called) raises
+    :class:`~modbus_edu.errors.ConfigError` at once, not a puzzling exception 04 at the first request.
 
     >>> from modbus_edu.framing import RtuFrame
     >>> from modbus_edu.pdu import ReadHoldingRegistersRequest
@@ -168,6 +176,18 @@ class Slave:
             ) from None
         if not processing_time >= 0:
             raise ConfigError(f"processing_time must be >= 0 s, got {processing_time!r}")
+        if bank is not None and not isinstance(bank, DataBank):
+            raise ConfigError(
+                f"bank must be a DataBank (the four tables a master reads and writes) or None for a new "
+                f"dense one, got {type(bank).__name__} {bank!r}"
+            )
+        for hook_name, hook in (("on_read", on_read), ("on_write", on_write)):
+            if hook is not None and not callable(hook):
+                raise ConfigError(
+                    f"{hook_name} must be a function (or None), got {type(hook).__name__} {hook!r}"
+                )
+        if name is not None and not isinstance(name, str):
+            raise ConfigError(f"name must be a text (or None), got {type(name).__name__} {name!r}")
         self.unit = unit
         self.bank = bank if bank is not None else DataBank()
         self.processing_time = processing_time
@@ -184,6 +204,7 @@ class Slave:
         passes the frame through :meth:`hear` (on a multidrop bus a slave also hears the other slaves)."""
         self.last_error: BaseException | None = None
         """The exception a hook raised last (the cause of an exception 04), for debugging."""
+        self._direct = False  # True while handle_direct() runs: the unit id does not choose this slave
 
     def __repr__(self) -> str:
         unit = "any" if self.unit is None else self.unit
@@ -225,6 +246,25 @@ class Slave:
         finally:
             self.sender = previous
 
+    def handle_direct(self, frame: bytes) -> bytes | None:
+        """:meth:`handle` a Modbus/TCP frame sent to this device itself: the unit id does not choose.
+
+        On TCP the IP address chooses the device.  The *Modbus Messaging on TCP/IP Implementation
+        Guide* (V1.0b, section 4.4.1.2) recommends unit id 0xFF for a device reached that way and accepts
+        0 as well; there is no broadcast on TCP.  A server that knows the request reached this device
+        directly (:class:`~modbus_edu.links.tcp.TcpServer` serving one slave, for units 0 and 0xFF) calls
+        this instead of :meth:`handle`: the slave carries out the request and answers, whatever the unit
+        id, and the response echoes the request's unit id (as every Modbus/TCP response does).  The
+        frame goes through :meth:`handle`, so a device that overrides it (a receive buffer, say) keeps
+        its behaviour.
+        """
+        previous = self._direct
+        self._direct = True
+        try:
+            return self.handle(frame, "tcp")
+        finally:
+            self._direct = previous
+
     def handle(self, frame: bytes, mode: str = "rtu") -> bytes | None:
         """Process one received frame; return the bytes of the answer, or ``None`` for no answer.
 
@@ -252,6 +292,7 @@ class Slave:
     def _handle(self, data: bytes, mode: str) -> tuple[bytes | None, Pdu | None, str]:
         """(answer bytes, response PDU, note for the log) for one received frame."""
         counters = self.counters
+        direct = self._direct and mode == "tcp"  # handle_direct(): reached by IP, the unit id does not count
         try:
             decoded = decode_frame(data, mode, "request") if mode == "tcp" else _decode_request(data, mode)
         except ChecksumError as exc:
@@ -263,11 +304,11 @@ class Slave:
         except PduError as exc:
             # The envelope was good (framing checks it before the PDU): unit and function are known.
             unit, function = _peek_unit_function(data, mode)
-            if unit == 0:
+            if unit == 0 and not direct:
                 counters.broadcasts += 1
                 counters.requests += 1
                 return None, None, f"broadcast not carried out: {exc}"
-            if not self.accepts(unit):
+            if not direct and not self.accepts(unit):
                 counters.other_unit += 1
                 return None, None, f"for unit {unit}: ignored"
             if function == 0 or function >= 0x80:
@@ -284,6 +325,11 @@ class Slave:
             response = ExceptionResponse(function, int(code))
             return self._answer(mode, unit, response, data), response, f"refused: {exc}"
         unit = decoded.unit
+        if direct:
+            counters.requests += 1
+            response = self.process(decoded.pdu)
+            note = "" if self.accepts(unit) else f"unit {unit} on Modbus/TCP: this device itself"
+            return self._answer(mode, unit, response, data), response, note
         if unit == 0:
             counters.broadcasts += 1
             counters.requests += 1

@@ -124,13 +124,35 @@ def test_broadcast_returns_without_an_answer():
         master.read_coils(unit=0, address=0, count=1)
 
 
-def test_broadcast_over_tcp_and_ascii():
-    for link in (loopback_tcp([Slave(unit=1), Slave(unit=2)], latency=0.01),
-                 loopback_serial([Slave(unit=1), Slave(unit=2)], mode="ascii")):
-        master = Master(link)
+def test_broadcast_over_ascii():
+    link = loopback_serial([Slave(unit=1), Slave(unit=2)], mode="ascii")
+    master = Master(link)
+    master.write_single_register(unit=0, address=1, value=9)
+    assert [s.bank.holding_registers[1] for s in link.slaves] == [9, 9]
+    assert master.stats.broadcasts == 1
+
+
+def test_unit_0_on_tcp_is_not_a_broadcast_the_master_waits_for_the_answer():
+    # Modbus/TCP has no broadcast (implementation guide 4.4.1.2): unit 0 is the device itself
+    link = ScriptedLink([[]], mode="tcp")  # a server that does not answer
+    master = Master(link, timeout=0.5)
+    with pytest.raises(ModbusTimeoutError):
         master.write_single_register(unit=0, address=1, value=9)
-        assert [s.bank.holding_registers[1] for s in link.slaves] == [9, 9]
-        assert master.stats.broadcasts == 1
+    assert link.clock.now == pytest.approx(0.5)
+    assert master.stats.broadcasts == 0 and master.stats.timeouts == 1
+    assert master.log[0].dest == "unit 0"
+
+
+def test_unit_0_on_tcp_may_be_read_and_written():
+    tid_1 = TcpFrame(1, 0, WriteSingleRegisterResponse(address=1, value=9)).encode()
+    tid_2 = TcpFrame(2, 0, ReadHoldingRegistersResponse(registers=(9,))).encode()
+    link = ScriptedLink([[tid_1], [tid_2]], mode="tcp")
+    master = Master(link)
+    assert master.write_single_register(unit=0, address=1, value=9) is None
+    assert master.read_holding_registers(unit=0, address=1, count=1) == [9]
+    assert [frame[6] for frame in link.sent] == [0, 0]
+    assert master.stats.valid_responses == 2 and master.stats.broadcasts == 0
+    assert master.poll(0, 0, unit=0) == []  # no ConfigError: a read of unit 0 is fine on TCP
 
 
 def test_bad_unit_and_bad_arguments():
@@ -316,17 +338,65 @@ def test_poll_ten_minutes_instantly_with_errors_in_the_results():
     link = loopback_serial(slave)
     master = Master(link, timeout=0.5)
     link.faults.silence(1, requests=2)
-    results = master.poll(function=3, unit=1, address=0, count=1, interval=1.0, polls=600)
+    results = master.poll(interval=1.0, count=600, function=3, unit=1, address=0, quantity=1)
     assert len(results) == 600
     assert all(isinstance(r, ModbusTimeoutError) for r in results[:2])
     assert results[2:5] == [[0], [1], [2]]
     assert link.clock.now == pytest.approx(599 + 22 * 10 / 9600)
     assert master.stats.valid_responses == 598 and master.stats.timeouts == 2
     assert master.stats.success_rate == pytest.approx(598 / 600)
-    timed = master.poll(interval=0.01, polls=3, with_time=True)  # shorter than a transaction: back to back
+    timed = master.poll(0.01, 3, with_time=True)  # shorter than a transaction: back to back
     assert [round(t - timed[0][0], 6) for t, _ in timed] == [0, pytest.approx(0.022917, abs=1e-6),
                                                            pytest.approx(0.045833, abs=1e-6)]
     assert master.read_once(3, 1, 0, 1) == [601]
+
+
+def test_poll_count_is_the_number_of_polls_and_quantity_the_registers():
+    slave = Slave(unit=2)
+    slave.bank.input_registers.write(4, [40, 41, 42])
+    slave.bank.coils.write(0, [True, False, True])
+    master = Master(loopback_serial(slave))
+    assert master.poll(0.5, 2, function=4, unit=2, address=4, quantity=3) == [[40, 41, 42]] * 2
+    assert master.poll(count=1, function=1, unit=2, quantity=3) == [[True, False, True]]
+    defaults = master.poll()  # 10 polls, 1 s apart, of holding register 0 of unit 1: nobody here
+    assert len(defaults) == 10 and all(isinstance(r, ModbusTimeoutError) for r in defaults)
+
+
+def test_poll_older_spelling_still_works_and_warns():
+    slave = Slave(unit=1)
+    slave.bank.holding_registers.write(0, [7, 8])
+    master = Master(loopback_serial(slave))
+    with pytest.warns(PendingDeprecationWarning, match="older spelling"):
+        older = master.poll(function=3, unit=1, address=0, count=2, interval=1.0, polls=3)
+    assert older == [[7, 8]] * 3
+    with pytest.warns(PendingDeprecationWarning):
+        assert master.poll(interval=0.1, polls=2) == [[7]] * 2  # count left out: one register
+    with pytest.raises(ConfigError, match="either"):
+        master.poll(count=2, quantity=2, polls=3)
+    with pytest.raises(ConfigError, match="no setting registers"):
+        master.poll(registers=2)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, message",
+    [
+        ({"count": -1}, ConfigError, "count"),
+        ({"count": 2.5}, ConfigError, "count"),
+        ({"count": True}, ConfigError, "count"),
+        ({"interval": "x"}, ConfigError, "interval"),
+        ({"interval": -1}, ConfigError, "interval"),
+        ({"quantity": "2"}, ConfigError, "quantity"),
+        ({"quantity": 0}, QuantityError, None),
+        ({"quantity": 126}, QuantityError, None),
+        ({"function": 6}, ConfigError, "function 1, 2, 3 or 4"),
+        ({"unit": 0}, ConfigError, "broadcast"),  # on a serial line
+    ],
+)
+def test_poll_bad_settings_raise_before_the_first_poll(kwargs, error, message):
+    master = Master(loopback_serial(Slave(unit=1)))
+    with pytest.raises(error, match=message):
+        master.poll(**kwargs)
+    assert master.stats.requests == 0
 
 
 def test_stats_reset_summary_and_repr():

@@ -305,6 +305,76 @@ def test_bad_unit_argument():
         Slave(processing_time=-1)
 
 
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"bank": 5}, "bank must be a DataBank"),
+        ({"bank": {"40001": 5}}, "bank must be a DataBank"),
+        ({"processing_time": "slow"}, "processing_time must be a number"),
+        ({"on_read": "measure"}, "on_read must be a function"),
+        ({"on_write": 3}, "on_write must be a function"),
+        ({"name": 7}, "name must be a text"),
+    ],
+)
+def test_bad_settings_are_config_errors_not_a_later_exception_04(kwargs, message):
+    # Slave(bank=5) used to be accepted, and then every request was answered with exception 04
+    with pytest.raises(ConfigError, match=message):
+        Slave(**kwargs)
+
+
+# --- Modbus/TCP: the device itself (handle_direct) -------------------------------------------------------
+def tcp(tid: int, unit: int, pdu) -> bytes:
+    return TcpFrame(transaction_id=tid, unit=unit, pdu=pdu).encode()
+
+
+@pytest.mark.parametrize("unit", [0, 0xFF, 17, 99])
+def test_handle_direct_answers_whatever_the_unit_and_echoes_it(slave, unit):
+    write = slave.handle_direct(tcp(5, unit, WriteSingleRegisterRequest(address=3, value=333)))
+    frame = TcpFrame.decode(write, "response")
+    assert (frame.transaction_id, frame.unit) == (5, unit)
+    assert frame.pdu == WriteSingleRegisterResponse(address=3, value=333)
+    read = TcpFrame.decode(slave.handle_direct(tcp(6, unit, ReadHoldingRegistersRequest(3, 1))), "response")
+    assert (read.transaction_id, read.unit, read.pdu.registers) == (6, unit, (333,))
+    assert slave.counters.requests == slave.counters.responses == 2
+    assert slave.counters.broadcasts == slave.counters.other_unit == 0
+    note = slave.log[-2].note
+    assert ("this device itself" in note) == (unit != 17)
+
+
+def test_handle_direct_answers_exceptions_too(slave):
+    # quantity 0: illegal data value; an unknown function: illegal function - both echo unit 0
+    bad = slave.handle_direct(bytes.fromhex("00 01 00 00 00 06 00 03 00 00 00 00"))
+    assert TcpFrame.decode(bad, "response").pdu == ExceptionResponse(3, 3)
+    assert bad[6] == 0
+    unknown = slave.handle_direct(bytes.fromhex("00 02 00 00 00 04 FF 2B 0E 01"))
+    assert TcpFrame.decode(unknown, "response").pdu == ExceptionResponse(0x2B, 1)
+    assert slave.counters.exceptions == 2 and slave.counters.broadcasts == 0
+
+
+def test_handle_keeps_unit_0_a_broadcast_and_handle_direct_does_not_leak(slave):
+    # handle() cannot know how the frame came: unit 0 stays the serial-line broadcast in every mode;
+    # only a server that knows the device was reached by its IP address calls handle_direct()
+    write = tcp(1, 0, WriteSingleRegisterRequest(address=1, value=11))
+    assert slave.handle(write, "tcp") is None
+    assert slave.counters.broadcasts == 1
+    assert slave.handle_direct(write) is not None
+    assert slave.handle(tcp(2, 0xFF, ReadHoldingRegistersRequest(0, 1)), "tcp") is None  # not unit 17
+    assert slave.counters.other_unit == 1
+
+
+def test_handle_direct_goes_through_an_overridden_handle():
+    seen = []
+
+    class Buffered(Slave):
+        def handle(self, frame, mode="rtu"):
+            seen.append(mode)
+            return super().handle(frame, mode)
+
+    device = Buffered(unit=4)
+    assert device.handle_direct(tcp(1, 0, ReadHoldingRegistersRequest(0, 1))) is not None
+    assert seen == ["tcp"]
+
+
 def test_dispatch_multidrop_only_the_addressed_slave_answers():
     slaves = [Slave(unit=u) for u in (1, 2, 3)]
     slaves[1].bank.holding_registers[0] = 42

@@ -12,7 +12,7 @@ from pymodbus.client import ModbusTcpClient
 from pymodbus.pdu import ExceptionResponse as PymodbusException
 
 from modbus_edu.datamodel import DataBank
-from modbus_edu.errors import LinkError, ModbusExceptionError
+from modbus_edu.errors import ConfigError, LinkError, ModbusExceptionError
 from modbus_edu.links.tcp import TcpServer, tcp_link
 from modbus_edu.master import Master
 from modbus_edu.slave import Slave
@@ -98,6 +98,17 @@ def test_pymodbus_client_gets_gateway_exception_for_unknown_unit(served):
     assert slave.counters.requests == 0
 
 
+@pytest.mark.parametrize("unit", [0, 0xFF])
+def test_pymodbus_client_reaches_the_device_itself_with_unit_0_or_FF(served, unit):
+    # implementation guide 4.4.1.2: a device reached by its IP address answers 0xFF (recommended) and 0
+    slave, server, client = served
+    r = client.read_input_registers(0, count=2, device_id=unit)
+    assert not r.isError() and r.registers == [1000, 1001]
+    assert not client.write_register(7, 77, device_id=unit).isError()
+    assert slave.bank.holding_registers[7] == 77
+    assert server.counters.unknown_unit == 0 and slave.counters.broadcasts == 0
+
+
 def test_several_units_behind_one_server():
     a, b = Slave(unit=1), Slave(unit=2)
     a.bank.holding_registers[0] = 111
@@ -108,8 +119,13 @@ def test_several_units_behind_one_server():
         try:
             assert client.read_holding_registers(0, count=1, device_id=1).registers == [111]
             assert client.read_holding_registers(0, count=1, device_id=2).registers == [222]
+            # a gateway: units 0 and 0xFF reach no slave of its own (no broadcast on TCP)
+            for unit in (0, 0xFF):
+                r = client.read_holding_registers(0, count=1, device_id=unit)
+                assert isinstance(r, PymodbusException) and r.exception_code == 0x0B
         finally:
             client.close()
+    assert server.counters.unknown_unit == 2
 
 
 def test_any_unit_slave_answers_every_unit():
@@ -192,6 +208,25 @@ def test_tcp_link_refused_connection_teaches():
     # the server is closed now: nothing listens on that port any more
     with pytest.raises(LinkError, match=r"connection refused - is a Modbus/TCP server listening there"):
         tcp_link(HOST, port, timeout=1.0)
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, message",
+    [
+        ((5, 502), {}, "host to connect to must be a host name or an IP address written as text"),
+        ((None, 502), {}, "host to connect to"),  # used to try localhost: "connection refused"
+        (("", 502), {}, "host to connect to"),
+        ((HOST, "502"), {}, "TCP port"),
+        ((HOST, 0), {}, "TCP port"),
+        ((HOST, True), {}, "TCP port"),
+        ((HOST, 502), {"timeout": "x"}, "connect timeout must be a positive number of seconds"),
+        ((HOST, 502), {"timeout": 0}, "connect timeout"),
+        ((HOST, 502), {"timeout": None}, "connect timeout"),
+    ],
+)
+def test_tcp_link_bad_settings_are_config_errors(args, kwargs, message):
+    with pytest.raises(ConfigError, match=message):
+        tcp_link(*args, **kwargs)
 
 
 def test_tcp_link_reports_server_closing_then_reconnects():

@@ -9,9 +9,10 @@ import threading
 import pytest
 from conftest_io import HOST, raw_client, recv_frame
 
-from modbus_edu.errors import ConfigError, LinkError
+from modbus_edu.errors import ConfigError, LinkError, ModbusExceptionError
 from modbus_edu.framing import TcpFrame
-from modbus_edu.links.tcp import TcpServer, is_loopback_host, normalize_slaves
+from modbus_edu.links.tcp import TcpServer, is_loopback_host, normalize_slaves, route_unit, tcp_link
+from modbus_edu.master import Master
 from modbus_edu.pdu import (
     ExceptionResponse,
     ReadHoldingRegistersRequest,
@@ -110,13 +111,38 @@ def test_port_already_in_use_is_a_teaching_link_error():
     [
         ({"port": -1}, "TCP port"),
         ({"port": 70000}, "TCP port"),
+        ({"port": "502"}, "TCP port"),
+        ({"port": 502.0}, "TCP port"),
+        ({"port": True}, "TCP port"),
+        ({"port": None}, "TCP port"),
+        ({"host": 5}, "host to listen on must be a host name or an IP address written as text"),
+        ({"host": None}, "host to listen on"),
+        ({"host": ""}, "host to listen on"),
+        ({"host": ("127.0.0.1", 502)}, "host to listen on"),
         ({"idle_timeout": 0}, "idle_timeout"),
+        ({"idle_timeout": -1.5}, "idle_timeout"),
+        ({"idle_timeout": "x"}, "idle_timeout must be a positive number of seconds"),
+        ({"idle_timeout": float("nan")}, "idle_timeout"),
+        ({"idle_timeout": True}, "idle_timeout"),
         ({"max_connections": 0}, "max_connections"),
+        ({"max_connections": 2.5}, "max_connections"),
+        ({"max_connections": "8"}, "max_connections"),
+        ({"max_connections": None}, "max_connections"),
+        ({"logger": "modbus"}, "logger"),
     ],
 )
 def test_bad_settings_are_config_errors(kwargs, message):
+    # never an AttributeError (host=5 used to fail in .lower()) or a TypeError ("x" <= 0)
+    slave = Slave()
     with pytest.raises(ConfigError, match=message):
-        TcpServer(Slave(), **kwargs)
+        TcpServer(slave, **kwargs)
+    assert slave.clock is None  # a refused server leaves its slaves untouched
+
+
+def test_good_settings_are_kept():
+    server = TcpServer(Slave(), host="localhost", port=0, idle_timeout=2, max_connections=1)
+    assert (server.host, server.idle_timeout, server.max_connections) == ("localhost", 2.0, 1)
+    assert TcpServer(Slave(), idle_timeout=None).idle_timeout is None
 
 
 # --- which slaves ----------------------------------------------------------------------------------------
@@ -161,16 +187,92 @@ def test_requests_are_routed_by_unit_and_unknown_units_get_exception_0B():
     assert a.counters.requests == 1 and b.counters.requests == 1
 
 
-def test_broadcast_unit_0_is_carried_out_by_every_slave_and_not_answered():
+# --- the unit id on Modbus/TCP (implementation guide, section 4.4.1.2) ----------------------------------
+def test_route_unit_one_slave_is_the_device_itself():
+    one = normalize_slaves(Slave(unit=1))
+    assert route_unit(one, 0) == (one[1], True)
+    assert route_unit(one, 0xFF) == (one[1], True)
+    assert route_unit(one, 1) == (one[1], False)
+    assert route_unit(one, 2) == (None, False)
+    anyone = normalize_slaves(Slave(unit=None))
+    assert route_unit(anyone, 0) == (anyone[None], True) and route_unit(anyone, 9) == (anyone[None], False)
+
+
+def test_route_unit_several_slaves_is_a_gateway():
+    a, b = Slave(unit=1), Slave(unit=2)
+    gateway = normalize_slaves([a, b])
+    assert route_unit(gateway, 2) == (b, False)
+    assert route_unit(gateway, 0) == (None, False)  # no broadcast on TCP, and no single device
+    assert route_unit(gateway, 0xFF) == (None, False)  # 0xFF is no serial slave's address
+    assert route_unit(gateway, 3) == (None, False)
+    anyone = Slave(unit=None)
+    with_any = normalize_slaves([a, anyone])
+    assert route_unit(with_any, 0xFF) == (anyone, False) and route_unit(with_any, 0) == (None, False)
+    owner = Slave(unit=255)
+    assert route_unit(normalize_slaves([a, owner]), 0xFF) == (owner, False)
+
+
+@pytest.mark.parametrize("unit", [0, 0xFF])
+def test_one_slave_answers_units_0_and_FF_as_the_device_itself(unit):
+    slave = Slave(unit=1)
+    slave.bank.holding_registers[0] = 1234
+    with TcpServer(slave) as server, raw_client(server.address[1]) as sock:
+        # a write to unit 0 is not a broadcast on TCP: carried out and answered
+        write = WriteSingleRegisterRequest(address=5, value=55)
+        sock.sendall(TcpFrame(transaction_id=1, unit=unit, pdu=write).encode())
+        frame = response(recv_frame(sock))
+        assert (frame.transaction_id, frame.unit) == (1, unit)  # the request's unit id, echoed
+        assert frame.pdu.value == 55
+        sock.sendall(request(2, unit, address=0))
+        frame = response(recv_frame(sock))
+        assert (frame.transaction_id, frame.unit, frame.pdu.registers) == (2, unit, (1234,))
+        sock.sendall(request(3, 7))  # any other unit still finds nobody
+        assert response(recv_frame(sock)).pdu == ExceptionResponse(function=3, code=0x0B)
+    assert slave.bank.holding_registers[5] == 55
+    assert slave.counters.requests == slave.counters.responses == 2
+    assert slave.counters.broadcasts == 0
+    assert server.counters.requests == server.counters.responses == 3
+    assert server.counters.unknown_unit == 1
+
+
+def test_one_any_unit_slave_answers_0_and_FF_too():
+    slave = Slave(unit=None)
+    with TcpServer(slave) as server, raw_client(server.address[1]) as sock:
+        for tid, unit in enumerate((0, 0xFF, 1, 200)):
+            sock.sendall(request(tid, unit))
+            frame = response(recv_frame(sock))
+            assert (frame.transaction_id, frame.unit, frame.pdu.registers) == (tid, unit, (0,))
+    assert server.counters.unknown_unit == 0
+
+
+@pytest.mark.parametrize("unit", [0, 0xFF])
+def test_several_slaves_refuse_units_0_and_FF_with_exception_0B(unit):
     a, b = Slave(unit=1), Slave(unit=2)
     with TcpServer([a, b]) as server, raw_client(server.address[1]) as sock:
         write = WriteSingleRegisterRequest(address=5, value=55)
-        sock.sendall(TcpFrame(transaction_id=1, unit=0, pdu=write).encode())
-        sock.sendall(request(2, 1, address=5))
-        frame = response(recv_frame(sock))  # the first answer is the read's: the broadcast got none
-        assert frame.transaction_id == 2 and frame.pdu.registers == (55,)
-    assert b.bank.holding_registers[5] == 55
-    assert server.counters.requests == 2 and server.counters.responses == 1
+        sock.sendall(TcpFrame(transaction_id=4, unit=unit, pdu=write).encode())
+        frame = response(recv_frame(sock))
+        assert (frame.transaction_id, frame.unit) == (4, unit)
+        assert frame.pdu == ExceptionResponse(function=6, code=0x0B)
+    assert a.bank.holding_registers[5] == b.bank.holding_registers[5] == 0  # nobody acted on it
+    assert a.counters.requests == b.counters.requests == a.counters.broadcasts == 0
+    assert server.counters.unknown_unit == 1
+
+
+def test_master_on_tcp_waits_for_the_answer_to_unit_0():
+    slave = Slave(unit=1)
+    with TcpServer(slave) as server, tcp_link(*server.address) as link:
+        master = Master(link, timeout=2.0)
+        assert master.write_single_register(unit=0, address=2, value=22) is None
+        assert master.read_holding_registers(unit=0, address=2, count=1) == [22]
+        assert master.read_holding_registers(unit=0xFF, address=2, count=1) == [22]
+        assert master.stats.valid_responses == 3 and master.stats.broadcasts == 0
+        assert master.log[0].dest == "unit 0"
+    with TcpServer([Slave(unit=1), Slave(unit=2)]) as gateway, tcp_link(*gateway.address) as link:
+        master = Master(link, timeout=2.0)
+        with pytest.raises(ModbusExceptionError) as info:
+            master.write_single_register(unit=0, address=2, value=22)
+        assert info.value.code == 0x0B and master.stats.broadcasts == 0
 
 
 # --- the byte stream --------------------------------------------------------------------------------------

@@ -10,8 +10,19 @@ arrive split over several reads, or two requests in one read. The length field i
 frame ends - there is no CRC and no silence to go by.
 
 :class:`TcpServer` serves one or several :class:`~modbus_edu.slave.Slave` objects (selected by the unit
-id of each request) from a background thread; :func:`tcp_link` opens a :class:`~modbus_edu.links.base.Link`
-to any Modbus/TCP server, for a :class:`~modbus_edu.master.Master` to drive.
+id of each request, see :func:`route_unit`) from a background thread; :func:`tcp_link` opens a
+:class:`~modbus_edu.links.base.Link` to any Modbus/TCP server, for a :class:`~modbus_edu.master.Master`
+to drive.
+
+The unit identifier on TCP: the IP address already chose the device, so a device reached directly does
+not need the unit id. The *Modbus Messaging on TCP/IP Implementation Guide* (V1.0b, section 4.4.1.2,
+page 23) says: "On TCP/IP, the MODBUS server is addressed using its IP address; therefore, the MODBUS
+Unit Identifier is useless. The value 0xFF has to be used", and "the value 0 is also accepted to
+communicate directly to a MODBUS/TCP device". There is **no broadcast on TCP**: unit 0 is a broadcast on
+a serial line only. The unit id matters to a *gateway*, which forwards the request to the serial slave
+with that address - and 0xFF is recommended because no serial slave has it (248..255 are reserved), so a
+gateway that takes the place of a device at the same IP address refuses the request instead of writing
+to whichever serial slave happens to have the number.
 
 Modbus/TCP has no authentication and no encryption: anybody who can reach the port can read and write
 every register. That is why the server binds to the loopback address 127.0.0.1 unless told otherwise,
@@ -50,6 +61,7 @@ __all__ = [
     "tcp_link",
     "TcpLink",
     "normalize_slaves",
+    "route_unit",
     "is_loopback_host",
 ]
 
@@ -63,6 +75,9 @@ MAX_MBAP_LENGTH = 254
 GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
 #: Exception code for "an unrecoverable error occurred while the server was performing the action".
 SERVER_DEVICE_FAILURE = 0x04
+#: The unit ids that mean "the device itself" on Modbus/TCP (implementation guide, section 4.4.1.2):
+#: 0xFF is the recommended one, 0 is accepted too.
+DIRECT_UNITS = (0x00, 0xFF)
 
 _MBAP = struct.Struct(">HHHB")
 _RECV_SIZE = 65536
@@ -111,6 +126,44 @@ def normalize_slaves(slaves: Any) -> dict[int | None, Slave]:
     return result
 
 
+def route_unit(slaves: Mapping[int | None, Slave], unit: int) -> tuple[Slave | None, bool]:
+    """Which slave answers a Modbus/TCP request for ``unit``: ``(slave, direct)``, or ``(None, False)``.
+
+    ``slaves`` is what :func:`normalize_slaves` returns.  The rules, after the *Modbus Messaging on
+    TCP/IP Implementation Guide* (V1.0b, section 4.4.1.2):
+
+    * **one slave** - the server *is* the device, reached by its IP address: units **0** and **0xFF**
+      mean "you" and reach it whatever its own unit (``direct`` is True: the server calls
+      :meth:`~modbus_edu.slave.Slave.handle_direct`, and the response echoes the request's unit id).
+      Its own unit reaches it too; any other unit finds nobody.
+    * **several slaves** - the server is a *gateway* and routes by unit id: the slave with that unit,
+      else a ``Slave(unit=None)`` if there is one (it answers any unit 1..255, 0xFF included), else
+      nobody.  Unit **0** finds nobody: it would be a broadcast on the serial line behind a gateway,
+      and TCP has no broadcast (the client waits for an answer).  Unit 0xFF finds nobody unless a slave
+      owns it: the guide chose 0xFF because no serial slave has that address.
+
+    "Nobody" is answered with exception 0x0B by :class:`TcpServer`.
+
+    >>> from modbus_edu.slave import Slave
+    >>> one = normalize_slaves(Slave(unit=1))
+    >>> [route_unit(one, unit)[1] for unit in (0, 1, 0xFF)]
+    [True, False, True]
+    >>> route_unit(one, 5)
+    (None, False)
+    >>> gateway = normalize_slaves([Slave(unit=1), Slave(unit=2)])
+    >>> route_unit(gateway, 2)[0].unit, route_unit(gateway, 0), route_unit(gateway, 0xFF)
+    (2, (None, False), (None, False))
+    """
+    if len(slaves) == 1 and unit in DIRECT_UNITS:
+        return next(iter(slaves.values())), True
+    if unit == 0:
+        return None, False
+    slave = slaves.get(unit)
+    if slave is None:
+        slave = slaves.get(None)
+    return slave, False
+
+
 def _unit_of(slave: Any) -> int | None:
     if not hasattr(slave, "handle") or not hasattr(slave, "unit"):
         raise ConfigError(
@@ -147,7 +200,8 @@ class TcpServerCounters:
     ``connections``  clients accepted;  ``refused``  clients closed at once because ``max_connections``
     were already open;  ``requests``  complete frames received;  ``responses``  frames sent back;
     ``bad_frames``  connections closed because their bytes were not Modbus/TCP (bad MBAP);
-    ``unknown_unit``  requests for a unit this server does not serve (answered with exception 0x0B);
+    ``unknown_unit``  requests for a unit no slave here answers (see :func:`route_unit`; unit 0 on a
+    server with several slaves), answered with exception 0x0B;
     ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence.
     """
 
@@ -181,15 +235,26 @@ class TcpServer:
     """A Modbus/TCP server for the course's slaves, running in a background thread.
 
     ``slaves`` is one :class:`~modbus_edu.slave.Slave`, a list of them, or a dict unit -> Slave. Each
-    request goes to the slave whose unit id is in its MBAP header; that slave's ``handle(frame, "tcp")``
-    does all the protocol work (decoding, the data bank, exception responses), so the server only cuts
-    the byte stream into frames and routes them.
+    request goes to the slave chosen by the unit id in its MBAP header (:func:`route_unit`); that slave's
+    ``handle(frame, "tcp")`` does all the protocol work (decoding, the data bank, exception responses),
+    so the server only cuts the byte stream into frames and routes them. Every response carries the
+    request's transaction id and unit id.
 
-    A request for a unit id that no slave has is answered with exception code **0x0B, gateway target
-    device failed to respond** - what a Modbus/TCP-to-serial gateway answers when nobody on its serial
-    line replies. (A lone device might answer 0x0B or nothing at all; 0x0B tells the client at once
-    instead of letting it time out.) Unit 0 is the broadcast address: every slave acts on the request
-    and none answers.
+    Unit ids, after the *Modbus Messaging on TCP/IP Implementation Guide* (V1.0b, section 4.4.1.2):
+
+    * serving **one slave**, the server is the device, reached by its IP address: unit **0xFF** (the
+      guide's recommended value) and unit **0** (also accepted, "to communicate directly to a MODBUS/TCP
+      device") reach it, as does its own unit. Unit 0 is *not* a broadcast: Modbus/TCP has none, so the
+      device answers.
+    * serving **several slaves**, the server behaves like a Modbus/TCP-to-serial gateway and routes by
+      unit id. Unit 0 is refused (on the serial line behind a real gateway it would be a broadcast,
+      which nobody answers - but a TCP client waits for an answer); so is 0xFF, unless a slave owns it.
+
+    A request that finds no slave is answered with exception code **0x0B, gateway target device failed
+    to respond** - what a gateway answers when nobody on its serial line replies - and counted in
+    ``counters.unknown_unit``. (A lone device might answer 0x0B or nothing at all; 0x0B tells the client
+    at once instead of letting it time out.) Broadcasts (unit 0) remain a serial-line matter:
+    :class:`~modbus_edu.links.serial.SerialServer` and the virtual serial line carry them out.
 
     Defences, because a TCP port is open to whatever connects to it:
 
@@ -214,6 +279,9 @@ class TcpServer:
 
     ``lock`` is held while a slave handles a request: hold it too (``with server.lock:``) to change
     several registers of a served bank at once without a client seeing half of the change.
+
+    Settings of the wrong kind (``host=5``, ``port="502"``, ``idle_timeout="x"``, ...) raise
+    :class:`~modbus_edu.errors.ConfigError` at once, saying what was expected.
     """
 
     def __init__(
@@ -227,21 +295,26 @@ class TcpServer:
         logger: logging.Logger | None = None,
     ) -> None:
         self.slaves = normalize_slaves(slaves)
-        self._any_unit = self.slaves.get(None)
+        _check_host(host, "listen on", "\"127.0.0.1\" (this computer only) or \"0.0.0.0\" (every interface)")
+        if not _is_int(port) or not 0 <= port <= 65535:
+            raise ConfigError(
+                f"TCP port must be an integer 0..65535 (0: let the system choose), got {port!r}"
+            )
+        if idle_timeout is not None:
+            idle_timeout = _positive_seconds(
+                "idle_timeout", idle_timeout, "or None to keep silent clients connected forever"
+            )
+        if not _is_int(max_connections) or max_connections < 1:
+            raise ConfigError(
+                "max_connections must be a whole number >= 1 (the clients served at once), "
+                f"got {max_connections!r}"
+            )
+        if logger is not None and not isinstance(logger, (logging.Logger, logging.LoggerAdapter)):
+            raise ConfigError(f"logger must be a logging.Logger or None, got {type(logger).__name__}")
         clock = RealClock()
         for slave in self.slaves.values():
             if getattr(slave, "clock", None) is None:
                 slave.clock = clock  # time stamps for the slave's traffic log
-        if not isinstance(port, int) or not 0 <= port <= 65535:
-            raise ConfigError(
-                f"TCP port must be an integer 0..65535 (0: let the system choose), got {port!r}"
-            )
-        if idle_timeout is not None and idle_timeout <= 0:
-            raise ConfigError(
-                f"idle_timeout must be a positive number of seconds or None, got {idle_timeout!r}"
-            )
-        if not isinstance(max_connections, int) or max_connections < 1:
-            raise ConfigError(f"max_connections must be a positive integer, got {max_connections!r}")
         self.host = host
         self.port = port
         self.idle_timeout = idle_timeout
@@ -567,21 +640,17 @@ class TcpServer:
     def _dispatch(self, frame: bytes, unit: int, tid: int) -> bytes | None:
         """Hand one complete frame to the slave it is for; return the bytes to send back (or None)."""
         self.counters.requests += 1
-        slave = self.slaves.get(unit)
-        if slave is None:
-            slave = self._any_unit
+        slave, direct = route_unit(self.slaves, unit)
         try:
-            if slave is not None and unit != 0:
-                with self.lock:
-                    reply = slave.handle(frame, "tcp")
-            elif unit == 0:  # broadcast: everyone acts, nobody answers
-                with self.lock:
-                    for each in self.slaves.values():
-                        each.handle(frame, "tcp")
-                reply = None
-            else:
+            if slave is None:  # nobody at that unit (or unit 0 at a gateway): tell the client at once
                 self.counters.unknown_unit += 1
                 reply = self._exception(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
+            elif direct and hasattr(slave, "handle_direct"):  # unit 0 / 0xFF: the device itself
+                with self.lock:
+                    reply = slave.handle_direct(frame)
+            else:
+                with self.lock:
+                    reply = slave.handle(frame, "tcp")
         except Exception:
             # A slave turns every protocol problem into an exception response itself; getting here
             # means a bug or a failing callback (on_read/on_write). Tell the client: device failure.
@@ -614,6 +683,32 @@ class TcpServer:
         return True
 
 
+def _is_int(value: Any) -> bool:
+    """True for a whole number (``True`` and ``False`` are not port numbers)."""
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _check_host(host: Any, what: str, example: str) -> None:
+    """A host must be a non-empty text: a name or an IP address."""
+    if not isinstance(host, str) or not host.strip():
+        shown = f"{type(host).__name__} {host!r}" if not isinstance(host, str) else repr(host)
+        raise ConfigError(
+            f"the host to {what} must be a host name or an IP address written as text, such as {example}; "
+            f"got {shown}"
+        )
+
+
+def _positive_seconds(name: str, value: Any, hint: str) -> float:
+    """``value`` as a number of seconds > 0, or a ConfigError naming the setting."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(
+            f"{name} must be a positive number of seconds {hint}, got {type(value).__name__} {value!r}"
+        )
+    if not value > 0:  # also refuses NaN
+        raise ConfigError(f"{name} must be a positive number of seconds {hint}, got {value!r}")
+    return float(value)
+
+
 def _close_socket(sock: socket.socket) -> None:
     try:
         sock.close()
@@ -639,13 +734,13 @@ class TcpLink(Link):
     def __init__(
         self, host: str, port: int = 502, *, timeout: float = 3.0, clock: Clock | None = None
     ) -> None:
-        if not isinstance(port, int) or not 1 <= port <= 65535:
+        _check_host(host, "connect to", "\"192.168.1.50\" (a device's IP address) or \"localhost\"")
+        if not _is_int(port) or not 1 <= port <= 65535:
             raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got {port!r}")
-        if not timeout > 0:
-            raise ConfigError(f"connect timeout must be a positive number of seconds, got {timeout!r}")
+        timeout = _positive_seconds("connect timeout", timeout, "(how long to wait for the server)")
         self.host = host
         self.port = port
-        self.timeout = float(timeout)
+        self.timeout = timeout
         self.clock = clock if clock is not None else RealClock()
         self.reconnects = 0
         self.closed = False
@@ -766,10 +861,15 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> TcpLink:
     """Connect to a Modbus/TCP server and return a :class:`TcpLink` (mode ``"tcp"``, real clock).
 
     ``timeout`` bounds the connection attempt; each request's own timeout is the master's.
+    ``host`` is a name or an IP address as text (``5`` or ``None`` raise
+    :class:`~modbus_edu.errors.ConfigError`, like any bad setting).
     A server that cannot be reached raises :class:`~modbus_edu.errors.LinkError` saying why::
 
         with mb.tcp_link("127.0.0.1", 5020) as link:
             master = mb.Master(link)
             master.read_holding_registers(unit=1, address=0, count=2)
+
+    On TCP the IP address chooses the device: a device reached directly usually answers unit 0xFF (the
+    recommended value), 0, or its own number; behind a gateway the unit is the serial slave's address.
     """
     return TcpLink(host, port, timeout=timeout)
