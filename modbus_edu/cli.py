@@ -671,7 +671,9 @@ def build_parser() -> argparse.ArgumentParser:
                                     "in hex with its dissection. Example: modbus-edu build --mode rtu "
                                     "--unit 1 --function 3 --address 0 --count 2")
     p.add_argument("--mode", choices=["rtu", "ascii", "tcp"], default="rtu", help="framing (default rtu)")
-    p.add_argument("--unit", default="1", help="unit identifier / slave address (default 1; 0 = broadcast)")
+    p.add_argument("--unit", default="1",
+                   help="unit identifier / slave address (default 1; 0 = broadcast on rtu/ascii, "
+                        "the device itself on tcp)")
     p.add_argument("--function", required=True,
                    help="function code 1, 2, 3, 4, 5, 6, 15, 16 or its name (read_holding_registers)")
     p.add_argument("--role", choices=["request", "response"], default="request", help="default request")
