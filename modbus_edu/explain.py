@@ -318,8 +318,8 @@ class _Piece:
 def _unit_piece(unit: int, mode: str, role: str | None) -> _Piece:
     if mode == "tcp":
         return _Piece(6, 1, "unit identifier", unit,
-                      "the device behind a gateway; a server that is the device itself usually ignores "
-                      "it (1 or 255 by convention)")
+                      "the device behind a gateway; a server that is the device itself takes 0xFF "
+                      "(recommended) or 0 as 'you' (no broadcast on TCP)")
     if unit == 0:
         meaning = "broadcast: every slave carries out the write, none answers"
         if role == "response":

@@ -34,6 +34,7 @@ from ..slave import Slave
 from ..traffic import TrafficLog
 from .base import Link
 from .faults import Faults
+from .tcp import GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND, exception_reply, normalize_slaves, route_unit
 from .wire import BusStats, SerialBus, SerialTiming, same_format, uart_receive
 
 __all__ = ["LoopbackSerialLink", "LoopbackTcpLink", "loopback_serial", "loopback_tcp"]
@@ -383,30 +384,35 @@ class LoopbackTcpLink(_LoopbackLink):
                 self._serve(frame)
 
     def _serve(self, frame: bytes) -> None:
+        """The server's side: route by unit id as :class:`~modbus_edu.links.tcp.TcpServer` does
+        (:func:`~modbus_edu.links.tcp.route_unit`: one slave is reached by units 0 and 0xFF too; a unit
+        nobody serves is answered with exception 0x0B; TCP has no broadcast)."""
         now = self.clock.now
         self.monitor.record(now, "tx", "tcp", frame, "client", self._dest(frame), "", "request")
-        unit = frame[6] if len(frame) > 6 else None
+        if not self._slaves:
+            self._annotate("no slave is attached: nobody answers")
+            return
+        slave, direct = route_unit(normalize_slaves(self._slaves), frame[6])
+        if slave is None:
+            answer = exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
+            self._annotate(f"no slave at unit {frame[6]}: the server answers exception 0x0B")
+            if answer is not None:
+                self._server_busy_until = max(self._server_busy_until, now)
+                self.clock.schedule(now, self._server_sends, answer, "server")
+            return
         faults = self.faults
-        replies: list[tuple[float, bytes, Slave]] = []
-        for slave in self._slaves:
-            if unit is not None and unit != 0 and not slave.accepts(unit):
-                continue
-            if faults.is_silenced(slave.unit):
-                self._annotate(f"{slave.name} is silenced: it does not see this request")
-                continue
-            answer = slave.handle(frame, "tcp")
-            if answer is None:
-                continue
-            other = faults.wrong_unit(slave.unit)
-            if other is not None:
-                answer = _rewrite_unit(answer, "tcp", other)
-            delay = slave.response_delay(now) + faults.extra_delay(slave.unit)
-            replies.append((delay, answer, slave))
-            break  # one slave per unit id: the first one that answers
-        for delay, answer, slave in replies:
-            done = now + delay
-            self._server_busy_until = max(self._server_busy_until, done)
-            self.clock.schedule(done, self._server_sends, answer, slave.name)
+        if faults.is_silenced(slave.unit):
+            self._annotate(f"{slave.name} is silenced: it does not see this request")
+            return
+        answer = slave.handle_direct(frame) if direct else slave.handle(frame, "tcp")
+        if answer is None:
+            return
+        other = faults.wrong_unit(slave.unit)
+        if other is not None:
+            answer = _rewrite_unit(answer, "tcp", other)
+        done = now + slave.response_delay(now) + faults.extra_delay(slave.unit)
+        self._server_busy_until = max(self._server_busy_until, done)
+        self.clock.schedule(done, self._server_sends, answer, slave.name)
 
     def _server_sends(self, answer: bytes, name: str) -> None:
         self.monitor.record(self.clock.now, "rx", "tcp", answer, name, "client", "", "response")
@@ -423,7 +429,7 @@ class LoopbackTcpLink(_LoopbackLink):
         unit = _frame_unit(frame, "tcp")
         if unit is None:
             return "server"
-        return "broadcast" if unit == 0 else f"unit {unit}"
+        return f"unit {unit}"
 
     @property
     def description(self) -> str:

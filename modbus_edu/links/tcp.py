@@ -644,7 +644,7 @@ class TcpServer:
         try:
             if slave is None:  # nobody at that unit (or unit 0 at a gateway): tell the client at once
                 self.counters.unknown_unit += 1
-                reply = self._exception(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
+                reply = exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
             elif direct and hasattr(slave, "handle_direct"):  # unit 0 / 0xFF: the device itself
                 with self.lock:
                     reply = slave.handle_direct(frame)
@@ -655,19 +655,10 @@ class TcpServer:
             # A slave turns every protocol problem into an exception response itself; getting here
             # means a bug or a failing callback (on_read/on_write). Tell the client: device failure.
             self.log.exception("slave for unit %d failed on request %s", unit, frame.hex(" "))
-            reply = self._exception(frame, SERVER_DEVICE_FAILURE)
+            reply = exception_reply(frame, SERVER_DEVICE_FAILURE)
         if reply:
             self.counters.responses += 1
         return reply
-
-    @staticmethod
-    def _exception(frame: bytes, code: int) -> bytes | None:
-        tid, _, _, unit = _MBAP.unpack_from(frame, 0)
-        function = frame[7] & 0x7F if len(frame) > 7 else 0
-        if function == 0:
-            return None
-        pdu = ExceptionResponse(function=function, code=code)
-        return TcpFrame(transaction_id=tid, unit=unit, pdu=pdu).encode()
 
     def _send(self, conn: _Connection) -> bool:
         """Send as much of the output buffer as the socket takes. False if the connection died."""
@@ -681,6 +672,17 @@ class TcpServer:
                 return False
             del conn.outbuf[:sent]
         return True
+
+
+def exception_reply(frame: bytes, code: int) -> bytes | None:
+    """The exception response a Modbus/TCP server sends itself for request ``frame`` (same transaction id
+    and unit), e.g. 0x0B when no slave is at that unit; None for a frame without a function code."""
+    tid, _, _, unit = _MBAP.unpack_from(frame, 0)
+    function = frame[7] & 0x7F if len(frame) > 7 else 0
+    if function == 0:
+        return None
+    pdu = ExceptionResponse(function=function, code=code)
+    return TcpFrame(transaction_id=tid, unit=unit, pdu=pdu).encode()
 
 
 def _is_int(value: Any) -> bool:
