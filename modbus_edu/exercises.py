@@ -110,6 +110,15 @@ def as_bytes(answer: Any) -> bytes:
     return bytes(answer)
 
 
+def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str) -> str | None:
+    """Like :func:`compare_bytes` for an RTU frame, with the message ``swapped`` for the classic slip:
+    the right frame with its two CRC bytes the wrong way round."""
+    got = as_bytes(answer)
+    if len(got) == len(expected) > 2 and got == expected[:-2] + expected[-2:][::-1] and got != expected:
+        return swapped
+    return compare_bytes(got, expected, what)
+
+
 def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
     """None if ``answer`` is exactly ``expected``; otherwise which byte differs first."""
     got = as_bytes(answer)
@@ -175,10 +184,8 @@ def _check_00_3(answer: Any) -> str | None:
     from .pdu import ReadHoldingRegistersRequest
 
     expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
-    got = as_bytes(answer)
-    if len(got) == len(expected) and got[:-2] == expected[:-2] and got[-2:] == expected[-2:][::-1]:
-        return "the CRC bytes are in the wrong order: the low byte goes first."
-    return compare_bytes(got, expected, "your frame")
+    return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
+                             "the low byte goes first.")
 
 
 # --- notebook 01: The data model --------------------------------------------------------------------
@@ -584,10 +591,8 @@ def _check_03_2(answer: Any) -> str | None:
     from .pdu import WriteSingleRegisterRequest
 
     expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
-    got = as_bytes(answer)
-    if len(got) == len(expected) and got[:-2] == expected[:-2] and got[-2:] == expected[-2:][::-1]:
-        return "the CRC bytes are in the wrong order: the low byte goes first."
-    return compare_bytes(got, expected, "your frame")
+    return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
+                             "the low byte goes first.")
 
 
 @exercise("03.3", "will the slave answer?",
@@ -1410,10 +1415,8 @@ def _check_13_5(answer: Any) -> str | None:
     from .pdu import ReadHoldingRegistersRequest
 
     expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
-    got = as_bytes(answer)
-    if got == expected[:-2] + expected[-2:][::-1]:
-        return "that is the frame as the faulty tool sent it: the CRC bytes are still swapped."
-    return compare_bytes(got, expected, "your corrected frame")
+    return compare_rtu_frame(answer, expected, "your corrected frame", "that is the frame as the faulty "
+                             "tool sent it: the CRC bytes are still swapped.")
 
 
 @exercise("13.6", "estimate a slave's loop time",
