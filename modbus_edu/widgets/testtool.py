@@ -324,8 +324,8 @@ class TestTool(W.VBox):
         self.search = _small(W.Text(description="search", placeholder="hex, note, unit ..."), "260px", "50px")
         self.clear_button = _button("clear logs", "trash", "mbe-tt-clear")
         self.clear_button.on_click(g(self.message, lambda _b: self.clear_logs()))
-        self.tx_log = W.HTML(layout=W.Layout(width="50%"))
-        self.rx_log = W.HTML(layout=W.Layout(width="50%"))
+        self.tx_log = W.HTML(layout=W.Layout(width="50%", overflow="hidden"))  # each log scrolls in its half
+        self.rx_log = W.HTML(layout=W.Layout(width="50%", overflow="hidden"))
         self.tx_log.add_class("mbe-tt-tx-log")
         self.rx_log.add_class("mbe-tt-rx-log")
 
@@ -1188,7 +1188,8 @@ class TestTool(W.VBox):
         text = TrafficLog(entries).to_text(newest_first=self.newest_on_top.value) if entries else "(empty)"
         return (f'<div style="font-weight:bold">{esc(title)} ({len(log)})</div>'
                 f'<pre style="{MONO};white-space:pre;font-size:0.8em;max-height:180px;overflow:auto;'
-                f'border:1px solid #dee2e6;margin:0 4px 0 0;padding:2px">{esc(text)}</pre>')
+                f'width:100%;box-sizing:border-box;border:1px solid #dee2e6;margin:0 4px 0 0;padding:2px">'
+                f'{esc(text)}</pre>')
 
     def _render_logs(self) -> None:
         log = self.traffic
