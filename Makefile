@@ -16,7 +16,8 @@ $(STAMP): binder/requirements.txt pyproject.toml
 
 ## lab: install everything and open the course in JupyterLab
 lab: $(STAMP)
-	$(BIN)/python -m jupyter lab --notebook-dir=notebooks notebooks/00_welcome.ipynb
+	$(BIN)/python -m jupyter lab --notebook-dir=notebooks $$([ "$$(id -u)" = 0 ] && echo --allow-root) \
+	    notebooks/00_welcome.ipynb
 
 ## test: install everything and run the whole test suite (lint, unit, interop, browser, strict nbval)
 test: $(STAMP)
