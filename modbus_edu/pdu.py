@@ -111,7 +111,8 @@ _EXCEPTION_MEANINGS = {
     ExceptionCode.SERVER_DEVICE_BUSY: (
         "server device busy: the server is busy with a long command, retry later"),
     ExceptionCode.NEGATIVE_ACKNOWLEDGE: (
-        "negative acknowledge: the server cannot perform the program function"),
+        "negative acknowledge: the server cannot perform the program function (from the older Modicon "
+        "guide; the current specification no longer lists code 07)"),
     ExceptionCode.MEMORY_PARITY_ERROR: "memory parity error: the server found a parity error in its memory",
     ExceptionCode.GATEWAY_PATH_UNAVAILABLE: (
         "gateway path unavailable: the gateway could not set up a path to the target"),
