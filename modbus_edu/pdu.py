@@ -432,7 +432,8 @@ class _ReadRegistersResponse(Pdu):
         registers = _check_registers(self.registers, "registers")
         if not 1 <= len(registers) <= MAX_READ_REGISTERS:
             raise QuantityError(f"a read-registers response carries 1 to 125 registers, got {len(registers)}")
-        object.__setattr__(self, "registers", registers)
+        if registers is not self.registers:  # a list given: keep the checked tuple
+            object.__setattr__(self, "registers", registers)
 
     @property
     def byte_count(self) -> int:
@@ -440,7 +441,7 @@ class _ReadRegistersResponse(Pdu):
 
     def encode(self) -> bytes:
         count = len(self.registers)
-        return struct.pack(f">BB{count}H", self.function_code, 2 * count, *self.registers)
+        return _REGISTERS_LAYOUT[count].pack(self.function_code, 2 * count, *self.registers)
 
     @classmethod
     def _decode(cls, data: bytes, offset: int = 0):
@@ -471,6 +472,10 @@ class _ReadRegistersResponse(Pdu):
 def _label(name: str | type[Pdu]) -> str:
     """A PDU's name for a message: the string itself, or "<Function Title> <role>" of a class."""
     return name if isinstance(name, str) else f"{function_title(name.function_code)} {name.role}"
+
+
+_REGISTERS_LAYOUT = tuple(struct.Struct(f">BB{count}H") for count in range(MAX_READ_REGISTERS + 1))
+"""function code, byte count, then ``count`` big-endian registers: one compiled layout per count."""
 
 
 def _expect_minimum(data: bytes, length: int, name: str | type[Pdu], base: int) -> None:
