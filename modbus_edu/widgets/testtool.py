@@ -564,25 +564,37 @@ class TestTool(W.VBox):
         master_tool.message.show(text, "ok")
         slave_tool.message.show(f"{text}; answering as unit {slave.unit}", "ok")
 
+    def _use_link(self, link: Any, text: str) -> None:
+        """A master tool talks through ``link`` from now on."""
+        self.link = link
+        self.master = Master(link, timeout=float(self.timeout.value),
+                             transaction_id=self.transaction_id.value)
+        self.message.show(text, "ok")
+
+    def _slave_on_real_time(self) -> Slave:
+        """The slave a server will answer with, timestamped on the real clock."""
+        slave = self._ensure_slave()
+        slave.clock = self._real_clock
+        return slave
+
+    def _serving(self, text: str) -> None:
+        """A slave tool's server has started: answer, keep the panel fresh, say where."""
+        self._answering = True
+        self._start_ticker()
+        self.message.show(text, "ok")
+
     def _connect_serial(self) -> None:
         from ..links.serial import SerialServer, serial_link
 
         url = self.url.value.strip()
+        settings = (self.baudrate.value, self.parity.value, self.stopbits.value)
         if self.is_master:
-            link = serial_link(url, self.baudrate.value, self.parity.value, self.stopbits.value, mode="rtu")
-            self.link = link
-            self.master = Master(link, timeout=float(self.timeout.value),
-                                 transaction_id=self.transaction_id.value)
-            self.message.show(f"connected: {link.description}", "ok")
+            link = serial_link(url, *settings, mode="rtu")
+            self._use_link(link, f"connected: {link.description}")
         else:
-            slave = self._ensure_slave()
-            slave.clock = self._real_clock
-            self.server = SerialServer(slave, url, self.baudrate.value, self.parity.value,
-                                       self.stopbits.value,
-                                       mode="rtu").start()
-            self._answering = True
-            self._start_ticker()
-            self.message.show(f"serving unit {slave.unit} on {url}", "ok")
+            slave = self._slave_on_real_time()
+            self.server = SerialServer(slave, url, *settings, mode="rtu").start()
+            self._serving(f"serving unit {slave.unit} on {url}")
 
     def _connect_tcp(self) -> None:
         from ..links.tcp import TcpServer, tcp_link
@@ -590,19 +602,13 @@ class TestTool(W.VBox):
         host = self.host.value.strip()
         if self.is_master:
             link = tcp_link(host, self.port.value, timeout=float(self.timeout.value))
-            self.link = link
-            self.master = Master(link, timeout=float(self.timeout.value),
-                                 transaction_id=self.transaction_id.value)
-            self.message.show(f"connected to {host}:{self.port.value}", "ok")
+            self._use_link(link, f"connected to {host}:{self.port.value}")
         else:
-            slave = self._ensure_slave()
-            slave.clock = self._real_clock
+            slave = self._slave_on_real_time()
             self.server = TcpServer(slave, host=host, port=self.port.value).start()
-            self._answering = True
             if self.server.address:
                 self.port.value = self.server.address[1]
-            self._start_ticker()
-            self.message.show(f"serving unit {slave.unit} on {host}:{self.port.value}", "ok")
+            self._serving(f"serving unit {slave.unit} on {host}:{self.port.value}")
 
     def disconnect(self, quiet: bool = False) -> None:
         """Stop polling, close the link or the server; a loopback partner is disconnected too."""
