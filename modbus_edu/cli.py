@@ -426,8 +426,10 @@ def cmd_serve(args: argparse.Namespace) -> int:
         server = TcpServer(device, host=host, port=port)
         where = None
     counter = _Counter(device, sys.stderr)
+    started = False
     try:
         server.start()
+        started = True
         if where is None:
             bound_host, bound_port = server.address[:2]
             where = f"Modbus/TCP {bound_host}:{bound_port}"
@@ -440,6 +442,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
         pass
     finally:
         server.close()
+        if started:
+            counter.show()  # the last count, also when Ctrl-C came before the first refresh
         counter.done()
     print(f"stopped: {counter.text()}", flush=True)
     return 0
