@@ -1,0 +1,70 @@
+"""The course's plot style: one width, readable fonts, legends outside the data.
+
+Every plot in the notebooks and panels starts from :func:`figure`, so they share a size and a font and
+fit the 968 px of a notebook's output area::
+
+    from modbus_edu.plotstyle import figure, legend_outside
+
+    fig, ax = figure()                       # one plot, the course's width
+    ax.plot([0, 1, 2], [3, 1, 2], label="register")
+    legend_outside(ax)                       # beside the plot, never over the data
+
+:func:`figure` uses matplotlib's constrained layout, which leaves room for a legend placed outside.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import matplotlib as mpl
+
+WIDTH = 9.0
+"""Inches: at the notebook's 100 dpi, about 900 px, inside the 968 px output area of a 1400 px screen."""
+
+HEIGHT = 3.2
+"""Inches for one row of axes."""
+
+STYLE: dict[str, Any] = {
+    "font.size": 11,
+    "axes.titlesize": 12,
+    "axes.labelsize": 11,
+    "xtick.labelsize": 10,
+    "ytick.labelsize": 10,
+    "legend.fontsize": 10,
+    "legend.frameon": False,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "figure.dpi": 100,
+}
+"""The rcParams every course figure is drawn with."""
+
+
+def figure(rows: int = 1, cols: int = 1, *, width: float = WIDTH, height: float | None = None,
+           **subplots: Any):
+    """A figure and its axes in the course style (``plt.subplots`` with the course's size and fonts).
+
+    ``height`` defaults to :data:`HEIGHT` per row; further keywords (``sharex=True``, ...) go to
+    ``subplots``.  Returns ``(fig, ax)`` for one axes, ``(fig, axes)`` otherwise, as ``plt.subplots``.
+    """
+    import matplotlib.pyplot as plt
+
+    if height is None:
+        height = HEIGHT * rows
+    with mpl.rc_context(STYLE):
+        return plt.subplots(rows, cols, figsize=(width, height), layout="constrained", **subplots)
+
+
+def legend_outside(ax, **legend: Any):
+    """Put ``ax``'s legend to the right of the plot, top-aligned, so it never covers the data."""
+    options = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0,
+               "frameon": False, "fontsize": STYLE["legend.fontsize"]}
+    options.update(legend)
+    return ax.legend(**options)
+
+
+def legend_below(ax, ncols: int = 3, **legend: Any):
+    """Put ``ax``'s legend under the plot in ``ncols`` columns (for wide plots with many entries)."""
+    options = {"loc": "upper center", "bbox_to_anchor": (0.5, -0.18), "ncols": ncols,
+               "frameon": False, "fontsize": STYLE["legend.fontsize"]}
+    options.update(legend)
+    return ax.legend(**options)
