@@ -1,0 +1,42 @@
+"""Checkers for the course's exercises.
+
+Two kinds of exercise end the notebooks:
+
+* **value** exercises: the learner computes something (a frame, a CRC, a time) and passes it in::
+
+      answer = ...          # replace ... with your answer
+      check("03.1", answer)
+
+* **build** exercises: the learner writes a function, and the checker runs it against the library on
+  the edge cases and on at least 100 generated inputs, showing the first input where they differ::
+
+      def crc16(data: bytes) -> int:
+          ...               # your code here
+      check("03.5", crc16)
+
+Unanswered, ``check`` prints "not answered yet" and raises nothing, so a notebook runs from top to
+bottom; a hint appears only after a wrong answer.  Worked solutions live in ``notebooks/solutions/``
+(``%load solutions/03_5.py``).
+
+Layout: :mod:`.core` holds the registry, ``check``/``evaluate`` and the helpers checkers share;
+:mod:`.build` the build-exercise runner; ``nbNN.py`` the exercises of notebook NN, found and imported
+here automatically.  To add an exercise, add it to its notebook's module (create ``nbNN.py`` for a new
+notebook) with :func:`exercise` or :func:`build_exercise`, give it a wrong answer, and write its worked
+solution: the test suite checks that the solution passes and the wrong answer fails.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+
+from .build import build_exercise
+from .core import EXERCISES, PLACEHOLDER, AnswerError, Exercise, Result, check, evaluate, exercise
+
+for _module in sorted(info.name for info in pkgutil.iter_modules(__path__) if info.name.startswith("nb")):
+    importlib.import_module(f"{__name__}.{_module}")
+
+from .nb13 import lab  # noqa: E402  (the troubleshooting lab's puzzles, used by notebook 13)
+
+__all__ = ["EXERCISES", "PLACEHOLDER", "AnswerError", "Exercise", "Result", "build_exercise", "check",
+           "evaluate", "exercise", "lab"]

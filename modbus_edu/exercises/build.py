@@ -1,0 +1,195 @@
+"""Build exercises: the learner writes a function, and the checker runs it against the library.
+
+A build exercise is registered with :func:`build_exercise`.  Its checker calls the learner's function on
+the exercise's edge cases and then on ``count`` inputs drawn from a seeded random generator (the same
+inputs every run), and compares each result with what the library's ``reference`` gives for the same
+arguments.  The first input where they differ is shown with both values.  Where the reference refuses
+the input (it raises a :class:`~modbus_edu.ModbusError`, as for a frame with a bad CRC), the learner's
+function must raise too.
+
+The learner's function runs in a worker thread with a time limit (2 s for all the inputs together), so a
+function that never returns is reported, and stopped, instead of hanging the notebook.  Whatever it does
+(raise, return the wrong type, print), the checker answers with a message and never raises.
+"""
+
+from __future__ import annotations
+
+import copy
+import ctypes
+import math
+import random
+import threading
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any
+
+from ..errors import ModbusError
+from .core import Exercise, kind, register, show
+
+TIME_LIMIT = 2.0
+"""Seconds the learner's function gets for all the inputs of one check together."""
+
+
+class _Stopped(BaseException):
+    """Raised inside the worker thread to stop a learner's function that ran out of time."""
+
+
+class _Refused:
+    """The reference raised a ModbusError for this input: the learner's function must raise too."""
+
+    def __init__(self, error: ModbusError) -> None:
+        self.error = error
+
+
+def same(expected: Any, got: Any) -> bool:
+    """The default comparison: equal values of the same kind.
+
+    bytes and bytearray count as the same kind, as do tuples and lists; floats compare to 1e-9; an int
+    answer is not accepted where a float is expected only when it differs; bools are not ints."""
+    if isinstance(expected, bool) or isinstance(got, bool):
+        return type(expected) is type(got) and expected == got
+    if isinstance(expected, float) or isinstance(got, float):
+        if not isinstance(got, (int, float)) or not isinstance(expected, (int, float)):
+            return False
+        if math.isnan(expected):
+            return math.isnan(got)
+        return math.isclose(expected, got, rel_tol=1e-9, abs_tol=1e-9)
+    if isinstance(expected, (bytes, bytearray)):
+        return isinstance(got, (bytes, bytearray)) and bytes(got) == bytes(expected)
+    if isinstance(expected, (tuple, list)):
+        return (isinstance(got, (tuple, list)) and len(got) == len(expected)
+                and all(same(a, b) for a, b in zip(expected, got)))
+    if isinstance(expected, dict):
+        return (isinstance(got, dict) and got.keys() == expected.keys()
+                and all(same(expected[k], got[k]) for k in expected))
+    if isinstance(expected, int):
+        return isinstance(got, int) and got == expected
+    return type(got) is type(expected) and bool(got == expected)
+
+
+def _type_note(expected: Any, got: Any) -> str:
+    """A sentence when ``got`` is of another kind than ``expected``, else an empty string."""
+    want, have = kind(expected), kind(got)
+    alike = ({"a tuple", "a list"}, {"a float", "an int"}, {"bytes"})
+    if want == have or any({want, have} <= group for group in alike):
+        return ""
+    return f" Your function returns {have}; {want} is expected."
+
+
+class BuildChecker:
+    """The checker of one build exercise (see the module's docstring)."""
+
+    def __init__(self, key: str, reference: Callable, inputs: Callable[[random.Random], Sequence],
+                 edge_cases: Iterable[Sequence], count: int,
+                 diagnose: Callable[[Sequence, Any, Any], str | None] | None,
+                 compare: Callable[[Any, Any], bool] | None, time_limit: float) -> None:
+        self.key = key
+        self.reference = reference
+        self.inputs = inputs
+        self.edge_cases = [tuple(case) for case in edge_cases]
+        self.count = count
+        self.diagnose = diagnose
+        self.compare = compare or same
+        self.time_limit = time_limit
+        self._cases: list[tuple[tuple, Any]] | None = None
+
+    def cases(self) -> list[tuple[tuple, Any]]:
+        """Every (arguments, expected) pair: the edge cases, then ``count`` seeded random inputs."""
+        if self._cases is None:
+            rng = random.Random(f"modbus_edu exercise {self.key}")
+            arguments = self.edge_cases + [tuple(self.inputs(rng)) for _ in range(self.count)]
+            cases = []
+            for args in arguments:
+                try:
+                    expected = self.reference(*copy.deepcopy(args))
+                except ModbusError as exc:
+                    expected = _Refused(exc)
+                cases.append((args, expected))
+            self._cases = cases
+        return self._cases
+
+    def __call__(self, function: Any) -> str | None:
+        if not callable(function):
+            return (f"this exercise asks for a function: define it with def, then pass its name without "
+                    f"parentheses, as in check(\"{self.key}\", my_function). You gave {show(function)}.")
+        name = getattr(function, "__name__", "your_function")
+        cases = self.cases()
+        progress = {"index": 0, "verdict": None}
+
+        def work() -> None:
+            try:
+                for index, (args, expected) in enumerate(cases):
+                    progress["index"] = index
+                    verdict = self._one(function, name, args, expected)
+                    if verdict is not None:
+                        progress["verdict"] = verdict
+                        return
+                progress["verdict"] = "right"
+            except _Stopped:
+                pass
+            except BaseException as exc:  # SystemExit, KeyboardInterrupt raised by the learner's code
+                progress["verdict"] = f"your function raised {type(exc).__name__}, which stops everything."
+
+        worker = threading.Thread(target=work, name=f"exercise {self.key}", daemon=True)
+        worker.start()
+        worker.join(self.time_limit)
+        if worker.is_alive():
+            stop = ctypes.py_object(_Stopped)
+            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(worker.ident), stop)
+            worker.join(0.5)
+            args = cases[progress["index"]][0]
+            return (f"your function did not finish within {self.time_limit:g} s (it was still working on "
+                    f"{self._call(name, args)}, input {progress['index'] + 1} of {len(cases)}). "
+                    "Look for a loop that never ends.")
+        verdict = progress["verdict"]
+        return None if verdict == "right" else verdict
+
+    def _call(self, name: str, args: Sequence) -> str:
+        return f"{name}({', '.join(show(arg) for arg in args)})"
+
+    def _one(self, function: Callable, name: str, args: tuple, expected: Any) -> str | None:
+        """None if the learner's function agrees with the library on ``args``, else a message."""
+        call = self._call(name, args)
+        try:
+            got = function(*copy.deepcopy(args))
+        except _Stopped:
+            raise
+        except Exception as exc:
+            if isinstance(expected, _Refused):
+                return None
+            return (f"{call} raised {type(exc).__name__}: {show(str(exc))}. "
+                    f"The library gives {show(expected)}.")
+        if isinstance(expected, _Refused):
+            return (f"{call} returned {show(got)}, but that input is not valid ({expected.error}): "
+                    "your function should raise an exception for it.")
+        try:
+            if self.compare(expected, got):
+                return None
+        except Exception as exc:
+            return f"{call} returned {show(got)}, which cannot be compared ({type(exc).__name__})."
+        message = f"{call} should give {show(expected)}; your function gives {show(got)}."
+        note = ""
+        if self.diagnose is not None:
+            try:
+                note = self.diagnose(args, expected, got) or ""
+            except Exception:
+                note = ""
+        if note:
+            return f"{message} {note[0].upper()}{note[1:]}"
+        return message + _type_note(expected, got)
+
+
+def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callable[[random.Random], Sequence],
+                   hint: str, wrong: Callable, edge_cases: Iterable[Sequence] = (), count: int = 100,
+                   diagnose: Callable[[Sequence, Any, Any], str | None] | None = None,
+                   compare: Callable[[Any, Any], bool] | None = None,
+                   time_limit: float = TIME_LIMIT) -> Exercise:
+    """Register a build exercise: the learner's function is checked against ``reference``.
+
+    ``inputs(rng)`` draws one tuple of arguments from the seeded ``random.Random`` it is given;
+    ``edge_cases`` are argument tuples always tried first.  ``diagnose(args, expected, got)`` may name a
+    common mistake for a failing input; ``compare(expected, got)`` replaces the default comparison
+    :func:`same`.  ``wrong`` is a plausible wrong function the test suite checks is refused."""
+    if count < 100:
+        raise ValueError(f"exercise {key}: a build exercise tries at least 100 generated inputs")
+    checker = BuildChecker(key, reference, inputs, edge_cases, count, diagnose, compare, time_limit)
+    return register(Exercise(key, title, hint, checker, wrong, kind="build"))

@@ -1,0 +1,370 @@
+"""The machinery behind every exercise: the registry, ``check`` and ``evaluate``, and the small helpers
+checkers share to turn a learner's answer into a verdict that teaches.
+
+An exercise cell in a notebook ends with::
+
+    answer = ...          # replace ... with your answer
+    check("03.1", answer)
+
+Run unanswered, ``check`` prints "not answered yet" and raises nothing, so the notebook still runs from
+top to bottom.  With an answer it says whether it is right and, if not, what is wrong and a hint.  The
+expected values are computed with the library itself, never typed in.  Whatever the learner passes in
+(a huge int, a deeply nested list, an object whose methods raise), ``check`` answers with a message and
+never raises.
+"""
+
+from __future__ import annotations
+
+import math
+import reprlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from ..errors import ModbusError
+
+PLACEHOLDER = ...
+"""What an unanswered exercise cell holds: the Ellipsis, ``...``."""
+
+MAX_MESSAGE = 700
+"""The longest verdict ``check`` prints, in characters: a learner's huge answer never floods a cell."""
+
+MAX_ANSWER_BYTES = 4096
+"""The most bytes a byte answer may hold; every answer in the course is far shorter."""
+
+
+class AnswerError(ModbusError):
+    """A learner's answer that cannot even be read as what the exercise asks for."""
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """One exercise: its key (``"NN.k"``: notebook and number), title, hint, checker and a wrong answer.
+
+    ``kind`` is ``"value"`` when the learner gives a value (a number, some bytes) and ``"build"`` when the
+    learner writes a function that the checker runs against the library on many inputs.
+    """
+
+    key: str
+    title: str
+    hint: str
+    checker: Callable[[Any], str | None]
+    wrong: Any
+    kind: str = "value"
+
+    @property
+    def solution(self) -> str:
+        """The worked solution's file, relative to the notebooks folder."""
+        return f"solutions/{self.key.replace('.', '_')}.py"
+
+
+@dataclass(frozen=True)
+class Result:
+    """What :func:`check` found.  ``ok`` is None while the exercise is unanswered."""
+
+    key: str
+    ok: bool | None
+    message: str
+
+    def __str__(self) -> str:
+        return self.message
+
+    def __bool__(self) -> bool:
+        return bool(self.ok)
+
+    def _ipython_display_(self) -> None:
+        """As the last line of a notebook cell: nothing more to show, check() has printed the verdict."""
+
+
+EXERCISES: dict[str, Exercise] = {}
+
+
+def register(item: Exercise) -> Exercise:
+    """Add ``item`` to :data:`EXERCISES`; a key is registered once."""
+    if item.key in EXERCISES:
+        raise ValueError(f"exercise {item.key} is registered twice")
+    if item.kind not in ("value", "build"):
+        raise ValueError(f"exercise {item.key}: kind is 'value' or 'build', not {item.kind!r}")
+    EXERCISES[item.key] = item
+    return item
+
+
+def exercise(key: str, title: str, *, hint: str, wrong: Any) -> Callable:
+    """Register a value exercise's checker under ``key`` (decorator).
+
+    The checker takes the learner's answer and returns None when it is right, or a sentence saying
+    what is wrong.  ``wrong`` is a plausible wrong answer: the test suite checks that it is refused.
+    """
+
+    def decorate(checker: Callable[[Any], str | None]) -> Callable[[Any], str | None]:
+        register(Exercise(key, title, hint, checker, wrong))
+        return checker
+
+    return decorate
+
+
+def evaluate(key: Any, answer: Any) -> Result:
+    """Check ``answer`` against exercise ``key`` without printing anything; never raises."""
+    if not isinstance(key, str) or key not in EXERCISES:
+        known = ", ".join(sorted(EXERCISES))
+        return Result(str(show(key)), False, f"There is no exercise {show(key)}; the exercises are {known}.")
+    item = EXERCISES[key]
+    if answer is PLACEHOLDER:
+        return Result(key, None, f"Exercise {key} ({item.title}) is not answered yet.")
+    if item.kind == "build" and callable(answer) and is_unwritten(answer):
+        return Result(key, None, f"Exercise {key} ({item.title}) is not answered yet: "
+                                 "write the body of the function, then run the cell again.")
+    try:
+        problem = item.checker(answer)
+    except ModbusError as exc:
+        problem = f"the library could not use your answer: {clip(safe_str(exc), 300)}"
+    except RecursionError:
+        problem = "your answer is nested too deeply to read."
+    except MemoryError:
+        problem = "your answer is far too large to check."
+    except Exception as exc:  # the learner's object may fail in any way: answer, never raise
+        problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
+    if problem is None:
+        return Result(key, True, f"Right! Exercise {key} ({item.title}) is solved.")
+    return Result(key, False, clip(f"Not yet: {problem}", MAX_MESSAGE - len(item.hint) - 8)
+                  + f"\nHint: {item.hint}")
+
+
+def check(key: str, answer: Any) -> Result:
+    """Check an answer, print the verdict, and return it (falsy unless right)."""
+    result = evaluate(key, answer)
+    print(result.message)
+    return result
+
+
+def is_unwritten(function: Callable) -> bool:
+    """True if ``function``'s body is only ``...`` or ``pass`` (and maybe a docstring): a template."""
+    import dis
+
+    code = getattr(function, "__code__", None)
+    if code is None:
+        return False
+    for instruction in dis.get_instructions(code):
+        if instruction.opname in ("RESUME", "NOP", "RETURN_VALUE", "CACHE"):
+            continue
+        if instruction.opname in ("LOAD_CONST", "RETURN_CONST") and instruction.argval is None:
+            continue
+        return False
+    return True
+
+
+# --- showing a learner's values safely ---------------------------------------------------------------
+
+_repr = reprlib.Repr()
+_repr.maxstring = 60
+_repr.maxother = 60
+_repr.maxlong = 40
+_repr.maxlist = _repr.maxtuple = _repr.maxdict = _repr.maxset = 8
+_repr.maxlevel = 3
+
+
+def clip(text: str, limit: int) -> str:
+    """``text`` cut to ``limit`` characters, with an ellipsis when cut."""
+    limit = max(limit, 20)
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def safe_str(value: Any) -> str:
+    """``str(value)``, or a description of it when its ``__str__`` fails."""
+    try:
+        return str(value)
+    except Exception:
+        return f"<a {type(value).__name__} that cannot be printed>"
+
+
+def kind(value: Any) -> str:
+    """The kind of ``value`` in words, with its article: "an int", "a str", "bytes", "None"."""
+    name = type(value).__name__
+    if value is None or name in ("bytes", "bytearray"):
+        return "None" if value is None else "bytes"
+    return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
+
+
+def show(value: Any) -> str:
+    """A short, readable form of ``value`` for a message: bytes in hex, ints also in hex, long things cut."""
+    try:
+        if isinstance(value, (bytes, bytearray)):
+            text = bytes(value[:24]).hex(" ").upper()
+            more = f" … ({len(value)} bytes)" if len(value) > 24 else ""
+            return f'bytes.fromhex("{text}"){more}'
+        if isinstance(value, int) and not isinstance(value, bool):
+            if value.bit_length() > 64:
+                return f"an int of {value.bit_length()} bits"
+            return f"{value} (0x{value:X})" if value > 9 else str(value)
+        if isinstance(value, tuple):
+            return "(" + ", ".join(show(item) for item in value[:8]) + (", …" if len(value) > 8 else "") \
+                + ("," if len(value) == 1 else "") + ")"
+        return clip(_repr.repr(value), 120)
+    except Exception:
+        return f"<a {type(value).__name__}>"
+
+
+# --- reading answers -----------------------------------------------------------------------------------
+
+def as_bytes(answer: Any) -> bytes:
+    """Accept bytes, a bytearray, a list of ints 0..255 or a hex string ("01 03 00 ...") as a byte answer.
+
+    Raises :class:`AnswerError` (never allocates from an int, never reads more than
+    :data:`MAX_ANSWER_BYTES`)."""
+    if isinstance(answer, (bytes, bytearray, memoryview)):
+        data = bytes(answer)
+    elif isinstance(answer, str):
+        from ..framing import parse_hex
+
+        if len(answer) > 3 * MAX_ANSWER_BYTES:
+            raise AnswerError(f"your hex text is {len(answer)} characters long; the answer is much shorter.")
+        data = parse_hex(answer)
+    elif isinstance(answer, (list, tuple)):
+        if len(answer) > MAX_ANSWER_BYTES:
+            raise AnswerError(f"your list has {len(answer)} items; the answer is much shorter.")
+        for index, item in enumerate(answer):
+            if isinstance(item, bool) or not isinstance(item, int) or not 0 <= item <= 255:
+                raise AnswerError(f"item {index} of your list is {show(item)}; each byte is an int 0..255.")
+        data = bytes(answer)
+    else:
+        raise AnswerError(f"give bytes (b'\\x01\\x03', bytes.fromhex(\"01 03\"), a hex string \"01 03\" or a "
+                          f"list of ints), not {kind(answer)}.")
+    if len(data) > MAX_ANSWER_BYTES:
+        raise AnswerError(f"your answer has {len(data)} bytes; the answer is much shorter.")
+    return data
+
+
+def int_answer(answer: Any, what: str) -> int | str:
+    """The answer as an int, or a sentence saying why it is not one."""
+    if isinstance(answer, bool) or not isinstance(answer, int):
+        return (f"{what} is a whole number (an int such as 5 or 0x05), "
+                f"you gave {kind(answer)}: {show(answer)}.")
+    if answer.bit_length() > 64:
+        return f"{what} is far smaller than the number you gave ({show(answer)})."
+    return answer
+
+
+def real_answer(answer: Any, what: str) -> float | str:
+    """The answer as a finite float, or a sentence saying why it is not a usable number."""
+    if isinstance(answer, bool) or not isinstance(answer, (int, float)):
+        return f"{what} is a number (such as 12.5), you gave {kind(answer)}: {show(answer)}."
+    if isinstance(answer, int) and answer.bit_length() > 1000:
+        return f"{what} is far smaller than the number you gave."
+    value = float(answer)
+    if not math.isfinite(value):
+        return f"{what} is a finite number, you gave {answer!r}."
+    return value
+
+
+def close(got: float, expected: float, rel: float = 1e-3) -> bool:
+    """True if ``got`` is within the relative tolerance ``rel`` of ``expected``."""
+    return abs(got - expected) <= rel * abs(expected)
+
+
+def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = "",
+                  what: str = "the answer") -> str | None:
+    """None if ``answer`` equals ``expected`` to ``decimals`` decimals; otherwise what is wrong.
+
+    Names the usual slips: seconds given where milliseconds were asked (or the reverse), a fraction
+    where a percentage was asked (or the reverse), and a near miss ("close: give 2 decimals")."""
+    got = real_answer(answer, what)
+    if isinstance(got, str):
+        return got
+    tolerance = 0.5 * 10 ** -decimals + 1e-12
+    if abs(got - expected) <= tolerance:
+        return None
+    scaled = {1000: ("seconds", "milliseconds"), 100: ("a fraction", "a percentage")}
+    for factor, (small, large) in scaled.items():
+        if expected and abs(got * factor - expected) <= tolerance * factor and unit in ("ms", "%"):
+            return f"you gave {small}; the question asks for {large} ({unit})."
+        if expected and abs(got / factor - expected) <= max(tolerance, 1e-9) and unit in ("s", ""):
+            return f"you gave {large}; the question asks for {small}" + (f" ({unit})." if unit else ".")
+    if abs(got - expected) <= max(10 * tolerance, 0.01 * abs(expected)):
+        places = "a whole number" if decimals == 0 else f"{decimals} decimal{'s' * (decimals > 1)}"
+        return f"close: give {places}."
+    return f"{got:g}{' ' + unit if unit else ''} is not {what}."
+
+
+# --- comparing and diagnosing ------------------------------------------------------------------------
+
+def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
+    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first."""
+    got = as_bytes(answer)
+    if got == expected:
+        return None
+    for index, (mine, theirs) in enumerate(zip(got, expected)):
+        if mine != theirs:
+            return (f"{what} differs at byte {index}: you have 0x{mine:02X}, it should be 0x{theirs:02X} "
+                    f"({len(got)} bytes given, {len(expected)} expected).")
+    return f"{what} has {len(got)} bytes, it should have {len(expected)}."
+
+
+def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str) -> str | None:
+    """Like :func:`compare_bytes` for an RTU frame, with the message ``swapped`` for the classic slip:
+    the right frame with its two CRC bytes the wrong way round."""
+    got = as_bytes(answer)
+    if len(got) == len(expected) > 2 and got == expected[:-2] + expected[-2:][::-1] and got != expected:
+        return swapped
+    return compare_bytes(got, expected, what)
+
+
+def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU") -> str | None:
+    """Like :func:`compare_bytes` for a PDU, naming the slip of giving a whole frame instead."""
+    got = as_bytes(answer)
+    if got != expected and len(got) > len(expected) and expected in got:
+        return ("you gave a whole frame; the PDU is only the function code and its data, without the "
+                "unit, the header or the checksum.")
+    return compare_bytes(got, expected, what)
+
+
+def address_diagnosis(got: int, expected: int) -> str | None:
+    """Name the address slips: counting from 1, or giving a reference number (4xxxx, 3xxxx, ...)."""
+    if got == expected + 1:
+        return (f"{got} counts from 1; the address on the wire counts from 0 (the first register is "
+                "address 0), so subtract 1.")
+    for prefix in (100001, 400001, 300001, 10001, 40001, 30001, 1):
+        if prefix > 1 and got == prefix + expected:
+            return f"{got} is a reference number (as a datasheet writes it); the question asks for the " \
+                   "address on the wire."
+    return None
+
+
+def reflected(value: int, width: int) -> int:
+    """``value``'s lowest ``width`` bits in reverse order."""
+    return int(f"{value:0{width}b}"[::-1], 2)
+
+
+def crc_diagnosis(data: bytes, got: Any) -> str | None:
+    """Name the CRC slips: a result in bytes, the bytes swapped, CRC-16/ARC (register started at 0),
+    or the unreflected (MSB-first) variant."""
+    from ..crc import crc16
+
+    expected = crc16(data)
+    if isinstance(got, (bytes, bytearray)):
+        return ("your function returns bytes; return the CRC register as an int (e.g. 0x4B37), the library "
+                "turns it into the two wire bytes.")
+    if isinstance(got, bool) or not isinstance(got, int):
+        return None
+    if not data:
+        return ("with no data the CRC is just the register's starting value: Modbus starts it at 0xFFFF."
+                if got == 0 else None)
+    if got == ((expected & 0xFF) << 8 | expected >> 8) and got != expected:
+        return ("your result has its two bytes swapped: return the register value itself; only on the wire "
+                "does the low byte go first.")
+    register = 0
+    for byte in data:
+        register ^= byte
+        for _ in range(8):
+            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+    if got == register and got != expected:
+        return ("that is CRC-16/ARC: the same polynomial, but its register starts at 0x0000. Modbus starts "
+                "the register at 0xFFFF.")
+    register = 0xFFFF
+    for byte in data:
+        register ^= byte << 8
+        for _ in range(16 - 8):
+            register = ((register << 1) ^ 0x8005) & 0xFFFF if register & 0x8000 else (register << 1) & 0xFFFF
+    if got in (register, reflected(register, 16)) and got != expected:
+        return ("you shifted left with the polynomial 0x8005 (most significant bit first). Modbus's CRC is "
+                "reflected: shift right and XOR with 0xA001, 0x8005's bits reversed.")
+    return None

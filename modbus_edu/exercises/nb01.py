@@ -1,0 +1,93 @@
+"""Exercises of notebook 01: The data model."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..errors import ModbusError
+from .core import exercise, int_answer
+
+
+@exercise("01.1", "the address behind a reference number",
+          hint="a reference number is the table prefix (4 = holding registers) followed by address + 1.",
+          wrong=108)
+def _check_01_1(answer: Any) -> str | None:
+    from ..datamodel import parse_reference
+
+    ref = "40108"
+    expected = parse_reference(ref).address
+    got = int_answer(answer, "an address")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == expected + 1:
+        return f"{got} is the element number; the address in the frame is the number minus one."
+    if got == int(ref):
+        return ("the prefix 4 (holding registers) never travels in the frame: "
+                "the function code says which table.")
+    return f"{got} is not the address of holding register {ref}."
+
+
+@exercise("01.2", "the reference number of an address",
+          hint="input registers have the prefix 3; the number after the prefix is address + 1, written with "
+               "four digits.",
+          wrong="30009")
+def _check_01_2(answer: Any) -> str | None:
+    from ..datamodel import format_reference
+
+    expected = format_reference("input_registers", 9)
+    got = str(answer).strip()
+    if got == expected:
+        return None
+    if got == format_reference("input_registers", 8):
+        return "numbers start at 1: address 0 is 30001, so address 9 is one more than you wrote."
+    if got[:1] != expected[:1]:
+        return f"input registers use the prefix {expected[0]} (3x), your answer starts with {got[:1]!r}."
+    return f"{got!r} is not the 5-digit reference number of input register address 9."
+
+
+@exercise("01.3", "which table a function code reaches",
+          hint="answer a pair (table name, may a master write it?), e.g. ('coils', True); "
+               "mb.table_kind(code) names the table.",
+          wrong=("holding_registers", True))
+def _check_01_3(answer: Any) -> str | None:
+    from ..datamodel import DataBank, table_kind
+
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair: (table name, True or False)."
+    kind, writable = answer
+    expected_kind = table_kind(4)
+    try:
+        got_kind = table_kind(str(kind))
+    except ModbusError:
+        return f"{kind!r} is not a table name; the tables are coils, discrete_inputs, input_registers, " \
+               f"holding_registers."
+    if got_kind != expected_kind:
+        return f"function code 4 does not reach the {got_kind.replace('_', ' ')}."
+    expected_writable = DataBank(sparse=True).table(expected_kind).writable
+    if bool(writable) != expected_writable or not isinstance(writable, bool):
+        return f"the table is right, but may a master write the {expected_kind.replace('_', ' ')}? " \
+               f"Answer True or False."
+    return None
+
+
+@exercise("01.4", "counting the registers of a sparse bank",
+          hint="holding registers 150 to 175 means numbers 150, 151, ..., 175: count both ends. "
+               "Or declare them in DataBank(sparse=True) and ask len(bank.holding_registers).",
+          wrong=50)
+def _check_01_4(answer: Any) -> str | None:
+    from ..datamodel import DataBank
+
+    bank = DataBank(sparse=True)
+    for first, last in ((150, 175), (200, 225)):
+        bank.holding_registers.declare(first - 1, last - first + 1)
+    expected = len(bank.holding_registers)
+    got = int_answer(answer, "a count")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == expected - 2:
+        return "you subtracted first from last in each range; a range from 150 to 175 includes both ends."
+    return f"{got} registers is not right."

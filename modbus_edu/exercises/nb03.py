@@ -1,0 +1,103 @@
+"""Exercises of notebook 03: RTU frames and the CRC."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..crc import crc16
+from ..errors import ModbusError
+from .build import build_exercise
+from .core import as_bytes, compare_bytes, compare_rtu_frame, crc_diagnosis, exercise, int_answer
+
+
+@exercise("03.1", "a CRC in wire order",
+          hint="mb.crc16(data) gives the register value; on the wire its low byte goes first "
+               "(mb.crc_bytes(data) gives both bytes in wire order).",
+          wrong="87 76")
+def _check_03_1(answer: Any) -> str | None:
+    from ..crc import crc_bytes
+    from ..framing import parse_hex
+
+    expected = crc_bytes(parse_hex("11 03 00 6B 00 03"))
+    if isinstance(answer, int) and not isinstance(answer, bool):
+        return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
+                f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
+    got = as_bytes(answer)
+    if got == expected[::-1]:
+        return "these are the right bytes in the wrong order: the low byte of the CRC goes first."
+    return compare_bytes(got, expected, "your CRC")
+
+
+@exercise("03.2", "build an RTU frame",
+          hint="mb.RtuFrame(unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., value=...)).encode(); "
+               "the address goes in the frame as it is: 2 is sent as 00 02.",
+          wrong="01 06 00 02 12 34 7D 25")
+def _check_03_2(answer: Any) -> str | None:
+    from ..framing import RtuFrame
+    from ..pdu import WriteSingleRegisterRequest
+
+    expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
+    return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
+                             "the low byte goes first.")
+
+
+@exercise("03.3", "will the slave answer?",
+          hint="a slave answers only a frame whose CRC is right; check it with mb.RtuFrame.decode or "
+               "mb.explain. Answer True or False.",
+          wrong=True)
+def _check_03_3(answer: Any) -> str | None:
+    from ..framing import RtuFrame, parse_hex
+
+    try:
+        RtuFrame.decode(parse_hex("11 03 00 6B 00 03 76 86"))
+        expected = True
+    except ModbusError:
+        expected = False
+    if not isinstance(answer, bool):
+        return "answer True or False."
+    if answer == expected:
+        return None
+    return ("look at the CRC: the frame carries 0x8676, but the CRC of its first six bytes is different. "
+            "A slave cannot trust a frame with a wrong CRC, not even its address, so it stays silent.")
+
+
+@exercise("03.4", "the length of an FC3 response",
+          hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
+               "+ 2 bytes per register + CRC (2).",
+          wrong=23)
+def _check_03_4(answer: Any) -> str | None:
+    from ..framing import RtuFrame
+    from ..pdu import ReadHoldingRegistersResponse
+
+    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode())
+    got = int_answer(answer, "a number of bytes")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == expected - 2:
+        return "you forgot the two CRC bytes at the end."
+    if got == expected - 10:
+        return "each register is two bytes."
+    return f"{got} bytes is not the length of that response."
+
+
+def _crc_without_final_step(data: bytes) -> int:
+    """A plausible wrong CRC: the right loop, but the register starts at 0 (CRC-16/ARC)."""
+    register = 0
+    for byte in data:
+        register ^= byte
+        for _ in range(8):
+            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+    return register
+
+
+build_exercise(
+    "03.5", "write crc16 yourself",
+    reference=crc16,
+    inputs=lambda rng: (rng.randbytes(rng.randrange(1, 64)),),
+    edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),)],
+    hint="start with register = 0xFFFF; for each byte: register ^= byte, then 8 times: if the lowest bit is "
+         "1, shift right and XOR with 0xA001, else just shift right. Return the register.",
+    wrong=_crc_without_final_step,
+    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got))

@@ -1,0 +1,107 @@
+"""Exercises of notebook 06: Master and slave over a loopback wire."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..errors import ModbusError
+from .core import exercise, int_answer, real_answer
+
+
+def _one_read_time(baudrate: int, count: int) -> float:
+    """Seconds of virtual time one FC3 read of ``count`` registers takes on a loopback line (8N1)."""
+    from ..links.loopback import loopback_serial
+    from ..master import Master
+    from ..slave import Slave
+
+    link = loopback_serial(Slave(unit=1), baudrate=baudrate)
+    Master(link).read_holding_registers(unit=1, address=0, count=count)
+    return link.clock.now
+
+
+@exercise("06.1", "the time of one transaction",
+          hint="request characters + 3.5 characters of silence + response characters + 3.5 characters, "
+               "each character 10 bits at 9600 baud; or measure link.clock.now around a read.",
+          wrong=22.92)
+def _check_06_1(answer: Any) -> str | None:
+    expected = _one_read_time(9600, 10) * 1000
+    got = real_answer(answer, "a time in milliseconds")
+    if isinstance(got, str):
+        return got
+    if abs(got - expected) <= 0.01:
+        return None
+    if abs(got - expected / 1000) <= 0.00001:
+        return "that looks like seconds; give milliseconds."
+    if abs(got - _one_read_time(9600, 1) * 1000) <= 0.01:
+        return "22.92 ms is the time for 1 register; this response carries 10 (20 more data bytes)."
+    return f"{got:g} ms is not the time of that transaction."
+
+
+@exercise("06.2", "an exception the master reports",
+          hint="try it: master.write_single_coil(unit=1, address=0, value=True) inside try/except "
+               "mb.ModbusExceptionError as error, and look at error.code.",
+          wrong=1)
+def _check_06_2(answer: Any) -> str | None:
+    from ..datamodel import DataBank
+    from ..errors import ModbusExceptionError
+    from ..links.loopback import loopback_serial
+    from ..master import Master
+    from ..slave import Slave
+
+    bank = DataBank(sparse=True)
+    bank.holding_registers.declare(0, 20)
+    master = Master(loopback_serial(Slave(unit=1, bank=bank)))
+    try:
+        master.write_single_coil(unit=1, address=0, value=True)
+        return "the checker expected an exception response here and got none; please tell your teacher."
+    except ModbusExceptionError as error:
+        expected = error.code
+    got = int_answer(answer, "an exception code")
+    if isinstance(got, str):
+        return got
+    if got == expected:
+        return None
+    if got == 1:
+        return ("01 (illegal function) would mean the slave does not implement function 5 at all; it does, "
+                "but coil 0 does not exist in its bank.")
+    return f"exception code {got:02X} is not what the slave answers."
+
+
+@exercise("06.3", "the most transactions per second",
+          hint="one transaction (FC3, 1 register) takes (8 + 3.5 + 7 + 3.5) characters; a character is "
+               "10 bits at 8N1; at 19200 baud one bit takes 1/19200 s.",
+          wrong=43.6)
+def _check_06_3(answer: Any) -> str | None:
+    expected = 1 / _one_read_time(19200, 1)
+    got = real_answer(answer, "a rate")
+    if isinstance(got, str):
+        return got
+    if abs(got - expected) <= 0.1:
+        return None
+    if abs(got - 1 / _one_read_time(9600, 1)) <= 0.1:
+        return "that is the rate at 9600 baud; at 19200 every character takes half the time."
+    return f"{got:g} transactions per second is not right."
+
+
+@exercise("06.4", "what a wrong unit looks like",
+          hint="try it: read from unit 2 on a line where only slave 1 listens, inside try/except "
+               "mb.ModbusError as error, and give type(error).",
+          wrong=ModbusError)
+def _check_06_4(answer: Any) -> str | None:
+    from ..links.loopback import loopback_serial
+    from ..master import Master
+    from ..slave import Slave
+
+    master = Master(loopback_serial(Slave(unit=1)), timeout=0.5)
+    try:
+        master.read_holding_registers(unit=2, address=0, count=1)
+        return "the checker expected an error here and got none; please tell your teacher."
+    except ModbusError as error:
+        expected = type(error)
+    got = answer if isinstance(answer, type) else type(answer)
+    if got is expected:
+        return None
+    if isinstance(got, type) and issubclass(expected, got):
+        return f"{got.__name__} is too general: which subclass exactly?"
+    return (f"{getattr(got, '__name__', got)} is not what the master raises: no slave 2 listens, so "
+            f"what does the master get back?")

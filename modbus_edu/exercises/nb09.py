@@ -1,0 +1,90 @@
+"""Exercises of notebook 09: An Arduino-style slave."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .core import exercise, real_answer
+
+
+@exercise("09.1", "function and address for a reference number",
+          hint="3xxxx are input registers, read with function 4; the address in the frame is the number "
+               "after the prefix minus one. mb.parse_reference('30010') does it.",
+          wrong=(4, 10))
+def _check_09_1(answer: Any) -> str | None:
+    from ..datamodel import parse_reference, table_kind
+
+    ref = parse_reference("30010")
+    function = next(fc for fc in (1, 2, 3, 4) if table_kind(fc) == ref.kind)
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair of ints: (function, address)."
+    got_function, got_address = answer
+    if got_function != function:
+        if got_function == 3:
+            return "function 3 reads holding registers (4xxxx); 3xxxx are input registers."
+        return f"function {got_function!r} does not read the table 30010 is in."
+    if got_address != ref.address:
+        if got_address == ref.address + 1:
+            return "that is the register's number; the frame carries the address, which is one less."
+        if got_address == 30010 or got_address == 30009:
+            return "the prefix 3 only names the table; it is not part of the address."
+        return f"address {got_address!r} is not where 30010 is."
+    return None
+
+
+def _registers_150_175_and_200_225_off_by_one() -> Any:
+    from ..datamodel import DataBank
+
+    bank = DataBank(sparse=True)
+    for first in (150, 200):
+        bank.holding_registers.declare(first, 26)
+    return bank
+
+
+@exercise("09.2", "a sparse bank with holding registers 150-175 and 200-225",
+          hint="board = ArduinoSlave(unit=1, sketch=False); for number in range(150, 176): "
+               "board.add(40000 + number); the same for 200-225.",
+          wrong=_registers_150_175_and_200_225_off_by_one())
+def _check_09_2(answer: Any) -> str | None:
+    from ..datamodel import DataBank, parse_reference
+
+    bank = getattr(answer, "bank", answer)
+    if not isinstance(bank, DataBank):
+        return "give the board (an ArduinoSlave) or its DataBank."
+    if not bank.sparse:
+        return "the bank should be sparse: only the declared registers exist."
+    expected = sorted(parse_reference(40000 + n).address for n in [*range(150, 176), *range(200, 226)])
+    got = sorted(bank.holding_registers.addresses())
+    for table in (bank.coils, bank.discrete_inputs, bank.input_registers):
+        if len(table):
+            kind = table.kind.replace("_", " ")
+            return f"only holding registers were asked for, but the bank also has {kind}."
+    if got == expected:
+        return None
+    if got == [a + 1 for a in expected]:
+        return "off by one: register 150 is reference 40150, which is address 149."
+    if len(got) != len(expected):
+        return (f"the bank holds {len(got)} holding registers, it should hold {len(expected)} "
+                "(150 to 175 and 200 to 225, both ends included).")
+    return "the right number of registers, but not at the right addresses."
+
+
+@exercise("09.3", "a master timeout that copes with the slow loop",
+          hint="a request may wait up to the longest loop (1.65 s + 10%) plus the time of the reply; "
+               "try loop_time_experiment([SLOW_LOOP], timeout=...) with a few values.",
+          wrong=1.5)
+def _check_09_3(answer: Any) -> str | None:
+    from ..devices.arduino import SLOW_LOOP, loop_time_experiment
+
+    got = real_answer(answer, "a timeout in seconds")
+    if isinstance(got, str):
+        return got
+    if got > 2.5:
+        return f"{got:g} s works, but it is longer than needed: stay at or below 2.5 s."
+    if got <= 0:
+        return "a timeout is a positive number of seconds."
+    [(_loop, fraction)] = loop_time_experiment([SLOW_LOOP], timeout=got)
+    if fraction < 1.0:
+        return (f"with a timeout of {got:g} s, {fraction:.0%} of the requests are answered: the longest "
+                "waits are longer than that.")
+    return None

@@ -1,0 +1,87 @@
+"""Exercises of notebook 10: A power meter."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .core import close, exercise, real_answer
+
+
+@exercise("10.1", "a voltage from a register pair",
+          hint="the two registers after the byte count form one 32-bit number, high word first; VL2 is in "
+               "tenths of a volt. METER_BY_NAME['VL2'].value(registers) does both steps.",
+          wrong=4105)
+def _check_10_1(answer: Any) -> str | None:
+    from ..devices.meter import METER_BY_NAME
+    from ..framing import RtuFrame, parse_hex
+    from ..values import decode_value
+
+    registers = RtuFrame.decode(parse_hex("01 03 04 00 00 10 09 37 F5"), role="response").pdu.registers
+    expected = METER_BY_NAME["VL2"].value(registers)
+    got = real_answer(answer, "a voltage in volts")
+    if isinstance(got, str):
+        return got
+    raw = decode_value(registers, "uint32", "ABCD")
+    if close(got, expected):
+        return None
+    if close(got, raw):
+        return "that is the raw register value; Table 5 says V x 10: divide by 10."
+    if close(got, decode_value(registers, "uint32", "CDAB") / 10):
+        return "you put the words in the wrong order: the high word (0x0000) comes first."
+    return f"{got:g} V is not what those registers carry."
+
+
+@exercise("10.2", "the registers that carry a current",
+          hint="288.9 A is 288 900 mA; split it into a high and a low 16-bit word, high word first: "
+               "mb.encode_value(288900, 'uint32', 'ABCD'), or METER_BY_NAME['AL1'].registers(288.9).",
+          wrong=[0x6884, 0x0004])
+def _check_10_2(answer: Any) -> str | None:
+    from ..devices.meter import METER_BY_NAME
+
+    expected = METER_BY_NAME["AL1"].registers(_al1_of_trial_2())
+    if not isinstance(answer, (list, tuple)) or any(
+            isinstance(x, bool) or not isinstance(x, int) for x in answer):
+        return "answer with a list of two ints, e.g. [0x0001, 0x2345]."
+    got = list(answer)
+    if got == expected:
+        return None
+    if got == expected[::-1]:
+        return "the words are swapped: this meter sends the high word at the lower address."
+    if len(got) == 1:
+        return f"{got[0]} does not fit in one 16-bit register (at most 65535): it takes two."
+    if len(got) == 2 and got[0] * 65536 + got[1] == 2889:
+        return "the current travels in milliamperes: 288.9 A is 288 900 mA."
+    return f"{got} is not 288 900 mA split high word first."
+
+
+def _al1_of_trial_2() -> float:
+    """AL1 of trial 2 in 003's Table 6, from the library's copy of the table."""
+    from ..devices.meter import TRIALS
+
+    return TRIALS[2]["AL1"]
+
+
+@exercise("10.3", "one request for PF2, VL3 and AL3",
+          hint="look up the three pairs in Table 5 (METER_BY_NAME[...].address): they are consecutive; "
+               "one FC3 request from the first address, two registers each.",
+          wrong=(3, 0x12, 3))
+def _check_10_3(answer: Any) -> str | None:
+    from ..devices.meter import METER_BY_NAME, meter_blocks
+
+    members = [METER_BY_NAME[name] for name in ("PF2", "VL3", "AL3")]
+    [(address, count, _)] = meter_blocks(members)
+    expected = (3, address, count)
+    if not isinstance(answer, (tuple, list)) or len(answer) != 3:
+        return "answer with three ints: (function, address, count)."
+    function, got_address, got_count = answer
+    if function != 3:
+        return "the meter is read with function 3, read holding registers."
+    if got_address != address:
+        if got_address == address + 1:
+            return "the address in the frame is 0-based: 0x12 is address 18, not reference 40019."
+        return f"address {got_address!r} is not where PF2 starts."
+    if got_count != count:
+        if got_count == len(members):
+            return "each quantity takes a pair of registers: count registers, not quantities."
+        return f"{got_count!r} registers do not cover exactly the three pairs."
+    return None if tuple(answer) == expected else "not quite."

@@ -1,0 +1,82 @@
+"""Exercises of notebook 11: Real sockets and real libraries."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .core import as_bytes, compare_bytes, exercise
+
+
+@exercise("11.1", "decode a captured Modbus/TCP request",
+          hint="MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then the "
+               "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
+          wrong=(0x0200, 6, 5, 0x63))
+def _check_11_1(answer: Any) -> str | None:
+    from ..framing import TcpFrame, parse_hex
+
+    frame = TcpFrame.decode(parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
+    expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
+    if not isinstance(answer, (tuple, list)) or len(answer) != 4:
+        return "answer with four ints: (transaction_id, function, address, value)."
+    if any(isinstance(x, bool) or not isinstance(x, int) for x in answer):
+        return "all four should be ints."
+    tid, function, address, value = answer
+    if tid != expected[0]:
+        if tid == int.from_bytes(bytes.fromhex("0002"), "little"):
+            return "the transaction id is big-endian (high byte first): 00 02 is 2, not 512."
+        return f"the transaction id is in bytes 0-1; {tid} is not it."
+    if function != expected[1]:
+        return f"the function code is byte 7, right after the unit identifier; it is not {function}."
+    if address != expected[2]:
+        return f"the address is the two bytes after the function code; {address} is not it."
+    if value != expected[3]:
+        return f"the value is the last two bytes, 0x0063; {value} is not it."
+    return None
+
+
+@exercise("11.2", "what a gateway does: RTU in, Modbus/TCP out",
+          hint="keep the unit and the PDU (drop the CRC), put an MBAP header in front: "
+               "mb.TcpFrame(transaction_id=7, unit=..., pdu=...).encode(); mb.RtuFrame.decode reads the RTU "
+               "frame.",
+          wrong="00 07 00 00 00 08 03 03 00 00 00 03 04 29")
+def _check_11_2(answer: Any) -> str | None:
+    from ..framing import RtuFrame, TcpFrame, parse_hex
+
+    rtu = RtuFrame.decode(parse_hex("03 03 00 00 00 03 04 29"), role="request")
+    expected = TcpFrame(transaction_id=7, unit=rtu.unit, pdu=rtu.pdu).encode()
+    got = as_bytes(answer)
+    if got.endswith(parse_hex("04 29")):
+        return "Modbus/TCP frames carry no CRC: TCP checks the bytes itself. Drop the last two bytes."
+    if got[:2] == b"\x07\x00":
+        return "the transaction id goes big-endian: 00 07."
+    return compare_bytes(got, expected, "your Modbus/TCP frame")
+
+
+@exercise("11.3", "a pyserial URL for a serial device server",
+          hint="pyserial's URL for a serial line carried over raw TCP is socket://<host>:<port>.",
+          wrong="tcp://192.168.1.60:4001")
+def _check_11_3(answer: Any) -> str | None:
+    import serial
+    from serial.urlhandler.protocol_socket import Serial as SocketSerial
+
+    if not isinstance(answer, str):
+        return "answer with a string, the URL."
+    try:
+        port = serial.serial_for_url(answer.strip(), do_not_open=True)
+    except (ValueError, serial.SerialException) as exc:
+        return f"pyserial does not accept {answer!r} as a port or URL ({exc})."
+    if not isinstance(port, SocketSerial):
+        if "://" not in answer:
+            return f"{answer!r} is a local port name; a device on the network needs a URL."
+        scheme = answer.split("://")[0]
+        if scheme == "rfc2217":
+            return "rfc2217:// is for device servers in RFC 2217 (telnet) mode; this one runs raw TCP."
+        return f"{scheme}:// is another kind of pyserial port, not a serial line over raw TCP."
+    try:
+        host, number = port.from_url(answer.strip())
+    except serial.SerialException as exc:
+        return f"pyserial cannot read host and port from {answer!r}: {exc}."
+    expected = SocketSerial().from_url("socket://192.168.1.60:4001")
+    if (host, number) != expected:
+        return f"that URL reaches {host}, TCP port {number}, not the device server."
+    return None

@@ -1,0 +1,89 @@
+"""Exercises of notebook 12: The test tool."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .core import exercise
+
+
+@exercise("12.1", "a grid cell in hex",
+          hint="the fill gives 100, 110, 120, ... so address 5 holds 100 + 5 x 10; "
+               "mb.format_registers([...], 'hex') shows a register as the test tool's grid does.",
+          wrong="0x008C")
+def _check_12_1(answer: Any) -> str | None:
+    from ..datamodel import DataBank
+    from ..devices.generators import increment_fill
+    from ..values import format_registers
+
+    bank = DataBank(sparse=False)
+    increment_fill(bank.holding_registers, 0, 10, 100, 10)
+    expected = format_registers(bank.holding_registers.read(5, 1), "hex")[0]
+    if not isinstance(answer, str):
+        return "answer with the text the grid shows, a string such as '0x0001'."
+    got = answer.strip()
+    if got.lower() == expected.lower():
+        return None
+    value = bank.holding_registers[5]
+    if got == str(value):
+        return f"{got} is the unsigned display; in hex it is written with 0x and four hex digits."
+    if got.lower() == format_registers([value - 10], "hex")[0].lower():
+        return "addresses start at 0: address 5 is the sixth cell."
+    return f"{got!r} is not how the hex display shows address 5."
+
+
+_12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
+
+
+@exercise("12.2", "set up a master tool",
+          hint="TestTool('rtu_master', unit=..., function=..., address=..., length=..., interval=...); "
+               "input registers are read with function 4.",
+          wrong={"role": "rtu_master", "unit": 7, "function": 3, "address": 10, "length": 4, "interval": 0.5})
+def _check_12_2(answer: Any) -> str | None:
+    from ..widgets.testtool import TestTool
+
+    config = answer.config() if isinstance(answer, TestTool) else answer
+    if not isinstance(config, dict):
+        return "give the TestTool or its config() dict."
+    reference = TestTool("rtu_master", unit=7, function=4, address=10, length=4, interval=0.5).config()
+    reference_roles = ("rtu_master", "tcp_client")
+    for key in _12_2_KEYS:
+        if key not in config:
+            return f"the configuration has no {key!r}."
+    if config["role"] not in reference_roles:
+        return f"a {config['role']!r} answers requests; the tool must ask: a master (or a client)."
+    for key in _12_2_KEYS[1:]:
+        if config[key] != reference[key]:
+            if key == "function" and config[key] == 3:
+                return "function 3 reads holding registers; input registers are read with function 4."
+            return f"{key} is {config[key]!r}, it should be {reference[key]!r}."
+    return None
+
+
+@exercise("12.3", "the transaction id after three polls",
+          hint="the transaction id goes up by one per request: 280, 281, 282 are used; the MBAP header "
+               "writes it high byte first.",
+          wrong=(283, "1B 01"))
+def _check_12_3(answer: Any) -> str | None:
+    from ..framing import parse_hex
+    from ..widgets.testtool import TestTool
+
+    server = TestTool("tcp_server", unit=1, length=1)
+    client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
+    client.run_polls(3)
+    tid = client.transaction_id.value
+    client.run_polls(1)
+    first_two = client.traffic.search(direction="tx")[-1].data[:2]
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair: (transaction_id, 'XX XX')."
+    got_tid, got_bytes = answer
+    if got_tid != tid:
+        if got_tid == tid - 1:
+            return "that is the id of the third request; the question asks for the next one."
+        return f"the next transaction id is not {got_tid!r}."
+    got = parse_hex(got_bytes) if isinstance(got_bytes, str) else bytes(got_bytes)
+    if got == first_two[::-1]:
+        return "the bytes are swapped: the MBAP header is big-endian, high byte first (000 says otherwise)."
+    if got != first_two:
+        return f"{got.hex(' ').upper()} is not how {tid} starts the request."
+    return None

@@ -1,0 +1,199 @@
+"""Exercises of notebook 13: Troubleshooting lab."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .core import close, compare_rtu_frame, exercise, real_answer
+
+_SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
+_LAB_SEED = 13
+
+
+def _silent_wires(seed: int = _LAB_SEED) -> tuple[dict[str, Any], dict[str, str]]:
+    """Three wires whose master only gets timeouts, each for another reason; and the reasons."""
+    import random
+
+    from ..links.loopback import loopback_serial
+    from ..slave import Slave
+
+    causes = list(_SILENT_CAUSES)
+    random.Random(seed).shuffle(causes)
+    wires: dict[str, Any] = {}
+    truth: dict[str, str] = {}
+    for name, cause in zip("ABC", causes):
+        slave = Slave(unit=1)
+        slave.bank.holding_registers[0] = 1234
+        if cause == "wrong unit id":
+            slave = Slave(unit=2, bank=slave.bank)       # its address switch says 2, the drawing says 1
+            link = loopback_serial(slave, baudrate=9600)
+        elif cause == "wrong baud rate or parity":
+            # its configuration says 19200 baud, the master's line runs at 9600: the wire honours the
+            # slave's own settings, so its receiver samples every bit at the wrong moment
+            slave.serial_settings = {"baudrate": 19200, "parity": "N", "stopbits": 1}  # type: ignore[attr-defined]
+            link = loopback_serial(slave, baudrate=9600)
+        else:
+            link = loopback_serial([], baudrate=9600)    # the slave is off, or its cable is not connected
+        wires[name] = link
+        truth[name] = cause
+    return wires, truth
+
+
+def _word_order_device(seed: int = _LAB_SEED) -> tuple[Any, str, float]:
+    """A current sensor sending milliamperes as uint32 in an undisclosed word order."""
+    import random
+
+    from ..datamodel import DataBank
+    from ..slave import Slave
+    from ..values import encode_value
+
+    rng = random.Random(seed)
+    order = "CDAB"
+    amperes = round(rng.uniform(120.0, 180.0), 3)
+    bank = DataBank(sparse=True)
+    bank.holding_registers.declare(0, 2, encode_value(round(amperes * 1000), "uint32", order))
+    return Slave(unit=1, bank=bank, name="current sensor"), order, amperes
+
+
+def _slow_board(seed: int = _LAB_SEED) -> Any:
+    """An Arduino-style slave whose main loop is slower than the master's 1 s timeout."""
+    from ..devices.arduino import ArduinoSlave
+
+    return ArduinoSlave(unit=1, loop_time=2.2, jitter=0.1, seed=seed)
+
+
+def lab(puzzle: str) -> Any:
+    """Set up one of notebook 13's troubleshooting puzzles.
+
+    ``lab("silent")``      three loopback wires ``{"A": link, "B": link, "C": link}``; on each, a master
+                           asking unit 1 gets only timeouts, each for another reason;
+    ``lab("word order")``  a loopback wire to a current sensor (unit 1, holding registers 0-1: a current
+                           in mA as an unsigned 32-bit value);
+    ``lab("slow slave")``  a loopback wire to an Arduino-style slave (unit 1, input registers 30001-30002)
+                           whose main loop is too slow.
+
+    Every call builds a fresh, seeded setup: the same every run.
+    """
+    from ..errors import ConfigError
+    from ..links.loopback import loopback_serial
+
+    if puzzle == "silent":
+        return _silent_wires()[0]
+    if puzzle == "word order":
+        return loopback_serial(_word_order_device()[0], baudrate=19200)
+    if puzzle == "slow slave":
+        board = _slow_board()
+        return loopback_serial(board, **board.serial_settings)
+    raise ConfigError(f"there is no puzzle {puzzle!r}: try 'silent', 'word order' or 'slow slave'")
+
+
+@exercise("13.1", "three silent slaves",
+          hint="poll each wire, then look at what the slave saw: link.slaves[0].counters (other_unit: a "
+               "request for another address; checksum_errors: bytes that arrived garbled, as a receiver "
+               "at another baud rate assembles them) and its log, link.slaves[0].log. "
+               "No slave at all leaves no trace.",
+          wrong={"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"})
+def _check_13_1(answer: Any) -> str | None:
+    truth = _silent_wires()[1]
+    if not isinstance(answer, dict) or set(answer) != set(truth):
+        return "answer with a dict {'A': cause, 'B': cause, 'C': cause}."
+    for name in sorted(truth):
+        got = str(answer[name]).strip().lower()
+        if got not in _SILENT_CAUSES:
+            return f"wire {name}: {answer[name]!r} is not one of {', '.join(map(repr, _SILENT_CAUSES))}."
+        if got != truth[name]:
+            return f"wire {name} is not silent because of a {got}."
+    return None
+
+
+@exercise("13.2", "a current with an unknown word order",
+          hint="read holding registers 0-1 and decode them with mb.decode_value(registers, 'uint32', order) "
+               "for the orders 'ABCD' and 'CDAB'; only one gives a current a sensor could measure (in mA).",
+          wrong=("ABCD", 292880.386))
+def _check_13_2(answer: Any) -> str | None:
+    _device, order, amperes = _word_order_device()
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair: (order, current in amperes), e.g. ('ABCD', 12.5)."
+    got_order, got_amperes = answer
+    if str(got_order).upper() != order:
+        return f"with the order {got_order!r} the current makes no physical sense; try the other one."
+    value = real_answer(got_amperes, "the current")
+    if isinstance(value, str):
+        return value
+    if close(value, amperes * 1000):
+        return "that is in milliamperes; give amperes."
+    if not close(value, amperes, rel=1e-4):
+        return f"{value:g} A is not what those registers carry."
+    return None
+
+
+@exercise("13.3", "off by one",
+          hint="a reference number counts from 1, the address in the frame from 0: 40001 is address 0. "
+               "mb.parse_reference('40021') gives the address.",
+          wrong=21)
+def _check_13_3(answer: Any) -> str | None:
+    from ..datamodel import parse_reference
+
+    expected = parse_reference("40021").address
+    if isinstance(answer, bool) or not isinstance(answer, int):
+        return "answer with the address, an int."
+    if answer == expected:
+        return None
+    if answer == expected + 1:
+        return "that is the number after the prefix; the frame carries the address, one less."
+    if answer == 40021 or answer == 40020:
+        return "the prefix 4 names the table (holding registers); it is not part of the address."
+    return f"address {answer} is not where register 40021 is."
+
+
+@exercise("13.4", "a little-endian transaction id",
+          hint="a spec-following server reads the MBAP transaction id high byte first: "
+               "mb.TcpFrame.decode(...).transaction_id; a correct client sends 3 as 00 03.",
+          wrong=(3, "03 00"))
+def _check_13_4(answer: Any) -> str | None:
+    from ..framing import TcpFrame, parse_hex
+    from ..pdu import ReadHoldingRegistersRequest
+
+    captured = TcpFrame.decode(parse_hex("03 00 00 00 00 06 01 03 00 00 00 01"), role="request")
+    correct = TcpFrame(transaction_id=3, unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair: (the id the server reads, 'XX XX')."
+    seen, first_two = answer
+    if seen != captured.transaction_id:
+        if seen == 3:
+            return "3 is what the client meant; the server reads the two bytes high byte first."
+        return f"the server does not read {seen!r} from 03 00."
+    got = parse_hex(first_two) if isinstance(first_two, str) else bytes(first_two)
+    if got != correct[:2]:
+        return f"{got.hex(' ').upper()} is not transaction id 3 written high byte first."
+    return None
+
+
+@exercise("13.5", "a CRC that does not match",
+          hint="mb.explain(frame) says what CRC it computed; compare it with the two bytes the frame "
+               "carries. The CRC goes low byte first.",
+          wrong="01 03 00 00 00 01 0A 84")
+def _check_13_5(answer: Any) -> str | None:
+    from ..framing import RtuFrame
+    from ..pdu import ReadHoldingRegistersRequest
+
+    expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
+    return compare_rtu_frame(answer, expected, "your corrected frame", "that is the frame as the faulty "
+                             "tool sent it: the CRC bytes are still swapped.")
+
+
+@exercise("13.6", "estimate a slave's loop time",
+          hint="poll 300 times, one request every 5 s, with a 1 s timeout; the fraction answered is about "
+               "(timeout - 0.013 s) / loop time, so loop time ~ 0.99 / fraction.",
+          wrong=1.0)
+def _check_13_6(answer: Any) -> str | None:
+    board = _slow_board()
+    got = real_answer(answer, "a loop time in seconds")
+    if isinstance(got, str):
+        return got
+    if abs(got - board.loop_time) <= 0.25 * board.loop_time:
+        return None
+    if got < board.loop_time:
+        return (f"{got:g} s is too short: a loop that fast would answer more requests in time than this "
+                "one does.")
+    return f"{got:g} s is too long: a loop that slow would answer fewer requests than this one does."

@@ -1,0 +1,211 @@
+"""The exercise machinery: build-exercise runner, answer readers and diagnoses, and robustness of check()."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import modbus_edu as mb
+from modbus_edu import exercises
+from modbus_edu.exercises import core
+from modbus_edu.exercises.build import build_exercise
+
+
+@pytest.fixture
+def crc_exercise():
+    """A build exercise registered for one test: the learner writes crc16."""
+    item = build_exercise("99.1", "a CRC function", reference=mb.crc16,
+                          inputs=lambda rng: (rng.randbytes(rng.randrange(0, 40)),),
+                          edge_cases=[(b"",), (b"123456789",)], hint="shift right, XOR 0xA001",
+                          wrong=lambda data: 0,
+                          diagnose=lambda args, expected, got: core.crc_diagnosis(args[0], got))
+    yield item
+    del exercises.EXERCISES["99.1"]
+
+
+@pytest.fixture
+def parse_exercise():
+    """A build exercise whose reference refuses some inputs (a bad CRC): the learner must raise there."""
+
+    def reference(frame: bytes) -> tuple:
+        decoded = mb.RtuFrame.decode(frame)
+        return decoded.unit, decoded.pdu.encode()[0]
+
+    def inputs(rng):
+        request = mb.ReadHoldingRegistersRequest(address=rng.randrange(65536 - 9), count=9)
+        frame = mb.RtuFrame(unit=rng.randrange(1, 248), pdu=request).encode()
+        if rng.random() < 0.3:
+            frame = frame[:-1] + bytes([frame[-1] ^ 1])
+        return (frame,)
+
+    item = build_exercise("99.2", "parse a frame", reference=reference, inputs=inputs, hint="check the CRC",
+                          wrong=lambda frame: (frame[0], frame[1]))
+    yield item
+    del exercises.EXERCISES["99.2"]
+
+
+def _crc(data: bytes) -> int:
+    register = 0xFFFF
+    for byte in data:
+        register ^= byte
+        for _ in range(8):
+            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+    return register
+
+
+def test_a_right_function_is_accepted(crc_exercise):
+    assert crc_exercise.kind == "build"
+    result = exercises.evaluate("99.1", _crc)
+    assert result.ok is True, result.message
+
+
+def test_a_wrong_function_shows_the_first_failing_input_and_both_values(crc_exercise):
+    result = exercises.evaluate("99.1", lambda data: 0)
+    assert result.ok is False
+    assert '<lambda>(bytes.fromhex("")) should give 65535 (0xFFFF); your function gives 0.' in result.message
+    assert "Modbus starts it at 0xFFFF" in result.message
+    assert "\nHint: shift right" in result.message
+
+
+@pytest.mark.parametrize("variant, words", [
+    (lambda data: ((_crc(data) & 0xFF) << 8) | (_crc(data) >> 8), "two bytes swapped"),
+    (lambda data: mb.crc16(data).to_bytes(2, "little"), "returns bytes"),
+])
+def test_the_crc_checker_names_the_usual_slips(crc_exercise, variant, words):
+    assert words in exercises.evaluate("99.1", variant).message
+
+
+def test_the_crc_checker_recognises_crc16_arc(crc_exercise):
+    def arc(data):
+        register = 0
+        for byte in data:
+            register ^= byte
+            for _ in range(8):
+                register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+        return register
+
+    assert "starts it at 0xFFFF" in exercises.evaluate("99.1", arc).message
+    assert "CRC-16/ARC" in core.crc_diagnosis(b"123456789", arc(b"123456789"))
+
+
+@pytest.mark.parametrize("function, words", [
+    (lambda data: 1 / 0, "raised ZeroDivisionError"),
+    (lambda data: object(), "Your function returns an object; an int is expected"),
+    (lambda data: "4B37", "Your function returns a str; an int is expected"),
+    (lambda: 0, "raised TypeError"),
+    (42, "asks for a function"),
+])
+def test_a_broken_function_gets_a_message_never_an_exception(crc_exercise, function, words):
+    result = exercises.evaluate("99.1", function)
+    assert result.ok is False
+    assert words in result.message
+
+
+def test_a_function_that_never_returns_is_stopped_after_the_time_limit(crc_exercise):
+    def forever(data):
+        while True:
+            pass
+
+    start = time.monotonic()
+    result = exercises.evaluate("99.1", forever)
+    assert result.ok is False and "did not finish within 2 s" in result.message
+    assert time.monotonic() - start < 3.5
+    time.sleep(0.1)
+    assert not any(thread.name == "exercise 99.1" for thread in threading.enumerate())
+
+
+def test_an_unwritten_function_is_not_answered_yet(crc_exercise):
+    def crc16(data: bytes) -> int:
+        """Your code here."""
+        ...
+
+    result = exercises.evaluate("99.1", crc16)
+    assert result.ok is None and "not answered yet" in result.message and "Hint" not in result.message
+
+
+def test_where_the_library_refuses_the_learners_function_must_raise(parse_exercise):
+    def parse(frame):
+        return mb.RtuFrame.decode(frame).unit, frame[1]
+
+    assert exercises.evaluate("99.2", parse).ok is True
+    result = exercises.evaluate("99.2", lambda frame: (frame[0], frame[1]))
+    assert result.ok is False and "should raise an exception" in result.message
+
+
+def test_the_generated_inputs_are_the_same_every_run(crc_exercise):
+    first = [args for args, _ in crc_exercise.checker.cases()]
+    crc_exercise.checker._cases = None
+    assert [args for args, _ in crc_exercise.checker.cases()] == first
+    assert len(first) == 102
+
+
+@pytest.mark.parametrize("answer, words", [
+    (0.02292, "seconds; the question asks for milliseconds"),
+    (22.9, "close: give 2 decimals"),
+    (23.917, "is not"),
+    (22.92, None),
+])
+def test_number_answers_name_units_and_near_misses(answer, words):
+    message = core.number_answer(answer, 22.917, decimals=2, unit="ms", what="the time")
+    assert message is None if words is None else words in message
+
+
+def test_address_slips_are_named():
+    assert "counts from 1" in core.address_diagnosis(108, 107)
+    assert "reference number" in core.address_diagnosis(40108, 107)
+    assert core.address_diagnosis(107, 107) is None
+
+
+def test_a_whole_frame_given_for_a_pdu_is_named():
+    pdu = mb.ReadHoldingRegistersRequest(address=1, count=2).encode()
+    frame = mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=1, count=2)).encode()
+    assert "whole frame" in core.compare_pdu(frame, pdu)
+
+
+def test_byte_answers_never_allocate_from_an_int():
+    with pytest.raises(core.AnswerError, match="not an int"):
+        core.as_bytes(10**9)
+    assert exercises.evaluate("04.2", 10**9).ok is False
+    assert exercises.evaluate("03.2", 0x0103 << 40000).ok is False
+
+
+def test_unanswered_prints_no_hint(capsys):
+    result = exercises.check("03.1", ...)
+    assert result.ok is None and not result
+    assert capsys.readouterr().out.strip() == "Exercise 03.1 (a CRC in wire order) is not answered yet."
+
+
+json_like = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=20) | st.binary(max_size=20),
+    lambda children: st.lists(children, max_size=5)
+    | st.dictionaries(st.text(max_size=5), children, max_size=5),
+    max_leaves=20)
+
+
+class Hostile:
+    """An answer whose every method raises."""
+
+    def __getattribute__(self, name):
+        raise RuntimeError(name)
+
+
+@settings(max_examples=300, deadline=None)
+@given(key=st.sampled_from(sorted(exercises.EXERCISES)), answer=json_like)
+def test_any_json_like_answer_to_any_exercise_gives_a_message(key, answer):
+    result = exercises.evaluate(key, answer)
+    assert result.ok in (True, False) and len(result.message) <= 1000
+
+
+@pytest.mark.parametrize("key", sorted(exercises.EXERCISES))
+def test_deep_nesting_hostile_objects_and_odd_keys_give_a_message(key):
+    deep: list = []
+    for _ in range(50_000):
+        deep = [deep]
+    for answer in (deep, Hostile(), 10**5000, float("nan"), {1: {2: 3}}, {1, 2}):
+        assert exercises.evaluate(key, answer).ok is False
+    assert exercises.evaluate({"unhashable": 1}, 1).ok is False
+    assert exercises.evaluate(["03.1"], 1).ok is False
