@@ -8,7 +8,12 @@ nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the cou
 * the first cell is a title with "What you will learn" (3 to 5 points) and "What you need";
 * the notebook closes with a summary, at least two exercises (cells calling ``check(``) and a link to
   the next notebook (except the last one);
-* every link to another notebook points to a file that exists.
+* every link to another notebook points to a file that exists;
+* from notebook 01 on, the prose names the source documents by their short names ("the power-meter
+  paper"), never by file number ("source 003", "003's Table 5");
+* introduce before use: every library name a code cell uses (``mb.Master``, ``from modbus_edu.widgets
+  import TestTool``) is introduced first, in the prose (markdown) or in a comment of that notebook or an
+  earlier one.
 """
 
 from __future__ import annotations
@@ -21,6 +26,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 NOTEBOOK_PATTERN = re.compile(r"^\d\d_[a-z0-9_]+\.ipynb$")
+SHORTHAND_PATTERN = re.compile(r"\bsources?\s+00[0-4]\b|(?<![\w.:-])00[0-4](?:['’]s)?(?![\w.])", re.I)
+LIBRARY_NAME_PATTERN = re.compile(r"\bmb\.([A-Za-z_]\w*)")
+IMPORT_PATTERN = re.compile(r"^\s*from\s+modbus_edu(?:\.[\w.]+)?\s+import\s+\(?([\w\s,]+)\)?", re.M)
 LINK_PATTERN = re.compile(r"\]\((?![a-z]+://)((?:\.?/)?(?:solutions/)?[^)\s#?]+\.ipynb)(?:#[^)]*)?\)")
 
 
@@ -62,6 +70,51 @@ class Problem:
 
 def _text(cell) -> str:
     return cell.source if isinstance(cell.source, str) else "".join(cell.source)
+
+
+def _comments(code: str) -> str:
+    return "\n".join(line.split("#", 1)[1] for line in code.splitlines() if "#" in line)
+
+
+def source_shorthands(path: Path | str) -> list[str]:
+    """The source-number shorthands ("source 003", "003's") in a notebook's prose and code comments."""
+    import nbformat
+
+    found = []
+    for cell in nbformat.read(Path(path), as_version=4).cells:
+        text = _text(cell) if cell.cell_type == "markdown" else _comments(_text(cell))
+        found.extend(match.group(0) for match in SHORTHAND_PATTERN.finditer(text))
+    return found
+
+
+def used_before_introduced(paths: list[Path]) -> list[Problem]:
+    """Library names a code cell uses before any prose or comment of the course has named them.
+
+    ``paths`` are the notebooks in course order.  A name is introduced by a markdown cell or a code
+    comment at or before the cell that uses it, in that notebook or an earlier one; its first use is
+    reported once."""
+    import nbformat
+
+    introduced: set[str] = set()
+    reported: set[str] = set()
+    problems = []
+    for path in paths:
+        for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
+            text = _text(cell)
+            if cell.cell_type == "markdown":
+                introduced.update(re.findall(r"\w+", text))
+                continue
+            if cell.cell_type != "code":
+                continue
+            introduced.update(re.findall(r"\w+", _comments(text)))
+            names = set(LIBRARY_NAME_PATTERN.findall(text))
+            for group in IMPORT_PATTERN.findall(text):
+                names.update(name for name in re.findall(r"\w+", group) if name != "as")
+            for name in sorted(names - introduced - reported):
+                reported.add(name)
+                problems.append(Problem(path.name, f"cell {index} uses {name} before the course introduces "
+                                                   "it (name it in the prose or a comment first)"))
+    return problems
 
 
 def check_notebook(path: Path | str, last: bool = False) -> list[Problem]:
@@ -107,6 +160,12 @@ def check_notebook(path: Path | str, last: bool = False) -> list[Problem]:
     if checks < 2:
         problem(f"{checks} exercise cell(s) call check(), expected at least 2")
 
+    if not name.startswith("00"):
+        shorthands = source_shorthands(path)
+        if shorthands:
+            problem(f"{len(shorthands)} source shorthand(s) such as {shorthands[0]!r}: name the source by "
+                    "its short name, linked to notebook 00's Sources section")
+
     links = LINK_PATTERN.findall(everything)
     for link in links:
         if not (path.parent / link).exists():
@@ -127,6 +186,7 @@ def check_course(folder: Path | str) -> list[Problem]:
         problems.append(Problem(str(folder), f"notebooks are numbered {numbers}, expected {expected}"))
     for index, path in enumerate(notebooks):
         problems.extend(check_notebook(path, last=index == len(notebooks) - 1))
+    problems.extend(used_before_introduced(notebooks))
     return problems
 
 

@@ -28,6 +28,52 @@ def test_notebook_conventions(path):
     assert not problems, "\n".join(map(str, problems))
 
 
+def test_no_source_shorthand_in_the_prose_of_notebooks_01_on():
+    left = {path.name: course.source_shorthands(path) for path in NOTEBOOK_FILES[1:]}
+    assert not any(left.values()), {name: found for name, found in left.items() if found}
+
+
+def test_every_library_name_is_introduced_before_it_is_used():
+    problems = course.used_before_introduced(NOTEBOOK_FILES)
+    assert not problems, "\n".join(map(str, problems))
+
+
+def test_the_introduction_check_finds_a_name_used_first(tmp_path):
+    import nbformat
+
+    def write(name, cells):
+        notebook = nbformat.v4.new_notebook()
+        notebook.cells = cells
+        nbformat.write(notebook, tmp_path / name)
+        return tmp_path / name
+
+    first = write("00_a.ipynb", [nbformat.v4.new_markdown_cell("A `Master` runs transactions."),
+                                 nbformat.v4.new_code_cell("master = mb.Master(link)\nmb.Slave(unit=1)")])
+    second = write("01_b.ipynb", [nbformat.v4.new_code_cell(
+        "from modbus_edu.widgets import TestTool  # the TestTool panel\nmb.Master\nmb.Slave")])
+    messages = [str(problem) for problem in course.used_before_introduced([first, second])]
+    assert messages == ["00_a.ipynb: cell 1 uses Slave before the course introduces it "
+                        "(name it in the prose or a comment first)"]
+
+
+def test_every_notebook_from_01_has_a_build_exercise():
+    with_build = {key[:2] for key, item in exercises.EXERCISES.items() if item.kind == "build"}
+    missing = [path.name for path in NOTEBOOK_FILES[1:] if path.name[:2] not in with_build]
+    assert not missing, f"no build exercise in {missing}"
+
+
+def test_no_committed_output_shows_a_hint_for_an_unanswered_exercise():
+    import nbformat
+
+    for path in NOTEBOOK_FILES:
+        for cell in nbformat.read(path, as_version=4).cells:
+            for output in cell.get("outputs", []):
+                text = output.get("text", "")
+                text = text if isinstance(text, str) else "".join(text)
+                if "not answered yet" in text:
+                    assert "Hint" not in text, f"{path.name} shows a hint before any attempt: {text!r}"
+
+
 def test_course_check_reports_a_broken_notebook(tmp_path):
     import nbformat
 
