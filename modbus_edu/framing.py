@@ -208,7 +208,7 @@ class RtuFrame:
         offset  size  field                       example
         0       1     unit (slave address)        01
         1       1     function code               03
-        2..n-3  n-3   data of the PDU             00 00 00 01
+        2..n-3  n-4   data of the PDU             00 00 00 01
         n-2     1     CRC low byte                84
         n-1     1     CRC high byte               0A      (crc16 = 0x0A84, low byte first)
 
@@ -258,6 +258,7 @@ class RtuFrame:
         body, carried = data[:-2], int.from_bytes(data[-2:], "little")
         computed = crc16(body)
         if carried != computed:
+            _check_lost_bytes(data, role)
             raise CrcError(
                 f"CRC mismatch: frame carries 0x{carried:04X}, computed 0x{computed:04X} over "
                 f"{_span(0, n - 3)} (the CRC is {_span(n - 2, n - 1)}, low byte first: "
@@ -267,6 +268,43 @@ class RtuFrame:
             )
         _check_serial_unit_byte(data[0], "byte 0", "RTU")
         return cls(data[0], _decode_pdu(data[1:-2], role, 1))
+
+
+def _check_lost_bytes(data: bytes, role: str) -> None:
+    """Raise :class:`FrameLengthError` if a frame whose CRC failed is shorter than its own header says.
+
+    A byte lost on the line shifts the bytes after it, so the CRC check fails; but the real fault is the
+    missing byte, and the byte count (or the function's fixed length) shows it.  If one flipped bit in
+    the function code or the byte count would explain the length as well, the frame was damaged rather
+    than cut, and the CRC error stands.
+    """
+    n = len(data)
+
+    def length(header: bytes) -> int | None:
+        try:
+            return _pdu.pdu_length(header, role)
+        except ModbusError:
+            return None
+
+    expected = length(data[1:-2])
+    if expected is None or expected + 3 <= n:
+        return
+    count_at = 2 if role == "response" else 6  # where a byte count would sit, if the function has one
+    for at in {1, count_at} & set(range(1, n - 2)):
+        for bit in range(8):
+            header = bytearray(data[1:-2])
+            header[at - 1] ^= 1 << bit
+            if length(bytes(header)) == n - 3:
+                return
+    lost = expected + 3 - n
+    function = data[1]
+    if role == "response" and function in (1, 2, 3, 4) or role == "request" and function in (15, 16):
+        what = f"byte count (byte {count_at}) says {data[count_at]} data bytes, {n - count_at - 3} arrived"
+    else:
+        what = f"an FC{function} {role} is {expected + 3} bytes, {n} arrived"
+    gone = "a byte was" if lost == 1 else f"{lost} bytes were"
+    raise FrameLengthError(f"RTU frame too short: {what}: {gone} lost "
+                           "(which is why the CRC does not match)")
 
 
 @dataclass(frozen=True)
@@ -283,7 +321,8 @@ class AsciiFrame:
         m-4..m-3 LRC, 2 hex digits                   E2
         m-2..m-1 end                                 CR LF (0x0D 0x0A)
 
-    Every byte becomes two characters, so a frame is twice as long as in RTU (plus 3).  The LRC is the
+    Every byte becomes two characters, and the 2-byte CRC becomes a 1-byte LRC: a frame that has n bytes
+    in RTU has 2n + 1 characters in ASCII (``:`` and CR LF included).  The LRC is the
     two's complement of the 8-bit sum of the *bytes* (not the characters) of unit and PDU.  A frame has
     9..513 characters.  :meth:`encode` writes uppercase digits; :meth:`decode` also accepts lowercase.
     """

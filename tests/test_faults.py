@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import pytest
 
-from modbus_edu.errors import ConfigError, CrcError, ModbusError, ModbusTimeoutError, TransactionMismatchError
+from modbus_edu.errors import (
+    ConfigError,
+    CrcError,
+    FrameLengthError,
+    ModbusError,
+    ModbusTimeoutError,
+    TransactionMismatchError,
+)
 from modbus_edu.links import Faults, loopback_serial, loopback_tcp
 from modbus_edu.master import Master
 from modbus_edu.slave import Slave
@@ -58,11 +65,14 @@ def test_drop_bytes_in_the_request_and_in_the_response():
         master.read_holding_registers(1, 0, 1)
     assert slave.counters.checksum_errors + slave.counters.bad_frames == 1
     assert len(link.monitor[0].data) == 7 and "dropped" in link.monitor[0].note
-    link.faults.drop_bytes(2, target="response")
+    link.faults.drop_bytes(1, target="response")
+    with pytest.raises(FrameLengthError, match="says 2 data bytes, 1 arrived: a byte was lost"):
+        master.read_holding_registers(1, 0, 1)
+    assert master.stats.timeouts == 1 and master.stats.bad_responses == 1
+    link.faults.drop_bytes(2, target="response")  # 2 data bytes announced, 0 arrived: a bit flip could do that
     with pytest.raises(CrcError):
         master.read_holding_registers(1, 0, 1)
-    assert master.stats.timeouts == 1 and master.stats.checksum_errors == 1
-    assert link.faults.injected["bytes_dropped"] == 3
+    assert link.faults.injected["bytes_dropped"] == 4
 
 
 def test_any_target_hits_the_next_frame_whoever_sends_it():

@@ -3,6 +3,8 @@ and a cross-check of the framing bytes against pymodbus's framers."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -596,3 +598,25 @@ def test_single_bit_flip_is_always_caught_by_the_crc(item, unit: int, data) -> N
     frame[bit // 8] ^= 1 << (bit % 8)
     with pytest.raises(CrcError):
         RtuFrame.decode(bytes(frame), role)
+
+
+@pytest.mark.parametrize("cut, words", [
+    (5, "byte count (byte 2) says 6 data bytes, 5 arrived: a byte was lost"),
+    (3, "byte count (byte 2) says 6 data bytes, 5 arrived: a byte was lost"),
+])
+def test_a_response_shorter_than_its_byte_count_is_diagnosed_as_a_lost_byte(cut, words):
+    from modbus_edu.errors import FrameLengthError
+
+    frame = RtuFrame(1, P.ReadHoldingRegistersResponse(registers=[0x0102, 0x0304, 0x0506])).encode()
+    with pytest.raises(FrameLengthError, match=re.escape(words)):
+        RtuFrame.decode(frame[:cut] + frame[cut + 1:], role="response")
+
+
+def test_a_fixed_length_frame_missing_a_byte_is_diagnosed_as_a_lost_byte():
+    from modbus_edu.errors import FrameLengthError
+
+    frame = RtuFrame(1, P.WriteSingleRegisterResponse(address=1, value=2)).encode()
+    with pytest.raises(FrameLengthError, match="an FC6 response is 8 bytes, 7 arrived: a byte was lost"):
+        RtuFrame.decode(frame[:3] + frame[4:], role="response")
+    with pytest.raises(CrcError):  # the right length with a damaged byte stays a CRC error
+        RtuFrame.decode(frame[:3] + bytes([frame[3] ^ 1]) + frame[4:], role="response")
