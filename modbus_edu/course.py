@@ -28,7 +28,8 @@ from pathlib import Path
 NOTEBOOK_PATTERN = re.compile(r"^\d\d_[a-z0-9_]+\.ipynb$")
 SHORTHAND_PATTERN = re.compile(r"\bsources?\s+00[0-4]\b|(?<![\w.:-])00[0-4](?:['’]s)?(?![\w.])", re.I)
 LIBRARY_NAME_PATTERN = re.compile(r"\bmb\.([A-Za-z_]\w*)")
-IMPORT_PATTERN = re.compile(r"^\s*from\s+modbus_edu(?:\.[\w.]+)?\s+import\s+\(?([\w\s,]+)\)?", re.M)
+IMPORT_PATTERN = re.compile(
+    r"^[ \t]*from[ \t]+modbus_edu(?:\.[\w.]+)?[ \t]+import[ \t]+(?:\(([^)]*)\)|([^\n#]*))", re.M)
 LINK_PATTERN = re.compile(r"\]\((?![a-z]+://)((?:\.?/)?(?:solutions/)?[^)\s#?]+\.ipynb)(?:#[^)]*)?\)")
 
 
@@ -108,8 +109,8 @@ def used_before_introduced(paths: list[Path]) -> list[Problem]:
                 continue
             introduced.update(re.findall(r"\w+", _comments(text)))
             names = set(LIBRARY_NAME_PATTERN.findall(text))
-            for group in IMPORT_PATTERN.findall(text):
-                names.update(name for name in re.findall(r"\w+", group) if name != "as")
+            for groups in IMPORT_PATTERN.findall(text):
+                names.update(name for name in re.findall(r"\w+", " ".join(groups)) if name != "as")
             for name in sorted(names - introduced - reported):
                 reported.add(name)
                 problems.append(Problem(path.name, f"cell {index} uses {name} before the course introduces "
