@@ -175,7 +175,7 @@ class BuildChecker:
                 note = ""
         if note:
             return f"{message} {note[0].upper()}{note[1:]}"
-        return message + _type_note(expected, got)
+        return message + (_type_note(expected, got) if self.compare is same else "")
 
 
 def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callable[[random.Random], Sequence],

@@ -5,7 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from ..errors import ModbusError
-from .core import exercise, int_answer
+from .build import build_exercise
+from .core import address_diagnosis, exercise, int_answer
 
 
 @exercise("01.1", "the address behind a reference number",
@@ -91,3 +92,34 @@ def _check_01_4(answer: Any) -> str | None:
     if got == expected - 2:
         return "you subtracted first from last in each range; a range from 150 to 175 includes both ends."
     return f"{got} registers is not right."
+
+
+def _parse_reference(text: str) -> tuple:
+    from ..datamodel import parse_reference
+
+    reference = parse_reference(text)
+    return reference.kind, reference.address
+
+
+def _reference_inputs(rng) -> tuple:
+    prefix = rng.choice("0134")
+    number = rng.randrange(0, 10000) if rng.random() < 0.05 else rng.randrange(1, 10000)
+    return (f"{prefix}{number:04d}",)
+
+
+def _diagnose_reference(args, expected, got) -> str | None:
+    if isinstance(got, tuple) and len(got) == 2 and isinstance(got[1], int) and isinstance(expected, tuple):
+        return address_diagnosis(got[1], expected[1])
+    return None
+
+
+build_exercise(
+    "01.5", "read a reference number yourself",
+    reference=_parse_reference, inputs=_reference_inputs,
+    edge_cases=[("40001",), ("40108",), ("00308",), ("30001",), ("19999",), ("40000",)],
+    hint="the first digit is the table (0 coils, 1 discrete inputs, 3 input registers, 4 holding registers); "
+         "the other four digits are a number counted from 1, so the address is that number minus 1. A "
+         "number 0000 does not exist: raise an exception for it.",
+    wrong=lambda text: ({"0": "coils", "1": "discrete_inputs", "3": "input_registers",
+                         "4": "holding_registers"}[text[0]], int(text[1:])),
+    diagnose=_diagnose_reference)

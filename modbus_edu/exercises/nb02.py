@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer
 
 
@@ -76,3 +77,27 @@ def _check_02_4(answer: Any) -> str | None:
     if got == sorted(7 - a for a in expected):
         return "you read the bits from the left; the first coil is the rightmost (least significant) bit."
     return f"{got} are not the coils that are ON."
+
+
+def _fc3_pdu(address: int, count: int) -> bytes:
+    from ..pdu import ReadHoldingRegistersRequest
+
+    return ReadHoldingRegistersRequest(address=address, count=count).encode()
+
+
+def _fc3_inputs(rng) -> tuple:
+    if rng.random() < 0.15:  # a request the specification forbids: the learner's function must refuse it
+        return rng.choice([(rng.randrange(65536), 0), (rng.randrange(65536), rng.randrange(126, 300)),
+                           (rng.randrange(65500, 65536), 125)])
+    count = rng.randrange(1, 126)
+    return rng.randrange(0, 65536 - count + 1), count
+
+
+build_exercise(
+    "02.5", "write the PDU of a read request",
+    reference=_fc3_pdu, inputs=_fc3_inputs,
+    edge_cases=[(0, 1), (107, 3), (65535, 1), (0, 125), (0, 0), (0, 126), (65535, 2)],
+    hint="the PDU is the function code 3, then the address and the count, each as two bytes high byte first: "
+         "bytes([3]) + address.to_bytes(2, 'big') + count.to_bytes(2, 'big'). Refuse (raise) a count outside "
+         "1..125 or a range past address 65535.",
+    wrong=lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..crc import lrc as _library_lrc
+from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer
 
 
@@ -89,3 +91,26 @@ def _check_04_4(answer: Any) -> str | None:
     if got[:1] == b":":
         return "give the bytes of the PDU, not the ASCII characters of the frame."
     return compare_bytes(got, expected, "your PDU")
+
+
+def _lrc_inputs(rng) -> tuple:
+    return (rng.randbytes(rng.randrange(1, 40)),)
+
+
+def _diagnose_lrc(args, expected, got) -> str | None:
+    total = sum(args[0]) & 0xFF
+    if got == total:
+        return "that is the 8-bit sum itself; the LRC is its two's complement, (-sum) & 0xFF."
+    if got == (~total) & 0xFF:
+        return "that is the one's complement (every bit inverted); the two's complement adds 1 to it."
+    if isinstance(got, int) and got > 255:
+        return "keep only the low 8 bits: & 0xFF."
+    return None
+
+
+build_exercise(
+    "04.5", "write lrc yourself",
+    reference=_library_lrc, inputs=_lrc_inputs,
+    edge_cases=[(b"",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),), (b"\xff" * 3,)],
+    hint="add up the bytes, keep the low 8 bits, and take the two's complement: (-sum(data)) & 0xFF.",
+    wrong=lambda data: sum(data) & 0xFF, diagnose=_diagnose_lrc)

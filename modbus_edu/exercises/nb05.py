@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer
 
 
@@ -86,3 +87,43 @@ def _check_05_4(answer: Any) -> str | None:
         return ("0x0118 is a perfectly good transaction id (big-endian, 280); look at the field that must "
                 "count the bytes that follow.")
     return f"{answer!r} is right in that frame; another field is not."
+
+
+def _mbap_header(tid: int, unit: int, pdu: bytes) -> bytes:
+    from ..framing import TcpFrame
+    from ..pdu import decode_pdu
+
+    return TcpFrame(transaction_id=tid, unit=unit, pdu=decode_pdu(pdu, "request")).encode()[:7]
+
+
+def _mbap_inputs(rng) -> tuple:
+    from ..pdu import ReadHoldingRegistersRequest, WriteMultipleRegistersRequest
+
+    if rng.random() < 0.5:
+        pdu = ReadHoldingRegistersRequest(address=rng.randrange(65000), count=rng.randrange(1, 126))
+    else:
+        values = [rng.randrange(65536) for _ in range(rng.randrange(1, 20))]
+        pdu = WriteMultipleRegistersRequest(address=rng.randrange(65000), values=values)
+    return rng.randrange(65536), rng.randrange(256), pdu.encode()
+
+
+def _diagnose_mbap(args, expected, got) -> str | None:
+    if not isinstance(got, (bytes, bytearray)) or len(got) != 7:
+        return None
+    if got[:2] == expected[1::-1] and got[2:] == expected[2:]:
+        return "your transaction id is low byte first; every MBAP field goes high byte first."
+    if got[:4] == expected[:4] and got[6] == expected[6] and int.from_bytes(got[4:6], "big") == len(args[2]):
+        return "the length counts the bytes after it: the unit identifier (1) and the PDU."
+    return None
+
+
+build_exercise(
+    "05.5", "write the MBAP header yourself",
+    reference=_mbap_header, inputs=_mbap_inputs,
+    edge_cases=[(280, 1, bytes.fromhex("03 00 00 00 01")), (0, 0, bytes.fromhex("03 00 00 00 01")),
+                (65535, 255, bytes.fromhex("03 00 6B 00 03"))],
+    hint="seven bytes: transaction id (2 bytes), protocol id 0 (2 bytes), length = 1 + len(pdu) (2 bytes), "
+         "unit (1 byte); every 2-byte field high byte first: tid.to_bytes(2, 'big').",
+    wrong=lambda tid, unit, pdu: tid.to_bytes(2, "little") + bytes(2) + (len(pdu) + 1).to_bytes(2, "big")
+    + bytes([unit]),
+    diagnose=_diagnose_mbap)

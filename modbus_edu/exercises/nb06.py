@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..errors import ModbusError
+from .build import build_exercise
 from .core import exercise, int_answer, real_answer
 
 
@@ -105,3 +106,43 @@ def _check_06_4(answer: Any) -> str | None:
         return f"{got.__name__} is too general: which subclass exactly?"
     return (f"{getattr(got, '__name__', got)} is not what the master raises: no slave 2 listens, so "
             f"what does the master get back?")
+
+
+def _slave_answer(registers: list, pdu: bytes) -> bytes:
+    """What the library's Slave answers to ``pdu`` over a bank of ``len(registers)`` holding registers."""
+    from ..crc import crc_bytes
+    from ..datamodel import DataBank
+    from ..framing import RtuFrame
+    from ..slave import Slave
+
+    bank = DataBank(sparse=True)
+    bank.holding_registers.declare(0, len(registers))
+    for address, value in enumerate(registers):
+        bank.holding_registers[address] = value
+    body = bytes([1]) + pdu
+    request = body + crc_bytes(body)  # built by hand: a slave must also answer requests it refuses
+    return RtuFrame.decode(Slave(unit=1, bank=bank).handle(request, mode="rtu"), "response").pdu.encode()
+
+
+def _handler_inputs(rng) -> tuple:
+    size = rng.randrange(1, 20)
+    registers = [rng.randrange(65536) for _ in range(size)]
+    if rng.random() < 0.5:
+        count = rng.randrange(1, 8) if rng.random() < 0.9 else rng.choice([0, 126])
+        pdu = bytes([3]) + rng.randrange(0, size + 3).to_bytes(2, "big") + count.to_bytes(2, "big")
+    else:
+        value = rng.randrange(65536)
+        pdu = bytes([6]) + rng.randrange(0, size + 3).to_bytes(2, "big") + value.to_bytes(2, "big")
+    return registers, pdu
+
+
+build_exercise(
+    "06.5", "write a slave's request handler",
+    reference=_slave_answer, inputs=_handler_inputs,
+    edge_cases=[([1234], bytes.fromhex("03 00 00 00 01")), ([1, 2, 3], bytes.fromhex("03 00 01 00 03")),
+                ([1, 2, 3], bytes.fromhex("06 00 02 00 2A")), ([1, 2, 3], bytes.fromhex("06 00 03 00 2A")),
+                ([0] * 5, bytes.fromhex("03 00 00 00 00"))],
+    hint="read the function code; FC3: address and count (2 bytes each, high first), answer 03, byte count, "
+         "the registers; FC6: store the value, answer with the request itself. An address outside the list "
+         "gets the exception response bytes([function | 0x80, 2]); a count outside 1..125, code 3.",
+    wrong=lambda registers, pdu: bytes([3, 2]) + registers[0].to_bytes(2, "big"))

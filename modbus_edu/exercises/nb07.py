@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise
 
 
@@ -120,3 +121,22 @@ def _check_07_3(answer: Any) -> str | None:
                         "unit; it stays silent, so the master sees no frame to check.")
             return f"{situation}: the master does not see {got!r}."
     return None
+
+
+def _exception_pdu(function: int, code: int) -> bytes:
+    from ..pdu import ExceptionResponse
+
+    return ExceptionResponse(function=function, code=code).encode()
+
+
+def _exception_inputs(rng) -> tuple:
+    return rng.randrange(1, 128), rng.randrange(1, 12)
+
+
+build_exercise(
+    "07.5", "write an exception response",
+    reference=_exception_pdu, inputs=_exception_inputs,
+    edge_cases=[(3, 2), (16, 1), (1, 4), (127, 11)],
+    hint="two bytes: the function code with its top bit set (function | 0x80, or function + 128) and the "
+         "exception code.",
+    wrong=lambda function, code: bytes([function, code]))

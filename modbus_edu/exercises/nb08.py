@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import close, exercise, real_answer
 
 
@@ -87,3 +88,50 @@ def _check_08_3(answer: Any) -> str | None:
                 "answered.")
     return (f"a pause of {missing[0]:g} characters also leaves the request unanswered "
             "(more than 1.5 breaks the frame).")
+
+
+def _transaction_time(baudrate: int, parity: str, stopbits: int, request_bytes: int,
+                      response_bytes: int) -> float:
+    from ..links.wire import SerialTiming
+
+    return SerialTiming(baudrate=baudrate, parity=parity, stopbits=stopbits).transaction_time(
+        request_bytes, response_bytes)
+
+
+def _timing_inputs(rng) -> tuple:
+    return (rng.choice([1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200]), rng.choice("NEO"),
+            rng.choice([1, 2]), rng.randrange(8, 256), rng.randrange(5, 256))
+
+
+def _close_enough(expected: float, got) -> bool:
+    if isinstance(got, bool) or not isinstance(got, (int, float)):
+        return False
+    return abs(got - expected) <= 1e-9 + 1e-9 * expected
+
+
+def _diagnose_timing(args, expected, got) -> str | None:
+    if not isinstance(got, (int, float)):
+        return None
+    baudrate, parity, stopbits, request, response = args
+    bits = 1 + 8 + (parity != "N") + stopbits
+    char = bits / baudrate
+    if abs(got - (request + response) * char) < 1e-9:
+        return "you left out the two 3.5-character silences."
+    if baudrate > 19200 and abs(got - (request + 3.5 + response + 3.5) * char) < 1e-9:
+        return "above 19200 baud the silence is fixed at 1.75 ms, not 3.5 character times."
+    if abs(got * 1000 - expected) < 1e-6 or abs(got - expected * 1000) < 1e-3:
+        return "give seconds, not milliseconds."
+    if abs(got - (request + 3.5 + response + 3.5) * (10 / baudrate)) < 1e-9 and bits != 10:
+        return f"a character of {parity} parity and {stopbits} stop bit(s) has {bits} bits, not 10."
+    return None
+
+
+build_exercise(
+    "08.5", "write the transaction time yourself",
+    reference=_transaction_time, inputs=_timing_inputs,
+    edge_cases=[(9600, "N", 1, 8, 7), (19200, "E", 1, 8, 255), (38400, "N", 2, 8, 7), (115200, "N", 1, 8, 7)],
+    hint="bits per character = 1 start + 8 data + 1 if parity + stop bits; a character takes bits / baudrate "
+         "seconds; t3.5 is 3.5 characters up to 19200 baud and 0.00175 s above; the time is request + t3.5 + "
+         "response + t3.5.",
+    wrong=lambda baudrate, parity, stopbits, request, response: (request + response + 7) * 10 / baudrate,
+    diagnose=_diagnose_timing, compare=_close_enough)

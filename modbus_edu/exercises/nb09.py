@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import exercise, real_answer
 
 
@@ -88,3 +89,38 @@ def _check_09_3(answer: Any) -> str | None:
         return (f"with a timeout of {got:g} s, {fraction:.0%} of the requests are answered: the longest "
                 "waits are longer than that.")
     return None
+
+
+def _answered(loop_time: float, timeout: float, reply: float) -> float:
+    from ..devices.arduino import expected_answered_fraction
+
+    return expected_answered_fraction(loop_time, timeout, reply)
+
+
+def _answered_inputs(rng) -> tuple:
+    loop_time, timeout = round(rng.uniform(0.001, 3.0), 4), round(rng.uniform(0.05, 2.0), 4)
+    return loop_time, timeout, round(rng.uniform(0.0, 0.05), 4)
+
+
+def _fraction_close(expected: float, got) -> bool:
+    return isinstance(got, (int, float)) and not isinstance(got, bool) and abs(got - expected) <= 1e-9
+
+
+def _diagnose_answered(args, expected, got) -> str | None:
+    loop_time, timeout, reply = args
+    if isinstance(got, (int, float)) and abs(got - (timeout - reply) / loop_time) < 1e-9:
+        return "a fraction stays between 0 and 1: clamp it with max(0.0, min(1.0, ...))."
+    if isinstance(got, (int, float)) and abs(got - 100 * expected) < 1e-6:
+        return "give a fraction (0.6), not a percentage (60)."
+    return None
+
+
+build_exercise(
+    "09.5", "how many requests a slow loop answers",
+    reference=_answered, inputs=_answered_inputs,
+    edge_cases=[(1.65, 1.0, 0.0), (0.01, 1.0, 0.0), (2.0, 1.0, 0.02), (1.0, 0.01, 0.02)],
+    hint="a request arrives at a random moment of the loop; it is answered in time if the loop reaches it "
+         "within timeout - reply seconds: the fraction is (timeout - reply) / loop_time, kept between 0 "
+         "and 1.",
+    wrong=lambda loop_time, timeout, reply: timeout / loop_time,
+    diagnose=_diagnose_answered, compare=_fraction_close)

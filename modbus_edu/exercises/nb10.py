@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import close, exercise, real_answer
 
 
@@ -85,3 +86,43 @@ def _check_10_3(answer: Any) -> str | None:
             return "each quantity takes a pair of registers: count registers, not quantities."
         return f"{got_count!r} registers do not cover exactly the three pairs."
     return None if tuple(answer) == expected else "not quite."
+
+
+def _float32(registers: list, order: str) -> float:
+    from ..values import decode_value
+
+    return decode_value(registers, "float32", order)
+
+
+def _float_inputs(rng) -> tuple:
+    import struct
+
+    from ..values import ORDERS, encode_value
+
+    order = rng.choice(ORDERS)
+    if rng.random() < 0.8:
+        value = struct.unpack(">f", struct.pack(">f", rng.uniform(-1e4, 1e4)))[0]
+        return list(encode_value(value, "float32", order)), order
+    return [rng.randrange(65536), rng.randrange(65536)], order
+
+
+def _diagnose_float(args, expected, got) -> str | None:
+    from ..values import ORDERS, decode_value
+
+    registers, order = args
+    for other in ORDERS:
+        if other != order and isinstance(got, float) and decode_value(registers, "float32", other) == got:
+            return f"your result is the {other} reading; the question asks for {order}."
+    return None
+
+
+build_exercise(
+    "10.4", "decode float32 in any word order",
+    reference=_float32, inputs=_float_inputs,
+    edge_cases=[([0x43C9, 0xCCCD], "ABCD"), ([0xCCCD, 0x43C9], "CDAB"), ([0xC943, 0xCDCC], "BADC"),
+                ([0xCDCC, 0xC943], "DCBA"), ([0, 0], "ABCD")],
+    hint="put the four bytes in the order A B C D that the order names (register 0 holds the first two "
+         "letters), then struct.unpack('>f', ...)[0]. CDAB swaps the registers; BADC swaps the bytes inside "
+         "each register; DCBA does both.",
+    wrong=lambda registers, order: _float32(registers, "ABCD"),
+    diagnose=_diagnose_float)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise
 
 
@@ -80,3 +81,35 @@ def _check_11_3(answer: Any) -> str | None:
     if (host, number) != expected:
         return f"that URL reaches {host}, TCP port {number}, not the device server."
     return None
+
+
+def _split_mbap(frame: bytes) -> tuple:
+    from ..framing import TcpFrame
+
+    decoded = TcpFrame.decode(frame, "request")
+    pdu = decoded.pdu.encode()
+    return decoded.transaction_id, 0, len(pdu) + 1, decoded.unit, pdu
+
+
+def _mbap_frames(rng) -> tuple:
+    from ..framing import TcpFrame
+    from ..pdu import ReadHoldingRegistersRequest
+
+    pdu = ReadHoldingRegistersRequest(address=rng.randrange(65000), count=rng.randrange(1, 126))
+    frame = TcpFrame(transaction_id=rng.randrange(65536), unit=rng.randrange(256), pdu=pdu).encode()
+    if rng.random() < 0.2:  # a length field that does not match: not a valid frame
+        frame = frame[:4] + (frame[5] + rng.randrange(1, 5)).to_bytes(2, "big") + frame[6:]
+    return (frame,)
+
+
+build_exercise(
+    "11.4", "take an MBAP header apart",
+    reference=_split_mbap, inputs=_mbap_frames,
+    edge_cases=[(bytes.fromhex("01 18 00 00 00 06 01 03 00 00 00 01"),),
+                (bytes.fromhex("00 01 00 00 00 06 FF 03 00 6B 00 03"),),
+                (bytes.fromhex("00 01 00 00 00 09 01 03 00 00 00 01"),)],
+    hint="int.from_bytes(frame[0:2], 'big') is the transaction id; then protocol (2 bytes), length "
+         "(2 bytes), unit (1 byte), and the PDU is frame[7:]. Raise an exception when the length does not "
+         "equal len(frame) - 6.",
+    wrong=lambda frame: (int.from_bytes(frame[0:2], "little"), 0, int.from_bytes(frame[4:6], "big"), frame[6],
+                         frame[7:]))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import exercise
 
 
@@ -87,3 +88,26 @@ def _check_12_3(answer: Any) -> str | None:
     if got != first_two:
         return f"{got.hex(' ').upper()} is not how {tid} starts the request."
     return None
+
+
+def _read_request(tid: int, unit: int, address: int, count: int) -> bytes:
+    from ..framing import TcpFrame
+    from ..pdu import ReadHoldingRegistersRequest
+
+    return TcpFrame(transaction_id=tid, unit=unit,
+                    pdu=ReadHoldingRegistersRequest(address=address, count=count)).encode()
+
+
+def _request_inputs(rng) -> tuple:
+    count = rng.randrange(1, 126)
+    return rng.randrange(65536), rng.randrange(256), rng.randrange(0, 65536 - count + 1), count
+
+
+build_exercise(
+    "12.4", "your own master's read request",
+    reference=_read_request, inputs=_request_inputs,
+    edge_cases=[(280, 1, 0, 1), (1, 1, 0, 10), (65535, 255, 65535, 1)],
+    hint="MBAP header (tid, 0, length 6, unit), then the PDU 03, address, count: every 2-byte field high "
+         "byte first.",
+    wrong=lambda tid, unit, address, count: tid.to_bytes(2, "little") + bytes([0, 0, 0, 6, unit, 3])
+    + address.to_bytes(2, "big") + count.to_bytes(2, "big"))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from .build import build_exercise
 from .core import close, compare_rtu_frame, exercise, real_answer
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
@@ -197,3 +198,49 @@ def _check_13_6(answer: Any) -> str | None:
         return (f"{got:g} s is too short: a loop that fast would answer more requests in time than this "
                 "one does.")
     return f"{got:g} s is too long: a loop that slow would answer fewer requests than this one does."
+
+
+def _orders_giving(registers: list, expected: float) -> frozenset:
+    """Every word order in which ``registers`` decode to ``expected`` (to float32 precision)."""
+    import math
+
+    from ..values import ORDERS, decode_value
+
+    return frozenset(order for order in ORDERS
+                     if math.isclose(decode_value(registers, "float32", order), expected, rel_tol=1e-6))
+
+
+def _order_inputs(rng) -> tuple:
+    from ..values import ORDERS, encode_value
+
+    value = round(rng.uniform(-500.0, 500.0), 1)
+    registers = list(encode_value(value, "float32", rng.choice(ORDERS)))
+    if rng.random() < 0.15:
+        value = value + 1000.0  # the registers carry another value: no order fits
+    return registers, value
+
+
+def _order_accepted(expected: frozenset, got) -> bool:
+    return got in expected if expected else got is None
+
+
+def _diagnose_order(args, expected, got) -> str | None:
+    from ..values import ORDERS, decode_value
+
+    registers, value = args
+    if not expected:
+        return f"no order gives {value:g} from these registers: return None."
+    if got in ORDERS:
+        return (f"in {got} order these registers hold {decode_value(registers, 'float32', got):g}; "
+                f"{value:g} comes out in {' or '.join(sorted(expected))}.")
+    return f"return one of the names in mb.ORDERS, such as {sorted(expected)[0]!r}."
+
+
+build_exercise(
+    "13.7", "find a device's word order",
+    reference=_orders_giving, inputs=_order_inputs,
+    edge_cases=[([0x4396, 0x8000], 301.0), ([0x8000, 0x4396], 301.0), ([0, 0], 0.0), ([0x4396, 0x8000], 7.0)],
+    hint="try the four orders of mb.ORDERS with mb.decode_value(registers, 'float32', order), and return the "
+         "first whose value is close to the expected one (math.isclose(..., rel_tol=1e-6)); None if none is.",
+    wrong=lambda registers, expected: "ABCD",
+    compare=_order_accepted, diagnose=_diagnose_order)
