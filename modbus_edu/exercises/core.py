@@ -273,11 +273,14 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
     tolerance = 0.5 * 10 ** -decimals + 1e-12
     if abs(got - expected) <= tolerance:
         return None
-    scaled = {1000: ("seconds", "milliseconds"), 100: ("a fraction", "a percentage")}
-    for factor, (small, large) in scaled.items():
-        if expected and abs(got * factor - expected) <= tolerance * factor and unit in ("ms", "%"):
+    def near(a: float, b: float) -> bool:
+        return abs(a - b) <= max(tolerance, 2e-3 * abs(b))
+
+    slips = {1000: ("seconds", "milliseconds", "ms"), 100: ("a fraction", "a percentage", "%")}
+    for factor, (small, large, large_unit) in slips.items():
+        if expected and unit == large_unit and near(got * factor, expected):
             return f"you gave {small}; the question asks for {large} ({unit})."
-        if expected and abs(got / factor - expected) <= max(tolerance, 1e-9) and unit in ("s", ""):
+        if expected and unit in ("s", "") and near(got / factor, expected):
             return f"you gave {large}; the question asks for {small}" + (f" ({unit})." if unit else ".")
     if abs(got - expected) <= max(10 * tolerance, 0.01 * abs(expected)):
         places = "a whole number" if decimals == 0 else f"{decimals} decimal{'s' * (decimals > 1)}"

@@ -6,7 +6,7 @@ from typing import Any
 
 from ..errors import ModbusError
 from .build import build_exercise
-from .core import exercise, int_answer, real_answer
+from .core import exercise, int_answer, number_answer, real_answer
 
 
 def _one_read_time(baudrate: int, count: int) -> float:
@@ -29,13 +29,9 @@ def _check_06_1(answer: Any) -> str | None:
     got = real_answer(answer, "a time in milliseconds")
     if isinstance(got, str):
         return got
-    if abs(got - expected) <= 0.01:
-        return None
-    if abs(got - expected / 1000) <= 0.00001:
-        return "that looks like seconds; give milliseconds."
     if abs(got - _one_read_time(9600, 1) * 1000) <= 0.01:
         return "22.92 ms is the time for 1 register; this response carries 10 (20 more data bytes)."
-    return f"{got:g} ms is not the time of that transaction."
+    return number_answer(got, expected, decimals=2, unit="ms", what="the time of that transaction")
 
 
 @exercise("06.2", "an exception the master reports",
@@ -77,11 +73,11 @@ def _check_06_3(answer: Any) -> str | None:
     got = real_answer(answer, "a rate")
     if isinstance(got, str):
         return got
-    if abs(got - expected) <= 0.1:
-        return None
     if abs(got - 1 / _one_read_time(9600, 1)) <= 0.1:
         return "that is the rate at 9600 baud; at 19200 every character takes half the time."
-    return f"{got:g} transactions per second is not right."
+    if abs(got - _one_read_time(19200, 1)) <= 1e-6:
+        return "that is the time of one transaction in seconds; the question asks how many fit in a second."
+    return number_answer(got, expected, decimals=1, what="the most transactions per second")
 
 
 @exercise("06.4", "what a wrong unit looks like",

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from .build import build_exercise
-from .core import close, exercise, real_answer
+from .core import close, exercise, number_answer, real_answer
 
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",
@@ -20,15 +20,11 @@ def _check_08_1(answer: Any) -> str | None:
     got = real_answer(answer, "a silence in seconds")
     if isinstance(got, str):
         return got
-    if close(got, expected):
-        return None
-    if close(got, expected * 1000):
-        return "that looks like milliseconds; give the time in seconds."
     if close(got, 3.5 * SerialTiming(baudrate=4800).char_time):
         return "you counted 10 bits per character; even parity adds a bit: 11."
     if close(got, timing.char_time):
         return "that is one character time; the silence that ends a frame is 3.5 of them."
-    return f"{got!r} s is not 3.5 character times of an 8E1 character at 4800 baud."
+    return number_answer(got, expected, decimals=6, unit="s", what="3.5 characters of 8E1 at 4800 baud")
 
 
 @exercise("08.2", "transactions per second reading 10 registers at 19200 baud",
@@ -43,15 +39,13 @@ def _check_08_2(answer: Any) -> str | None:
     got = real_answer(answer, "a number of transactions per second")
     if isinstance(got, str):
         return got
-    if close(got, expected, rel=2e-3):
-        return None
     if close(got, 1 / timing.frame_time(8 + 25)):
         return "you left out the two silences of 3.5 characters (after the request and after the response)."
     if close(got, 1 / timing.transaction_time(8, 7)):
         return "that is for one register; the response to a read of 10 registers has 5 + 2 x 10 bytes."
     if close(got, 1 / expected):
         return "that is the time of one transaction in seconds; the question asks how many fit in a second."
-    return f"{got:.2f} transactions per second is not right."
+    return number_answer(got, expected, decimals=1, what="the most transactions per second")
 
 
 @exercise("08.3", "which pauses inside a frame leave it unanswered",

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from .build import build_exercise
-from .core import close, exercise, real_answer
+from .core import close, exercise, number_answer, real_answer
 
 
 @exercise("10.1", "a voltage from a register pair",
@@ -23,13 +23,11 @@ def _check_10_1(answer: Any) -> str | None:
     if isinstance(got, str):
         return got
     raw = decode_value(registers, "uint32", "ABCD")
-    if close(got, expected):
-        return None
     if close(got, raw):
         return "that is the raw register value; Table 5 says V x 10: divide by 10."
     if close(got, decode_value(registers, "uint32", "CDAB") / 10):
         return "you put the words in the wrong order: the high word (0x0000) comes first."
-    return f"{got:g} V is not what those registers carry."
+    return number_answer(got, expected, decimals=1, unit="V", what="what those registers carry")
 
 
 @exercise("10.2", "the registers that carry a current",
