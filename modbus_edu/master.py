@@ -47,6 +47,7 @@ latencies in ``stats.latencies`` are those of the simulated wire.
 from __future__ import annotations
 
 import warnings
+from collections import deque
 from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from typing import Any
@@ -66,6 +67,18 @@ from .framing import decode_frame, make_frame
 from .links.base import Link
 from .pdu import ExceptionResponse, Pdu
 from .traffic import TrafficLog, pdu_note
+
+MAX_LOG = 10_000
+"""The most frames ``Master.log`` keeps (the newest): a poll left running overnight stays bounded."""
+
+MAX_LATENCIES = 10_000
+"""The most latencies ``stats.latencies`` keeps (the newest)."""
+
+MAX_STALE = 256
+"""The most stale frames discarded before a request is sent; the rest are discarded while it waits."""
+
+MAX_MISMATCH_NOTES = 3
+"""How many foreign frames a :class:`TransactionMismatchError` describes; it counts them all."""
 
 __all__ = ["Master", "MasterStats"]
 
@@ -95,12 +108,12 @@ class MasterStats:
     mismatches: int = 0
     broadcasts: int = 0
     retries: int = 0
-    latencies: list[float] = field(default_factory=list)
+    latencies: deque[float] = field(default_factory=lambda: deque(maxlen=MAX_LATENCIES))
 
     def reset(self) -> None:
-        """Back to zero (source 000's "reset counters" button)."""
+        """Back to zero (the robot test-tool paper's "reset counters" button)."""
         for f in fields(self):
-            setattr(self, f.name, [] if f.name == "latencies" else 0)
+            setattr(self, f.name, deque(maxlen=MAX_LATENCIES) if f.name == "latencies" else 0)
 
     @property
     def answered(self) -> int:
@@ -224,7 +237,7 @@ class Master:
         """The transaction id the next TCP request will carry."""
         self.last_transaction_id: int | None = None
         self.stats = MasterStats()
-        self.log = TrafficLog()
+        self.log = TrafficLog(maxlen=MAX_LOG)
         self._last_end: float | None = None
 
     def __repr__(self) -> str:
@@ -413,8 +426,8 @@ class Master:
             due = self._last_end + self.delay
             if due > clock.now:
                 clock.sleep(due - clock.now)
-        # 2. stale frames
-        while True:
+        # 2. stale frames (at most MAX_STALE: a peer that never stops sending cannot hold the master here)
+        for _ in range(MAX_STALE):
             stale = link.receive(0)
             if stale is None:
                 break
@@ -457,20 +470,22 @@ class Master:
 
     def _wait(self, unit: int, request: Pdu, tid: int, sent: float) -> Pdu:
         link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
-        deadline = sent + self.timeout
-        mismatched: list[str] = []
+        deadline = sent + self.timeout  # absolute: whatever arrives meanwhile, the wait ends here
+        mismatched: list[str] = []  # the first MAX_MISMATCH_NOTES reasons; `ignored` counts them all
+        ignored = 0
         function = request.function_code
         while True:
             remaining = deadline - clock.now
-            data = link.receive(remaining if remaining > 0 else 0.0)
+            data = link.receive(remaining) if remaining > 0 else None
             if data is None:
                 stats.timeouts += 1
                 waited = clock.now - sent
-                if mismatched:
+                if ignored:
+                    more = f"; and {ignored - len(mismatched)} more" if ignored > len(mismatched) else ""
                     raise TransactionMismatchError(
                         f"no response to {request.title} for unit {unit} within {self.timeout:g} s "
-                        f"(waited {waited:.6f} s); {len(mismatched)} frame(s) came that did not belong to "
-                        f"it: {'; '.join(mismatched)}"
+                        f"(waited {waited:.6f} s); {ignored} frame(s) came that did not belong to "
+                        f"it: {'; '.join(mismatched)}{more}"
                     )
                 raise ModbusTimeoutError(
                     f"no response from unit {unit} to {request.title} within {self.timeout:g} s "
@@ -489,7 +504,9 @@ class Master:
                 why = self._mismatch(unit, function, tid, *_peek(data, mode))
                 if why and not isinstance(exc, FrameError):
                     stats.mismatches += 1
-                    mismatched.append(why)
+                    ignored += 1
+                    if len(mismatched) < MAX_MISMATCH_NOTES:
+                        mismatched.append(why)
                     log.record(now, "rx", mode, data, source=self._source(data), dest="master",
                                role="response", note=f"mismatch, ignored: {why}")
                     continue
@@ -502,7 +519,9 @@ class Master:
                                  response.function_code)
             if why:
                 stats.mismatches += 1
-                mismatched.append(why)
+                ignored += 1
+                if len(mismatched) < MAX_MISMATCH_NOTES:
+                    mismatched.append(why)
                 log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
                            role="response", note=f"mismatch, ignored: {why}")
                 continue

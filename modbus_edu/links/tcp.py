@@ -197,21 +197,23 @@ def is_loopback_host(host: str) -> bool:
 class TcpServerCounters:
     """What a :class:`TcpServer` has seen since it started.
 
-    ``connections``  clients accepted;  ``refused``  clients closed at once because ``max_connections``
-    were already open;  ``requests``  complete frames received;  ``responses``  frames sent back;
+    ``connections``  clients accepted;  ``requests``  complete frames received;  ``responses``  frames sent back;
     ``bad_frames``  connections closed because their bytes were not Modbus/TCP (bad MBAP);
     ``unknown_unit``  requests for a unit no slave here answers (see :func:`route_unit`; unit 0 on a
     server with several slaves), answered with exception 0x0B;
-    ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence.
+    ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence;
+    ``slow_closed``  connections closed because a request did not complete within ``request_timeout``
+    seconds of its first byte;  ``evicted``  idle connections closed to make room for a new client.
     """
 
     connections: int = 0
-    refused: int = 0
     requests: int = 0
     responses: int = 0
     bad_frames: int = 0
     unknown_unit: int = 0
     idle_closed: int = 0
+    slow_closed: int = 0
+    evicted: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -220,7 +222,7 @@ class TcpServerCounters:
 class _Connection:
     """One accepted client: its socket, what it sent that is not yet a whole frame, what we owe it."""
 
-    __slots__ = ("sock", "peer", "inbuf", "outbuf", "last_activity", "events")
+    __slots__ = ("sock", "peer", "inbuf", "outbuf", "last_activity", "partial_since", "events")
 
     def __init__(self, sock: socket.socket, peer: Any, now: float) -> None:
         self.sock = sock
@@ -228,6 +230,7 @@ class _Connection:
         self.inbuf = bytearray()
         self.outbuf = bytearray()
         self.last_activity = now
+        self.partial_since: float | None = None  # when the first byte of an unfinished request came
         self.events = selectors.EVENT_READ
 
 
@@ -261,9 +264,15 @@ class TcpServer:
     * every MBAP header is checked: protocol id must be 0 and the length field 2..254; a client that
       sends anything else is not speaking Modbus/TCP and its connection is closed (``bad_frames``);
       other clients are not affected.
-    * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed - it also frees the
-      server from clients that send half a frame and stop.
-    * at most ``max_connections`` clients at a time; one more is closed as soon as it is accepted.
+    * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed.
+    * a request must arrive whole within ``request_timeout`` seconds of its first byte, or its
+      connection is closed: a client that trickles a frame byte by byte (slowloris) holds nothing.
+    * at most ``max_connections`` clients at a time; when a new one comes, the connection that has been
+      idle longest is closed to make room (``evicted``), so idle clients cannot lock others out.
+    * the server is fair: each turn it answers at most one request per connection, so a client that
+      pipelines thousands of requests does not delay the others.
+    * when ``accept()`` fails (out of file descriptors), the server stops accepting for a moment instead
+      of spinning; refusal and failure warnings are rate-limited.
 
     The server is a context manager: ``with TcpServer(slave) as server: ... server.address``. It starts
     on ``__enter__`` (or :meth:`start`) and :meth:`close` stops it: listening socket and every client
@@ -292,6 +301,7 @@ class TcpServer:
         *,
         idle_timeout: float | None = 60.0,
         max_connections: int = 32,
+        request_timeout: float = 5.0,
         logger: logging.Logger | None = None,
     ) -> None:
         self.slaves = normalize_slaves(slaves)
@@ -304,6 +314,8 @@ class TcpServer:
             idle_timeout = _positive_seconds(
                 "idle_timeout", idle_timeout, "or None to keep silent clients connected forever"
             )
+        request_timeout = _positive_seconds(
+            "request_timeout", request_timeout, "(the time a request may take to arrive whole)")
         if not _is_int(max_connections) or max_connections < 1:
             raise ConfigError(
                 "max_connections must be a whole number >= 1 (the clients served at once), "
@@ -319,6 +331,7 @@ class TcpServer:
         self.port = port
         self.idle_timeout = idle_timeout
         self.max_connections = max_connections
+        self.request_timeout = request_timeout
         self.log = logger if logger is not None else _log
         self.counters = TcpServerCounters()
         self.lock = threading.RLock()
@@ -330,7 +343,10 @@ class TcpServer:
         self._thread: threading.Thread | None = None
         self._stop = threading.Event()
         self._closed = False
-        self._check_at = float("inf")
+        self._backlog: dict[int, _Connection] = {}  # connections with a complete request still waiting
+        self._accept_paused_until = 0.0
+        self._accept_backoff = 0.0
+        self._warned: dict[str, tuple[float, int]] = {}  # key -> (last warning time, suppressed since)
         self.address: tuple[str, int] | None = None
 
     # ---------------------------------------------------------------- life cycle
@@ -478,7 +494,7 @@ class TcpServer:
         wake_r = self._wake_r
         try:
             while not self._stop.is_set():
-                timeout = self._next_deadline()
+                timeout = 0.0 if self._backlog else self._next_deadline()
                 for key, mask in selector.select(timeout):
                     sock = key.fileobj
                     if sock is listener:
@@ -494,31 +510,59 @@ class TcpServer:
                             self._pump(conn)
                         if mask & selectors.EVENT_READ and conn.sock.fileno() in self._connections:
                             self._read(conn)
-                if self.idle_timeout is not None and time.monotonic() >= self._check_at:
-                    self._expire_idle()
+                # one more request from each connection that has more waiting: a fair turn
+                for fd, conn in list(self._backlog.items()):
+                    del self._backlog[fd]
+                    if fd in self._connections:
+                        self._pump(conn)
+                self._expire()
         except Exception:  # pragma: no cover - a bug: log it rather than die silently
             self.log.exception("Modbus/TCP server stopped by an unexpected error")
         finally:
             self._cleanup()
 
-    def _next_deadline(self) -> float | None:
-        # ``_check_at`` is never later than the earliest idle deadline (activity only moves deadlines
-        # later), so waking at it and re-checking is safe and costs nothing per request.
-        if self.idle_timeout is None or not self._connections:
-            return None
-        return max(0.0, self._check_at - time.monotonic())
+    def _deadlines(self, conn: _Connection) -> float:
+        """When ``conn`` must be closed if nothing changes: idle timeout or unfinished request."""
+        due = float("inf")
+        if self.idle_timeout is not None:
+            due = conn.last_activity + self.idle_timeout
+        if conn.partial_since is not None:
+            due = min(due, conn.partial_since + self.request_timeout)
+        return due
 
-    def _expire_idle(self) -> None:
-        idle = self.idle_timeout
-        assert idle is not None
+    def _next_deadline(self) -> float | None:
+        """Seconds until the next connection deadline or the end of an accept pause (None: no limit)."""
+        due = min((self._deadlines(conn) for conn in self._connections.values()), default=float("inf"))
+        if self._accept_paused_until:
+            due = min(due, self._accept_paused_until)
+        return None if due == float("inf") else max(0.0, due - time.monotonic())
+
+    def _expire(self) -> None:
+        """Close connections past a deadline; resume accepting after a pause."""
         now = time.monotonic()
-        for conn in [c for c in self._connections.values() if now - c.last_activity >= idle]:
-            self.counters.idle_closed += 1
-            self._drop(conn, f"silent for {idle:g} s (idle timeout)")
-        if self._connections:
-            self._check_at = min(c.last_activity for c in self._connections.values()) + idle
-        else:
-            self._check_at = float("inf")
+        if self._accept_paused_until and now >= self._accept_paused_until:
+            self._accept_paused_until = 0.0
+            if self._selector is not None and self._listener is not None:
+                self._selector.register(self._listener, selectors.EVENT_READ, None)
+        for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
+            if conn.partial_since is not None and now >= conn.partial_since + self.request_timeout:
+                self.counters.slow_closed += 1
+                self._drop(conn, f"a request did not arrive whole within {self.request_timeout:g} s")
+            else:
+                self.counters.idle_closed += 1
+                self._drop(conn, f"silent for {self.idle_timeout:g} s (idle timeout)")
+
+    def _warn(self, key: str, message: str, *args: Any) -> None:
+        """Log a warning at most once per 10 s per ``key``, saying how many were held back."""
+        now = time.monotonic()
+        last, held = self._warned.get(key, (-1e9, 0))
+        if now - last < 10.0:
+            self._warned[key] = (last, held + 1)
+            return
+        self._warned[key] = (now, 0)
+        if held:
+            message += f" ({held} more like it in the last 10 s not logged)"
+        self.log.warning(message, *args)
 
     def _accept(self) -> None:
         assert self._listener is not None and self._selector is not None
@@ -526,24 +570,24 @@ class TcpServer:
             try:
                 sock, peer = self._listener.accept()
             except (BlockingIOError, InterruptedError):
+                self._accept_backoff = 0.0
                 return
-            except OSError as exc:  # e.g. EMFILE: out of file descriptors
-                self.log.warning("accept failed: %s", exc)
+            except OSError as exc:  # e.g. EMFILE: out of file descriptors; pause instead of spinning
+                self._accept_backoff = min(1.0, max(0.05, 2 * self._accept_backoff))
+                self._accept_paused_until = time.monotonic() + self._accept_backoff
+                self._selector.unregister(self._listener)
+                self._warn("accept", "accept failed: %s; pausing %.2f s", exc, self._accept_backoff)
                 return
             if len(self._connections) >= self.max_connections:
-                self.counters.refused += 1
-                self.log.warning(
-                    "refused client %s: already %d connections open (max_connections=%d)",
-                    peer, len(self._connections), self.max_connections,
-                )
-                _close_socket(sock)
-                continue
+                oldest = min(self._connections.values(), key=lambda c: c.last_activity)
+                self.counters.evicted += 1
+                self._warn("evict", "client %s connects with %d connections open (max_connections=%d): "
+                           "closing the longest idle, %s", peer, len(self._connections),
+                           self.max_connections, oldest.peer)
+                self._drop(oldest, "closed to make room for a new client (longest idle)")
             sock.setblocking(False)
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            now = time.monotonic()
-            conn = _Connection(sock, peer, now)
-            if self.idle_timeout is not None:
-                self._check_at = min(self._check_at, now + self.idle_timeout)
+            conn = _Connection(sock, peer, time.monotonic())
             self._connections[sock.fileno()] = conn
             self._selector.register(sock, selectors.EVENT_READ, conn)
             self.counters.connections += 1
@@ -583,38 +627,41 @@ class TcpServer:
         self._pump(conn)
 
     def _pump(self, conn: _Connection) -> None:
-        """Answer what has arrived and send what is owed, until the client must act (send or read).
+        """Answer one request that has arrived and send what is owed; queue the connection for the next
+        turn if another complete request is waiting.
 
         A client that sends requests without reading the answers fills our output buffer; past
         ``_MAX_PENDING_OUTPUT`` bytes the server stops answering (and reading) that client until it
         reads, so that no client can make the server buffer without end.
         """
-        while True:
-            if not self._process(conn):
-                return
-            stalled = len(conn.outbuf) >= _MAX_PENDING_OUTPUT
-            if not self._send(conn):
-                return
-            if not (stalled and len(conn.outbuf) < _MAX_PENDING_OUTPUT):
-                break
+        if not self._process(conn) or not self._send(conn):
+            return
         if not conn.outbuf:
             self._set_events(conn, selectors.EVENT_READ)
         elif len(conn.outbuf) >= _MAX_PENDING_OUTPUT:
             self._set_events(conn, selectors.EVENT_WRITE)
         else:
             self._set_events(conn, selectors.EVENT_WRITE | selectors.EVENT_READ)
+        if len(conn.outbuf) < _MAX_PENDING_OUTPUT and self._complete(conn.inbuf):
+            self._backlog[conn.sock.fileno()] = conn
+
+    @staticmethod
+    def _complete(buf: bytearray) -> bool:
+        """Whether ``buf`` starts with a whole frame (or a header bad enough to act on at once)."""
+        if len(buf) < MBAP_HEADER_SIZE:
+            return False
+        length = int.from_bytes(buf[4:6], "big")
+        bad = buf[2:4] != b"\0\0" or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH
+        return bad or len(buf) >= 6 + length
 
     def _process(self, conn: _Connection) -> bool:
-        """Answer the complete frames in the input buffer (while the output backlog allows).
+        """Answer the first complete frame in the input buffer, if there is one and the backlog allows.
 
         Returns False if the connection was closed because its bytes are not Modbus/TCP.
         """
         buf = conn.inbuf
-        out = conn.outbuf
-        start = 0
-        end = len(buf)
-        while end - start >= MBAP_HEADER_SIZE and len(out) < _MAX_PENDING_OUTPUT:
-            tid, protocol, length, unit = _MBAP.unpack_from(buf, start)
+        if len(buf) >= MBAP_HEADER_SIZE and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
+            tid, protocol, length, unit = _MBAP.unpack_from(buf, 0)
             if protocol != 0 or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
                 self.counters.bad_frames += 1
                 if protocol != 0:
@@ -622,19 +669,22 @@ class TcpServer:
                 else:
                     why = (f"MBAP length field is {length}, must be {MIN_MBAP_LENGTH}..{MAX_MBAP_LENGTH} "
                            "(unit id + PDU of at most 253 bytes)")
-                header = bytes(buf[start : start + MBAP_HEADER_SIZE]).hex(" ")
+                header = bytes(buf[:MBAP_HEADER_SIZE]).hex(" ")
                 if self._send(conn):  # the answers to the good frames before it, as far as they go
                     self._drop(conn, f"not Modbus/TCP: {why} (header bytes {header})")
                 return False
-            stop = start + 6 + length
-            if stop > end:
-                break  # the rest of this frame has not arrived yet
-            reply = self._dispatch(bytes(buf[start:stop]), unit, tid)
-            if reply:
-                out += reply
-            start = stop
-        if start:
-            del buf[:start]
+            stop = 6 + length
+            if stop <= len(buf):
+                reply = self._dispatch(bytes(buf[:stop]), unit, tid)
+                if reply:
+                    conn.outbuf += reply
+                del buf[:stop]
+        # a request under way (bytes of it, not all) starts its clock; a finished one stops it
+        if buf and not self._complete(buf):
+            if conn.partial_since is None:
+                conn.partial_since = time.monotonic()
+        else:
+            conn.partial_since = None
         return True
 
     def _dispatch(self, frame: bytes, unit: int, tid: int) -> bytes | None:
