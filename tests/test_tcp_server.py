@@ -328,6 +328,6 @@ def test_counters_and_lock():
         counters = server.counters.as_dict()
     assert counters["connections"] == 1
     assert counters["requests"] == counters["responses"] == 5
-    assert counters["bad_frames"] == counters["refused"] == counters["idle_closed"] == 0
+    assert counters["bad_frames"] == counters["evicted"] == counters["idle_closed"] == 0
     assert slave.counters.requests == 5
     assert slave.clock is not None  # time stamps for the slave's traffic log

@@ -197,8 +197,8 @@ def is_loopback_host(host: str) -> bool:
 class TcpServerCounters:
     """What a :class:`TcpServer` has seen since it started.
 
-    ``connections``  clients accepted;  ``requests``  complete frames received;  ``responses``  frames sent back;
-    ``bad_frames``  connections closed because their bytes were not Modbus/TCP (bad MBAP);
+    ``connections``  clients accepted;  ``requests``  complete frames received;  ``responses``  frames
+    sent back;  ``bad_frames``  connections closed because their bytes were not Modbus/TCP (bad MBAP);
     ``unknown_unit``  requests for a unit no slave here answers (see :func:`route_unit`; unit 0 on a
     server with several slaves), answered with exception 0x0B;
     ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence;

@@ -1,0 +1,173 @@
+"""One misbehaving peer costs nobody else anything: the Master's deadline and the TcpServer's defences.
+
+Each test here failed before the defence it checks existed.  Sizes are small so the tests take seconds;
+bench/ has the full-size figures.
+"""
+
+from __future__ import annotations
+
+import errno
+import logging
+import socket
+import threading
+import time
+
+import pytest
+from conftest_io import HOST, is_closed_by_peer, raw_client, recv_frame
+
+import modbus_edu as mb
+from modbus_edu.links.tcp import TcpServer
+
+
+def _request(tid: int, unit: int = 1) -> bytes:
+    return mb.TcpFrame(transaction_id=tid, unit=unit,
+                       pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
+
+
+class StreamingPeer:
+    """A TCP 'server' that answers every connection with an endless stream of foreign responses."""
+
+    def __init__(self) -> None:
+        self.listener = socket.create_server((HOST, 0))
+        self.port = self.listener.getsockname()[1]
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+
+    def _run(self) -> None:
+        conn, _ = self.listener.accept()
+        foreign = mb.TcpFrame(transaction_id=0xBEEF, unit=1,
+                              pdu=mb.ReadHoldingRegistersResponse(registers=[1])).encode() * 200
+        try:
+            while not self.stop.is_set():
+                conn.sendall(foreign)
+        except OSError:
+            pass
+        finally:
+            conn.close()
+
+    def close(self) -> None:
+        self.stop.set()
+        self.listener.close()
+
+
+def test_a_peer_that_never_stops_sending_cannot_hold_the_master_past_its_timeout():
+    peer = StreamingPeer()
+    try:
+        with mb.tcp_link(HOST, peer.port) as link:
+            master = mb.Master(link, timeout=0.3)
+            start = time.monotonic()
+            with pytest.raises(mb.TransactionMismatchError) as caught:
+                master.read_holding_registers(unit=1, address=0, count=1)
+            elapsed = time.monotonic() - start
+    finally:
+        peer.close()
+    assert elapsed < 1.5, f"the master waited {elapsed:.2f} s on a 0.3 s timeout"
+    assert len(str(caught.value)) < 600 and "more" in str(caught.value)
+    assert master.stats.mismatches > 3 and len(master.log) <= mb.master.MAX_LOG
+
+
+def test_the_master_log_and_latencies_are_bounded():
+    link = mb.loopback_serial(mb.Slave(unit=1), baudrate=115200)
+    master = mb.Master(link)
+    master.log = mb.TrafficLog(maxlen=50)
+    for _ in range(100):
+        master.read_holding_registers(unit=1, address=0, count=1)
+    assert len(master.log) == 50
+    assert master.stats.latencies.maxlen == mb.master.MAX_LATENCIES
+
+
+@pytest.fixture
+def server():
+    with TcpServer(mb.Slave(unit=1), request_timeout=0.4, max_connections=4) as running:
+        yield running
+
+
+def test_a_request_trickled_byte_by_byte_is_closed_at_its_deadline_and_others_are_served(server):
+    port = server.address[1]
+    with raw_client(port) as slow, raw_client(port) as good:
+        frame = _request(1)
+        start = time.monotonic()
+        closed = False
+        for byte in frame[:-1]:  # never completes, but is never silent for long either
+            try:
+                slow.sendall(bytes([byte]))
+            except OSError:
+                closed = True
+                break
+            good.sendall(_request(7))
+            assert recv_frame(good)[:2] == b"\x00\x07"
+            time.sleep(0.1)
+        closed = closed or is_closed_by_peer(slow)
+        assert closed and time.monotonic() - start < 2.0
+    assert server.counters.slow_closed == 1
+
+
+def test_idle_clients_at_the_limit_do_not_lock_out_a_new_one(server):
+    port = server.address[1]
+    idle = [socket.create_connection((HOST, port), timeout=2) for _ in range(6)]  # more than the limit
+    try:
+        with raw_client(port) as newcomer:
+            newcomer.sendall(_request(9))
+            assert recv_frame(newcomer)[:2] == b"\x00\x09"
+        assert server.counters.evicted >= 3
+    finally:
+        for sock in idle:
+            sock.close()
+
+
+def _drain(sock: socket.socket) -> None:
+    try:
+        while sock.recv(1 << 16):
+            pass
+    except OSError:
+        pass
+
+
+def test_a_pipelining_client_does_not_delay_another_client():
+    handled: list[int] = []
+    slaves = [mb.Slave(unit=unit, on_read=lambda slave, *_: handled.append(slave.unit)) for unit in (1, 2)]
+    with TcpServer(slaves) as server:
+        port = server.address[1]
+        with raw_client(port) as greedy, raw_client(port) as polite:
+            burst = b"".join(_request(tid & 0xFFFF, unit=1) for tid in range(20_000))
+            reader = threading.Thread(target=_drain, args=(greedy,), daemon=True)
+            reader.start()
+            greedy.sendall(burst[:120_000])
+            polite.sendall(_request(1, unit=2))
+            assert recv_frame(polite)[6] == 2
+            position = handled.index(2)
+            greedy.sendall(burst[120_000:])
+    assert position < 5000, f"the polite client's request was handled after {position} of the greedy one's"
+
+
+def test_accept_failures_pause_accepting_and_warn_once(caplog):
+    class Listener:
+        calls = 0
+
+        def accept(self):
+            Listener.calls += 1
+            raise OSError(errno.EMFILE, "Too many open files")
+
+    class Selector:
+        def __init__(self):
+            self.registered = True
+
+        def unregister(self, _):
+            self.registered = False
+
+        def register(self, *_):
+            self.registered = True
+
+    server = TcpServer(mb.Slave(unit=1))
+    server._listener, server._selector = Listener(), Selector()
+    with caplog.at_level(logging.WARNING, logger="modbus_edu.tcp"):
+        for _ in range(50):
+            server._accept()
+            assert not server._selector.registered and server._accept_paused_until > time.monotonic()
+            server._accept_paused_until = time.monotonic() - 1  # the pause is over
+            server._expire()
+            assert server._selector.registered
+    assert Listener.calls == 50
+    assert len([r for r in caplog.records if "accept failed" in r.getMessage()]) == 1
+    server._listener = server._selector = None
