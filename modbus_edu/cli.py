@@ -611,7 +611,7 @@ def _wire_options(parser: argparse.ArgumentParser, serve: bool) -> None:
     wire.add_argument("--serial", metavar="URL",
                       help="a serial port or pyserial URL: /dev/ttyUSB0, COM3, rfc2217://host:port")
     wire.add_argument("--baud", type=_baud, metavar="N",
-                      help="serial baud rate (default 9600; serve meter: 19200, as in source 003)")
+                      help="serial baud rate (default 9600; serve meter: 19200, as in the power-meter paper)")
     wire.add_argument("--parity", choices=["N", "E", "O"], default="N", type=str.upper,
                       help="serial parity (default N)")
     wire.add_argument("--stopbits", type=int, choices=[1, 2], default=1, help="serial stop bits (default 1)")
@@ -694,8 +694,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = subs.add_parser("serve", help="serve a simulated device until Ctrl-C",
                         description="Serve a simulated device on Modbus/TCP (default 127.0.0.1:5020) or on a "
-                                    "serial port, until Ctrl-C. Devices: meter (source 003's power meter, "
-                                    "Table 5 map, Table 6 values), arduino (source 002's Arduino slave), "
+                                    "serial port, until Ctrl-C. Devices: meter (the power-meter paper's "
+                                    "meter, Table 5 map, Table 6 values), arduino (the Arduino slave "
+                                    "paper's board), "
                                     "bank (a plain dense data bank). The request count is shown on stderr.")
     p.add_argument("device", choices=["meter", "arduino", "bank"], help="what to simulate")
     p.add_argument("--unit", default="1", help="unit identifier (default 1)")

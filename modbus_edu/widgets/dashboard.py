@@ -110,7 +110,8 @@ class MeterDashboard(StaticText, W.VBox):
                                                             object_fit="contain"))
         self.image.add_class("mbe-md-plot")
         self.children = [
-            W.HTML("<b>Power meter dashboard</b> &mdash; source 003's Table 5, read with function 03"),
+            W.HTML("<b>Power meter dashboard</b> &mdash; the power-meter paper's Table 5, "
+                   "read with function 03"),
             self.message,
             W.HBox([self.interval, self.read_button, self.start_button, self.stop_button, self.plot_group,
                     self.clear_button]),
