@@ -54,10 +54,31 @@ def execute(path: Path | str, timeout: int = 120) -> float:
     elapsed = time.perf_counter() - start
     for cell in notebook.cells:
         cell.metadata.pop("execution", None)
-    # The widgets' saved state stays in the metadata: JupyterLab draws the panels from it when a
-    # learner opens the notebook, before the kernel has run anything.
+    strip_widget_state(notebook)
     nbformat.write(notebook, path)
     return elapsed
+
+
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+
+
+def strip_widget_state(notebook) -> int:
+    """Save no widget state: a panel is live only after its cell runs.
+
+    Saved state would draw dead panels in a notebook that has not run (controls that ignore input), and
+    a widget view without its state draws "Error displaying widget".  So the notebook's widget metadata
+    goes, and each panel's output keeps only its text, which says what the panel is and "run this cell
+    to open the panel".  Returns how many widget views were removed.
+    """
+    notebook.metadata.pop("widgets", None)
+    removed = 0
+    for cell in notebook.cells:
+        for output in cell.get("outputs", []):
+            data = output.get("data")
+            if data and WIDGET_VIEW in data:
+                del data[WIDGET_VIEW]
+                removed += 1
+    return removed
 
 
 @dataclass(frozen=True)

@@ -765,3 +765,88 @@ def test_tx_and_rx_lamps_show_the_last_exchange():
     master.poll_once()
     assert master.lamps == {"tx": True, "rx": False}
     assert master.counts["timeouts"] == 1
+
+
+# --- status lines say how things are now (issue 12) ------------------------------------------------------
+def _status_text(tool: TestTool) -> str:
+    return re.sub(r"<[^>]+>", "", tool.status.value).replace("&#9679;", "").strip()
+
+
+def test_a_master_whose_request_timed_out_is_not_shown_as_plainly_connected():
+    slave = TestTool("rtu_slave", unit=1, length=4)
+    master = TestTool("rtu_master", partner=slave, unit=1, length=4, timeout=0.2)
+    master.poll_once()
+    assert master.last_outcome == "valid" and "#2f9e44" in master.status.value
+    assert _status_text(master).startswith("connected")
+    slave.stop()  # the slave falls silent
+    master.poll_once()
+    assert master.last_outcome == "timeout"
+    assert "timed out" in _status_text(master) and "#2f9e44" not in master.status.value
+    slave.start()
+    master.poll_once()
+    assert "timed out" not in _status_text(master) and "#2f9e44" in master.status.value
+    master.disconnect()
+    assert _status_text(master) == "not connected"
+
+
+def test_a_message_about_the_past_clears_when_traffic_goes_by():
+    slave = TestTool("rtu_slave", unit=1, length=4)
+    master = TestTool("rtu_master", partner=slave, unit=1, length=4)
+    slave.auto_fill_start()
+    assert "every 1 s" in slave.auto_state.value and slave.auto_start_button.disabled
+    slave.auto_fill_stop()
+    assert slave.message.text == "auto fill stopped" and "auto fill: off" in slave.auto_state.value
+    assert not slave.auto_start_button.disabled and slave.auto_stop_button.disabled
+    master.poll_once()
+    assert slave.message.text == ""  # the stale line went; the state beside the buttons stays "off"
+    assert "auto fill: off" in slave.auto_state.value
+    slave.unit.value = 0  # an error is not stale: it stays until it is fixed
+    master.poll_once()
+    assert slave.message.kind == "error"
+
+
+def test_the_cells_field_follows_the_grid_length():
+    master = TestTool("rtu_master", length=4)
+    assert master.write_count.value == 4 and len(master._cells) == 4
+    master.length.value = 7
+    assert master.write_count.value == 7 and len(master._cells) == 7
+
+
+def test_the_test_tool_is_laid_out_in_tabs_and_every_button_says_what_it_does():
+    tool = TestTool("rtu_master")
+    assert [tool.tabs.get_title(i) for i in range(4)] == ["connection", "data", "traffic", "settings"]
+    assert tool.tx_log.layout.overflow == "auto" and tool.rx_log.layout.overflow == "auto"
+    assert tool.grid.layout.overflow == "auto"
+    buttons = [w for w in vars(tool).values() if isinstance(w, type(tool.start_button))]
+    assert len(buttons) >= 14
+    for b in buttons:
+        assert b.tooltip and (b.tooltip != b.description or b in (tool.start_button, tool.stop_button)), b
+
+
+# --- a saved notebook keeps no widget state: each panel says what it is (issue 12) -----------------------
+@pytest.mark.parametrize("make", [FrameBuilder, FrameDecoder, CrcExplorer, MeterDashboard,
+                                  lambda: TestTool("tcp_server", name="meter")])
+def test_a_panel_output_says_what_it_is_and_to_run_the_cell(make):
+    panel = make()
+    text = panel._repr_mimebundle_()["text/plain"]
+    assert "panel" in text and text.endswith("run this cell to open the panel]")
+    assert type(panel).__name__ in repr(panel)  # repr() stays the live summary for code
+    if isinstance(panel, TestTool):
+        assert "TCP server 'meter'" in text
+        panel.disconnect(quiet=True)
+
+
+def test_executed_notebooks_keep_no_widget_state():
+    import nbformat
+
+    from modbus_edu.course import WIDGET_VIEW, strip_widget_state
+
+    panel = FrameBuilder()
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["widgets"] = {"application/vnd.jupyter.widget-state+json": {"state": {}}}
+    cell = nbformat.v4.new_code_cell("FrameBuilder()")
+    cell.outputs = [nbformat.v4.new_output("execute_result", data=panel._repr_mimebundle_())]
+    nb.cells.append(cell)
+    assert strip_widget_state(nb) == 1
+    assert "widgets" not in nb.metadata and WIDGET_VIEW not in cell.outputs[0]["data"]
+    assert "run this cell to open the panel" in cell.outputs[0]["data"]["text/plain"]

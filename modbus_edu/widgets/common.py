@@ -37,6 +37,8 @@ __all__ = [
     "dropdown",
     "shown",
     "is_shown",
+    "RUN_TO_OPEN",
+    "StaticText",
 ]
 
 #: Soft background colours, one per field of a frame (cycled when a frame has more fields).
@@ -305,3 +307,27 @@ def shown(widget: W.DOMWidget, visible: bool) -> None:
 
 def is_shown(widget: W.DOMWidget) -> bool:
     return widget.layout.display != "none"
+
+
+# --- what a notebook that has not run shows --------------------------------------------------------------
+RUN_TO_OPEN = "run this cell to open the panel"
+
+
+class StaticText:
+    """Mixin for a panel: the text its output keeps in a saved notebook.
+
+    No widget state is saved with the course's notebooks (:func:`modbus_edu.course.strip_widget_state`),
+    so a notebook that has not run shows each panel's ``text/plain``: what the panel is, and
+    "run this cell to open the panel" -- never controls that ignore input.  ``repr()`` stays the live
+    summary for code and tests.
+    """
+
+    def static_text(self) -> str:
+        """What this panel is, in a few words (each panel says its own)."""
+        return type(self).__name__
+
+    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
+        data = super()._repr_mimebundle_(**kwargs)  # type: ignore[misc]
+        if isinstance(data, dict) and "text/plain" in data:
+            data["text/plain"] = f"[{self.static_text()}: {RUN_TO_OPEN}]"
+        return data

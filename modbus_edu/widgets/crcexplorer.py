@@ -19,7 +19,7 @@ from ..crc import (
 )
 from ..errors import ModbusError
 from ..framing import parse_hex
-from .common import MONO, MessageLine, esc, guarded, hex_text
+from .common import MONO, MessageLine, StaticText, esc, guarded, hex_text
 
 __all__ = ["CrcExplorer"]
 
@@ -36,7 +36,7 @@ def _bin8(value: int) -> str:
     return f"{b[:4]} {b[4:]}"
 
 
-class CrcExplorer(W.VBox):
+class CrcExplorer(StaticText, W.VBox):
     """Step through the error check of a frame: the CRC-16 of RTU (bit by bit, or by table) and the LRC.
 
     Type the bytes (hex, any common spacing).  **Bit by bit** follows the specification's algorithm,
@@ -309,6 +309,9 @@ class CrcExplorer(W.VBox):
         ax.set_ylabel("register")
         ax.set_title(f"{dict((v, k) for k, v in METHODS)[self.method.value]}: {hex_text(self.data)}")
         return ax
+
+    def static_text(self) -> str:
+        return "CRC explorer panel: the CRC-16 (or the LRC) of your bytes, step by step"
 
     def __repr__(self) -> str:
         return (f"<CrcExplorer {self.method.value}: {len(self.data)} bytes, step {self.position} of "

@@ -15,7 +15,7 @@ from ..errors import ConfigError, ModbusError, ModbusTimeoutError
 from ..links.loopback import loopback_serial
 from ..master import Master
 from ..slave import Slave
-from .common import MONO, MessageLine, esc, guarded
+from .common import MONO, MessageLine, StaticText, esc, guarded
 
 __all__ = ["MeterDashboard"]
 
@@ -27,7 +27,7 @@ def _group_title(unit: str) -> str:
     return _GROUP_TITLES.get(unit, unit or "values")
 
 
-class MeterDashboard(W.VBox):
+class MeterDashboard(StaticText, W.VBox):
     """Read a power meter every few seconds, show the scaled values in a table and plot their trends.
 
     ``source`` is a device (a :class:`~modbus_edu.devices.PowerMeter`, or any slave with the same
@@ -322,6 +322,9 @@ class MeterDashboard(W.VBox):
         """``[(label, "403.6 V"), ...]``: the last reading as 003's Table 6 prints it."""
         chosen = [e for e in self.entries if names is None or e.name in names]
         return [(e.label, e.format(self.values[e.name])) for e in chosen if e.name in self.values]
+
+    def static_text(self) -> str:
+        return "Meter dashboard panel: the power meter polled periodically, values and trends"
 
     def __repr__(self) -> str:
         return f"<MeterDashboard {len(self.entries)} values, counts={self.counts}>"

@@ -13,6 +13,7 @@ from ..framing import Frame, make_frame
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu, request_class, response_class
 from .common import (
     MessageLine,
+    StaticText,
     dissection_html,
     dropdown,
     esc,
@@ -42,7 +43,7 @@ def _text(value: Any) -> str:
     return str(value)
 
 
-class FrameBuilder(W.VBox):
+class FrameBuilder(StaticText, W.VBox):
     """Build a Modbus frame from its fields and see every byte, coloured by the field it belongs to.
 
     Choose the mode (RTU, ASCII, TCP), the role (request, response, or an exception response), the
@@ -271,6 +272,9 @@ class FrameBuilder(W.VBox):
             f'<code class="mbe-frame-hex">{esc(hex_text(data))}</code></div>'
         )
         self.dissection_view.value = dissection_html(self.dissection)
+
+    def static_text(self) -> str:
+        return "Frame builder panel: fields in, a Modbus frame out, each byte coloured by its field"
 
     def __repr__(self) -> str:
         shown = self.dissection.summary if self.dissection is not None else f"error: {self.error}"

@@ -9,7 +9,17 @@ import ipywidgets as W
 from ..errors import ModbusError
 from ..explain import Dissection, explain
 from ..framing import parse_hex
-from .common import MessageLine, dissection_html, dropdown, esc, frame_html, guarded, hex_text, legend_html
+from .common import (
+    MessageLine,
+    StaticText,
+    dissection_html,
+    dropdown,
+    esc,
+    frame_html,
+    guarded,
+    hex_text,
+    legend_html,
+)
 
 __all__ = ["FrameDecoder"]
 
@@ -18,7 +28,7 @@ ROLE_OPTIONS = [("auto", "auto"), ("request", "request"), ("response", "response
 _NAMES = {"rtu": "RTU", "ascii": "ASCII", "tcp": "TCP"}
 
 
-class FrameDecoder(W.VBox):
+class FrameDecoder(StaticText, W.VBox):
     """Paste a frame as hex (or an ASCII frame with its ``:``) and see what every byte means.
 
     Hex may be written the usual ways: ``01 03 00 00 00 01 84 0A``, ``010300000001840A``,
@@ -104,6 +114,9 @@ class FrameDecoder(W.VBox):
             f'<div style="margin-top:4px;font-size:0.9em">bytes: <code class="mbe-frame-hex">'
             f"{esc(hex_text(data))}</code></div>")
         self.dissection_view.value = dissection_html(d)
+
+    def static_text(self) -> str:
+        return "Frame decoder panel: hex bytes in, every field of the frame explained"
 
     def __repr__(self) -> str:
         if self.dissection is not None:

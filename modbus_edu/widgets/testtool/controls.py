@@ -1,0 +1,89 @@
+"""What every part of the TestTool shares: the four roles, the option lists, limits and small control
+factories (a labelled control of a given width, a button with a tooltip, a row that wraps)."""
+
+from __future__ import annotations
+
+import asyncio
+from dataclasses import dataclass
+
+import ipywidgets as W
+
+from ...pdu import FunctionCode
+from ...values import FORMATS
+
+__all__ = ["Role", "ROLES", "ROLE_OPTIONS", "FUNCTION_OPTIONS", "BAUD_RATES", "FORMAT_OPTIONS", "MAX_CELLS",
+           "COLUMNS", "LOG_LINES", "TAB_TITLES", "GRID_HEIGHT", "LOG_HEIGHT", "CONFIG_KEYS", "running_loop",
+           "small", "button", "row"]
+
+
+@dataclass(frozen=True)
+class Role:
+    """One of the four roles of source 000's tool."""
+
+    key: str
+    title: str
+    mode: str  # "rtu" or "tcp"
+    side: str  # "master" (asks) or "slave" (answers)
+    background: str
+    border: str
+
+
+ROLES: dict[str, Role] = {
+    "rtu_master": Role("rtu_master", "RTU master", "rtu", "master", "#e7f5ff", "#1c7ed6"),
+    "rtu_slave": Role("rtu_slave", "RTU slave", "rtu", "slave", "#ebfbee", "#2f9e44"),
+    "tcp_client": Role("tcp_client", "TCP client", "tcp", "master", "#fff4e6", "#e8590c"),
+    "tcp_server": Role("tcp_server", "TCP server", "tcp", "slave", "#f8f0fc", "#ae3ec9"),
+}
+ROLE_OPTIONS = [(r.title, r.key) for r in ROLES.values()]
+FUNCTION_OPTIONS = [(f"{int(fc):02d} {fc.title}", int(fc)) for fc in FunctionCode]
+BAUD_RATES = [1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200]
+FORMAT_OPTIONS = [(f.replace("_", " "), f) for f in FORMATS]
+MAX_CELLS = 250
+COLUMNS = 10
+LOG_LINES = 200
+#: The tabs under the always-visible header (title, role, status, message, polling and counters).
+TAB_TITLES = ("connection", "data", "traffic", "settings")
+#: A panel stays within 700 px of height: the grid and the logs scroll inside boxes this tall.
+GRID_HEIGHT = "250px"
+LOG_HEIGHT = "300px"
+
+CONFIG_KEYS = (
+    "role", "name", "connection", "url", "baudrate", "parity", "stopbits", "host", "port", "timeout",
+    "unit", "address", "length", "function", "transaction_id", "interval", "continuous", "display",
+    "fill_start", "fill_increment", "fill_step", "auto_interval", "newest_on_top", "seed",
+)
+
+
+
+
+def running_loop() -> asyncio.AbstractEventLoop | None:
+    """The kernel's asyncio loop when there is one (in Jupyter), else None (a script, a test)."""
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None
+
+
+def small(widget: W.DOMWidget, width: str = "210px", label: str = "95px") -> W.DOMWidget:
+    """Give a labelled control its width and the width of its label."""
+    widget.layout.width = width
+    if hasattr(widget, "style") and hasattr(widget.style, "description_width"):
+        widget.style.description_width = label
+    return widget
+
+
+def button(label: str, icon: str = "", css: str = "", tip: str = "", style: str = "") -> W.Button:
+    """A button whose tooltip says what it does (``tip``; the label when no tip is given)."""
+    b = W.Button(description=label, icon=icon, tooltip=tip or label, button_style=style,
+                 layout=W.Layout(width="auto"))
+    if css:
+        b.add_class(css)
+    return b
+
+
+def row(*children: W.Widget, css: str = "") -> W.HBox:
+    """A row of controls that wraps onto a second line rather than run past the panel's width."""
+    box = W.HBox(list(children), layout=W.Layout(flex_flow="row wrap", align_items="center"))
+    if css:
+        box.add_class(css)
+    return box
