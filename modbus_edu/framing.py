@@ -49,6 +49,7 @@ from .errors import (
     PduError,
     ReservedUnitWarning,
     UnitError,
+    shown,
 )
 
 __all__ = [
@@ -157,9 +158,9 @@ def _check_mode(mode: object) -> str:
 def _check_unit(unit: object, highest: int, mode: str) -> int:
     """Validate a unit given to a constructor: one byte; a reserved serial address (248..255) warns."""
     if isinstance(unit, bool) or not isinstance(unit, int):
-        raise UnitError(f"{mode} unit must be an int, got {_short_repr(unit)}")
+        raise UnitError(f"{mode} unit must be an int, got {shown(unit)}")
     if not 0 <= unit <= 255:
-        raise UnitError(f"{mode} unit {_short_repr(unit)} does not fit its one byte: expected 0..255")
+        raise UnitError(f"{mode} unit {shown(unit)} does not fit its one byte: expected 0..255")
     if unit > highest:
         warnings.warn(
             f"{mode} unit {unit} (0x{unit:02X}) is in the reserved range 248..255: standard slaves use "
@@ -177,14 +178,6 @@ def _received(cls: type, unit: int, pdu: _pdu.Pdu) -> Any:
     object.__setattr__(frame, "unit", unit)
     object.__setattr__(frame, "pdu", pdu)
     return frame
-
-
-def _short_repr(value: object) -> str:
-    """``repr(value)`` cut short, safe for ints of any size."""
-    if isinstance(value, int) and value.bit_length() > 64:
-        return f"an int of {value.bit_length()} bits"
-    text = repr(value)
-    return text if len(text) <= 40 else text[:39] + "…"
 
 
 def _check_pdu(pdu: object, cls_name: str) -> None:
@@ -451,7 +444,8 @@ class TcpFrame:
                 and 0 <= self.unit <= 255 and isinstance(self.pdu, _pdu.Pdu)):
             return  # the usual case, checked in one go; the checks below name what is wrong
         if isinstance(tid, bool) or not isinstance(tid, int) or not 0 <= tid <= 0xFFFF:
-            raise MbapError(f"transaction_id {tid!r} does not fit the MBAP's two bytes: expected 0..65535")
+            raise MbapError(f"transaction_id {shown(tid)} does not fit the MBAP's two bytes: "
+                            "expected 0..65535")
         if self.protocol_id != 0:
             raise MbapError(f"protocol_id {self.protocol_id!r}: the MBAP protocol identifier of Modbus is 0")
         _check_unit(self.unit, 255, "TCP")

@@ -171,3 +171,56 @@ def test_accept_failures_pause_accepting_and_warn_once(caplog):
     assert Listener.calls == 50
     assert len([r for r in caplog.records if "accept failed" in r.getMessage()]) == 1
     server._listener = server._selector = None
+
+
+# --- only our errors come out --------------------------------------------------------------------------
+HUGE = 10**5000  # Python refuses to print it (4300 digits at most) and to make a float of it
+
+
+def _pdu():
+    return mb.ReadHoldingRegistersRequest(address=0, count=1)
+
+
+HOSTILE_CALLS = {
+    "request address": lambda: mb.ReadHoldingRegistersRequest(address=HUGE, count=1),
+    "request count": lambda: mb.ReadHoldingRegistersRequest(address=0, count=HUGE),
+    "register value": lambda: mb.WriteSingleRegisterRequest(address=0, value=HUGE),
+    "register values": lambda: mb.WriteMultipleRegistersRequest(address=0, values=[HUGE]),
+    "response registers": lambda: mb.ReadHoldingRegistersResponse(registers=[HUGE]),
+    "exception function": lambda: mb.ExceptionResponse(function=HUGE, code=1),
+    "exception code": lambda: mb.ExceptionResponse(function=3, code=HUGE),
+    "tcp transaction id": lambda: mb.TcpFrame(transaction_id=HUGE, unit=1, pdu=_pdu()),
+    "tcp unit": lambda: mb.TcpFrame(transaction_id=1, unit=HUGE, pdu=_pdu()),
+    "rtu unit": lambda: mb.RtuFrame(unit=HUGE, pdu=_pdu()),
+    "slave unit": lambda: mb.Slave(unit=HUGE),
+    "slave processing time": lambda: mb.Slave(unit=1, processing_time=HUGE),
+    "server port": lambda: TcpServer(mb.Slave(), port=HUGE),
+    "server idle timeout": lambda: TcpServer(mb.Slave(), idle_timeout=HUGE),
+    "server request timeout": lambda: TcpServer(mb.Slave(), request_timeout=HUGE),
+    "encode uint16": lambda: mb.encode_value(HUGE, "uint16"),
+    "encode float32": lambda: mb.encode_value(HUGE, "float32"),
+    "format registers": lambda: mb.format_registers([HUGE], "hex"),
+    "scale to infinity": lambda: mb.values.scale(10**400, 0.1),
+    "unscale past the decimal context": lambda: mb.values.unscale(1e27, 10),
+    "crc16 of an int": lambda: mb.crc16(5),
+    "lrc of an int": lambda: mb.lrc(5),
+    "crc16 of a str": lambda: mb.crc16("01 03"),
+    "bank value": lambda: mb.DataBank().holding_registers.__setitem__(0, HUGE),
+    "bank address": lambda: mb.DataBank().holding_registers[HUGE],
+    "reference number": lambda: mb.parse_reference("4" + "1" * 5000),
+    "format reference": lambda: mb.format_reference("coils", HUGE),
+    "master timeout": lambda: mb.Master(mb.loopback_serial(mb.Slave()), timeout=HUGE),
+    "master transaction id": lambda: mb.Master(mb.loopback_serial(mb.Slave()), transaction_id=HUGE),
+    "loopback baud rate": lambda: mb.loopback_serial(mb.Slave(), baudrate=HUGE),
+    "read address": lambda: mb.Master(mb.loopback_serial(mb.Slave())).read_holding_registers(1, HUGE, 1),
+    "read unit": lambda: mb.Master(mb.loopback_serial(mb.Slave())).read_holding_registers(HUGE, 0, 1),
+    "tcp_link port": lambda: mb.tcp_link(HOST, HUGE),
+    "tcp_link timeout": lambda: mb.tcp_link(HOST, 502, timeout=HUGE),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HOSTILE_CALLS))
+def test_huge_and_wrong_values_give_a_modbus_error_with_a_short_message(name):
+    with pytest.raises(mb.ModbusError) as caught:
+        HOSTILE_CALLS[name]()
+    assert len(str(caught.value)) < 400

@@ -42,7 +42,7 @@ from typing import Any
 
 from ..clock import RealClock
 from ..crc import crc16
-from ..errors import ConfigError, LinkError
+from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import splitter_for
 from .base import Link
 from .tcp import normalize_slaves
@@ -293,6 +293,7 @@ class SerialLink(Link):
                 pass
 
 
+@guard_numbers
 def serial_link(
     url: str,
     baudrate: int = 9600,

@@ -46,7 +46,7 @@ from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 from ..clock import Clock, RealClock
-from ..errors import ConfigError, LinkError
+from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpFrame, TcpSplitter
 from ..pdu import ExceptionResponse
 from .base import Link
@@ -293,6 +293,7 @@ class TcpServer:
     :class:`~modbus_edu.errors.ConfigError` at once, saying what was expected.
     """
 
+    @guard_numbers
     def __init__(
         self,
         slaves: Any,
@@ -909,6 +910,7 @@ class TcpLink(Link):
         self.closed = True
 
 
+@guard_numbers
 def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> TcpLink:
     """Connect to a Modbus/TCP server and return a :class:`TcpLink` (mode ``"tcp"``, real clock).
 
