@@ -49,6 +49,10 @@ class UnitError(FrameError):
     """A unit identifier (slave address) is outside the range the mode allows."""
 
 
+class ReservedUnitWarning(ModbusError, UserWarning):
+    """A frame is built for a reserved serial address (248..255): allowed, but not a standard slave."""
+
+
 class FrameLengthError(FrameError):
     """A frame is too short or too long to be a Modbus frame of this mode."""
 

@@ -327,7 +327,8 @@ def _unit_piece(unit: int, mode: str, role: str | None) -> _Piece:
         return _Piece(0, 1, "unit (slave address)", unit, meaning, ok=role != "response")
     if unit > MAX_SERIAL_UNIT:
         return _Piece(0, 1, "unit (slave address)", unit,
-                      "reserved: slave addresses are 1-247 (0 = broadcast), 248-255 are reserved", ok=False)
+                      "reserved address (248-255): standard slaves use 1-247, 0 = broadcast; some devices "
+                      "answer one (an 'any address' or a configuration address)")
     word = "to" if role == "request" else "from" if role == "response" else "of"
     return _Piece(0, 1, "unit (slave address)", unit, f"the frame is {word} slave {unit}")
 

@@ -31,8 +31,9 @@ from __future__ import annotations
 
 import re
 import struct
+import warnings
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 from . import pdu as _pdu
 from .crc import crc16, lrc
@@ -46,6 +47,7 @@ from .errors import (
     MbapError,
     ModbusError,
     PduError,
+    ReservedUnitWarning,
     UnitError,
 )
 
@@ -153,26 +155,36 @@ def _check_mode(mode: object) -> str:
 
 
 def _check_unit(unit: object, highest: int, mode: str) -> int:
-    """Validate a unit given to a constructor."""
+    """Validate a unit given to a constructor: one byte; a reserved serial address (248..255) warns."""
     if isinstance(unit, bool) or not isinstance(unit, int):
-        raise UnitError(f"{mode} unit must be an int, got {unit!r}")
-    if not 0 <= unit <= highest:
-        if mode == "TCP":
-            raise UnitError(f"TCP unit identifier {unit} does not fit its one byte: expected 0..255")
-        raise UnitError(
-            f"{mode} unit {unit} is not a slave address: expected 0 (broadcast) or 1..247 "
-            f"(248..255 are reserved)"
-        )
+        raise UnitError(f"{mode} unit must be an int, got {_short_repr(unit)}")
+    if not 0 <= unit <= 255:
+        raise UnitError(f"{mode} unit {_short_repr(unit)} does not fit its one byte: expected 0..255")
+    if unit > highest:
+        warnings.warn(
+            f"{mode} unit {unit} (0x{unit:02X}) is in the reserved range 248..255: standard slaves use "
+            f"1..247 (0 = broadcast); some devices answer a reserved address (an 'any address' or a "
+            f"configuration address), so the frame is built anyway",
+            ReservedUnitWarning, stacklevel=4)
     return unit
 
 
-def _check_serial_unit_byte(unit: int, offset: str, mode: str) -> None:
-    """Validate a received serial address byte (0..255)."""
-    if unit > MAX_SERIAL_UNIT:
-        raise UnitError(
-            f"{mode} unit {unit} (0x{unit:02X}) at {offset} is reserved: a slave address is 0 "
-            f"(broadcast) or 1..247; 248..255 are reserved"
-        )
+def _received(cls: type, unit: int, pdu: _pdu.Pdu) -> Any:
+    """A serial frame as it came off the wire: any address byte, with no warning (a sniffer shows all)."""
+    if unit <= MAX_SERIAL_UNIT:
+        return cls(unit, pdu)
+    frame = object.__new__(cls)
+    object.__setattr__(frame, "unit", unit)
+    object.__setattr__(frame, "pdu", pdu)
+    return frame
+
+
+def _short_repr(value: object) -> str:
+    """``repr(value)`` cut short, safe for ints of any size."""
+    if isinstance(value, int) and value.bit_length() > 64:
+        return f"an int of {value.bit_length()} bits"
+    text = repr(value)
+    return text if len(text) <= 40 else text[:39] + "…"
 
 
 def _check_pdu(pdu: object, cls_name: str) -> None:
@@ -266,8 +278,7 @@ class RtuFrame:
                 received=carried,
                 computed=computed,
             )
-        _check_serial_unit_byte(data[0], "byte 0", "RTU")
-        return cls(data[0], _decode_pdu(data[1:-2], role, 1))
+        return _received(cls, data[0], _decode_pdu(data[1:-2], role, 1))
 
 
 def _check_lost_bytes(data: bytes, role: str) -> None:
@@ -407,8 +418,7 @@ class AsciiFrame:
                 received=carried,
                 computed=computed,
             )
-        _check_serial_unit_byte(raw[0], "chars 1-2", "ASCII")
-        return cls(raw[0], _decode_pdu(raw[1:-1], role, 1, ascii_chars=True))
+        return _received(cls, raw[0], _decode_pdu(raw[1:-1], role, 1, ascii_chars=True))
 
 
 @dataclass(frozen=True)
@@ -723,7 +733,7 @@ class RtuSplitter(_Splitter):
         """Expected frame length at ``start``: an int, None (need more bytes) or -1 (cannot be a frame)."""
         buf = self._buffer
         if buf[start] > MAX_SERIAL_UNIT:
-            return -1
+            return -1  # a reserved address: too rare to take for the start of a frame in a byte stream
         if len(buf) - start < 2:
             return None
         try:  # the function code and at most 5 more bytes decide the length (FC 15/16 byte count)

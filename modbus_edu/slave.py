@@ -337,8 +337,8 @@ class Slave:
                 self.process(decoded.pdu)
                 return None, None, "broadcast: carried out, no answer"
             return None, None, "broadcast read: ignored (a broadcast can only write)"
-        if not self.accepts(unit):
-            counters.other_unit += 1
+        if not self.accepts(unit) or (unit > 247 and unit != self.unit and mode != "tcp"):
+            counters.other_unit += 1  # a reserved serial address is answered only by a slave set to it
             return None, None, f"for unit {unit}: ignored"
         counters.requests += 1
         response = self.process(decoded.pdu)

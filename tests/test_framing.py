@@ -189,11 +189,20 @@ def test_rtu_longest_frame_is_256_bytes() -> None:
 
 
 @pytest.mark.parametrize("unit", [248, 255])
-def test_rtu_reserved_unit(unit: int) -> None:
-    with pytest.raises(UnitError) as info:
-        RtuFrame.decode(rtu(f"{unit:02X} 03 00 00 00 01"))
-    message = str(info.value)
-    assert f"unit {unit}" in message and "byte 0" in message and "1..247" in message and "reserved" in message
+def test_rtu_reserved_unit_is_decoded_and_building_one_warns(unit: int) -> None:
+    import warnings
+
+    from modbus_edu.errors import ReservedUnitWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # decoding what is on the wire never warns
+        frame = RtuFrame.decode(rtu(f"{unit:02X} 03 00 00 00 01"))
+    assert frame.unit == unit
+    with pytest.warns(ReservedUnitWarning, match="reserved range 248..255"):
+        built = RtuFrame(unit, P.ReadHoldingRegistersRequest(address=0, count=1))
+    assert built.encode() == rtu(f"{unit:02X} 03 00 00 00 01")
+    with pytest.raises(UnitError, match="does not fit its one byte"):
+        RtuFrame(256, P.ReadHoldingRegistersRequest(address=0, count=1))
 
 
 def test_rtu_pdu_errors_propagate_with_frame_offsets() -> None:
@@ -275,9 +284,8 @@ def test_ascii_lrc_mismatch() -> None:
     assert info.value.received == 0x8C and info.value.computed == 0x8B
 
 
-def test_ascii_reserved_unit() -> None:
-    with pytest.raises(UnitError, match="chars 1-2"):
-        AsciiFrame.decode(ascii_frame("F8 03 00 00 00 01"))
+def test_ascii_reserved_unit_is_decoded() -> None:
+    assert AsciiFrame.decode(ascii_frame("F8 03 00 00 00 01")).unit == 0xF8
 
 
 def test_ascii_non_ascii_text() -> None:
@@ -336,7 +344,7 @@ def test_tcp_pdu_errors_count_from_frame_start() -> None:
 def test_constructor_checks() -> None:
     pdu = P.ReadCoilsRequest(address=0, count=1)
     for cls in (RtuFrame, AsciiFrame):
-        for unit in (-1, 248, 300, "1", True, None):
+        for unit in (-1, 256, 300, 10**5000, "1", True, None):
             with pytest.raises(UnitError):
                 cls(unit=unit, pdu=pdu)
         with pytest.raises(FrameError, match="PDU object"):

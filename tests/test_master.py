@@ -158,6 +158,11 @@ def test_unit_0_on_tcp_may_be_read_and_written():
 def test_bad_unit_and_bad_arguments():
     master = Master(loopback_serial(Slave()))
     with pytest.raises(UnitError):
+        master.read_coils(unit=256, address=0, count=1)
+    from modbus_edu.errors import ModbusTimeoutError, ReservedUnitWarning
+
+    # a reserved address is sent (with a warning); a standard slave stays silent
+    with pytest.warns(ReservedUnitWarning), pytest.raises(ModbusTimeoutError):
         master.read_coils(unit=248, address=0, count=1)
     with pytest.raises(ConfigError):
         master.execute(1, ReadCoilsResponse(bits=(True,)))

@@ -247,10 +247,10 @@ def test_bad_lrc_and_malformed_frames(slave):
     assert slave.counters.responses == 0
 
 
-def test_reserved_serial_unit_is_a_bad_frame():
+def test_a_reserved_serial_unit_is_heard_but_not_answered_by_an_any_unit_slave():
     slave = Slave(unit=None)
     assert slave.handle(rtu("F8 03 00 00 00 01"), "rtu") is None
-    assert slave.counters.bad_frames == 1
+    assert slave.counters.other_unit == 1 and slave.counters.bad_frames == 0
 
 
 def test_handle_rejects_non_bytes_and_bad_mode(slave):
