@@ -89,11 +89,11 @@ def test_frame_builder_follows_changes_made_like_a_user(mode, fields, expected):
 def test_frame_builder_shows_only_the_fields_a_function_needs():
     fb = FrameBuilder()
     assert fb.visible_fields() == ["unit", "address", "count"]
-    hidden = [fb.value, fb.coil, fb.values, fb.bits, fb.registers, fb.exception_code, fb.transaction_id]
-    assert all(box.layout.display == "none" for box in hidden)
+    hidden = ["value", "coil", "values", "bits", "registers", "exception_code", "transaction_id"]
+    assert all(fb._rows[name].layout.display == "none" for name in hidden)  # each field with its error
     fb.mode.value = "tcp"
     assert fb.visible_fields() == ["unit", "transaction_id", "address", "count"]
-    assert fb.transaction_id.layout.display != "none"
+    assert fb._rows["transaction_id"].layout.display != "none"
     fb.mode.value = "rtu"
     expected = {
         (1, "request"): ["address", "count"], (1, "response"): ["bits"],
@@ -107,8 +107,8 @@ def test_frame_builder_shows_only_the_fields_a_function_needs():
         fb.function.value = function
         fb.role.value = role
         assert fb.visible_fields() == ["unit", *names], (function, role)
-        for name, box in fb._field_map().items():
-            assert (box.layout.display != "none") == (name in names), (function, role, name)
+        for name in fb._field_map():
+            assert (fb._rows[name].layout.display != "none") == (name in names), (function, role, name)
     fb.function.value = 15
     fb.role.value = "request"
     assert fb.values.description == "coil values"
@@ -133,6 +133,7 @@ def test_frame_builder_every_function_and_role_gives_a_frame_the_library_decodes
 @pytest.mark.parametrize(("field", "text", "words"), [
     ("count", "126", ["QuantityError", "125"]),
     ("count", "0", ["QuantityError"]),
+    ("count", "126", ["QuantityError", "quantity"]),
     ("address", "abc", ["ValueFormatError", "address"]),
     ("address", "65535", ["AddressRangeError"]),
     ("address", "70000", ["address", "65535"]),
@@ -145,13 +146,19 @@ def test_frame_builder_invalid_input_shows_the_library_error_in_place(field, tex
     assert fb.frame == b""
     assert fb.error is not None and fb.dissection is None
     assert fb.message.kind == "error"
+    error = fb.field_errors[field]  # beside the field it is about, in that field's words
     for word in words:
-        assert word in fb.message.text
-    assert "color: #c92a2a" in fb.message.value  # red, in place
-    assert "no frame" in fb.frame_view.value and fb.dissection_view.value == ""
+        assert word in error
+    assert error not in fb.message.text  # once: the message line only points at the marked field
+    label = fb._error_labels[field].value
+    assert "color:#c92a2a" in label and label.count("&#9888;") == 1
+    assert "mbe-invalid" in getattr(fb, field)._dom_classes and list(fb.field_errors) == [field]
+    # the rest keeps its size and its last good content, greyed out
+    assert "mbe-stale" in fb.frame_view.value and "mbe-stale" in fb.dissection_view.value
     getattr(fb, field).value = {"count": "2", "address": "0", "unit": "1"}[field]
     assert fb.frame == _bytes("01 03 00 00 00 02 C4 0B")
-    assert fb.error is None
+    assert fb.error is None and fb.field_errors == {} and fb._error_labels[field].value == ""
+    assert "mbe-invalid" not in getattr(fb, field)._dom_classes
 
 
 @pytest.mark.parametrize(("function", "role", "field", "text"), [
@@ -167,6 +174,7 @@ def test_frame_builder_bad_lists_and_values_never_raise(function, role, field, t
     fb = FrameBuilder(function=function, role=role)
     getattr(fb, field).value = text
     assert fb.frame == b"" and fb.message.kind == "error" and fb.message.text
+    assert list(fb.field_errors) == [field]
 
 
 def test_frame_builder_builds_for_a_reserved_serial_unit_and_tcp_units():
@@ -313,11 +321,25 @@ def test_crc_explorer_bad_hex_shows_an_error():
     cx = CrcExplorer()
     cx.text.value = "01 0G"
     assert cx.message.kind == "error" and "not a hex digit" in cx.message.text
-    assert cx.steps == [] and cx.data == b""
+    assert cx.steps == [] and cx.data == b"" and "mbe-invalid" in cx.text._dom_classes
+    assert cx.children.index(cx.message) == cx.children.index(cx.text) + 1  # the error under its field
+    assert "mbe-stale" in cx.step_view.value  # the last good step stays, greyed out
     cx.next_bit.click()
     cx.run_to_end.click()  # nothing to do, nothing raised
     cx.text.value = "01"
-    assert cx.message.kind == "info" and len(cx.steps) == 9
+    assert cx.message.kind == "info" and len(cx.steps) == 9 and "mbe-invalid" not in cx.text._dom_classes
+    assert "mbe-stale" not in cx.step_view.value
+
+
+@pytest.mark.parametrize("method", ["bitwise", "table", "lrc"])
+def test_crc_explorer_labels_never_run_into_their_values(method):
+    cx = CrcExplorer(method=method)
+    text = re.sub(r"<[^>]+>", "", cx.step_view.value)
+    assert re.search(r"start (register|running sum) +[01]{4} ", text), text
+    for _ in range(3):
+        cx.step(1)
+        for line in re.sub(r"<[^>]+>", "", cx.step_view.value).splitlines():
+            assert not re.search(r"[g-wyz\]][01]{4} ", line), line  # "register1111", "sum0000"
 
 
 @settings(max_examples=200, deadline=None)
@@ -695,6 +717,9 @@ def test_meter_dashboard_errors_are_counted_and_shown():
     dash = MeterDashboard(PowerMeter(unit=2), unit=3, timeout=0.05)  # nobody answers unit 3
     assert dash.read_once() is None
     assert dash.counts["timeouts"] == 1 and "ModbusTimeoutError" in dash.message.text
+    assert "timed out" in dash.status.value  # the status says so too, not a plain "stopped"
+    assert [dash.tabs.get_title(i) for i in range(2)] == ["trend", "values"]
+    assert dash.table_box.layout.overflow == "auto"
     wrong = MeterDashboard("not a meter")
     assert "ConfigError" in wrong.message.text and wrong.read_once() is None
     assert wrong.run(-1) == [] and wrong.message.kind == "error"
@@ -850,3 +875,17 @@ def test_executed_notebooks_keep_no_widget_state():
     assert strip_widget_state(nb) == 1
     assert "widgets" not in nb.metadata and WIDGET_VIEW not in cell.outputs[0]["data"]
     assert "run this cell to open the panel" in cell.outputs[0]["data"]["text/plain"]
+
+
+def test_frame_decoder_says_each_error_once_under_its_field():
+    fd = FrameDecoder("01 03 00 00 00 01 84 0B")  # a CRC one bit off
+    assert fd.message.kind == "error" and "CrcError" in fd.message.text
+    assert "CrcError" not in fd.dissection_view.value  # the table marks the row; the words are said once
+    assert fd.children.index(fd.message) == fd.children.index(fd.text) + 1
+    fd.text.value = "01 03 00 00 00 01 84 0A"
+    good = fd.dissection_view.value
+    fd.text.value = "01 0G"
+    assert "mbe-invalid" in fd.text._dom_classes and fd.message.text.count("not a hex digit") == 1
+    assert "mbe-stale" in fd.dissection_view.value and good in fd.dissection_view.value
+    fd.text.value = "01 03 00 00 00 01 84 0A"
+    assert "mbe-invalid" not in fd.text._dom_classes and fd.dissection_view.value == good

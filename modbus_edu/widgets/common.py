@@ -38,6 +38,9 @@ __all__ = [
     "shown",
     "is_shown",
     "RUN_TO_OPEN",
+    "STALE_STYLE",
+    "stale_html",
+    "mark_invalid",
     "StaticText",
 ]
 
@@ -270,17 +273,49 @@ DISSECTION_CSS = (
 )
 
 
-def dissection_html(dissection: Any) -> str:
-    """The library's HTML table of a dissection, with some room between the columns."""
-    return DISSECTION_CSS + dissection._repr_html_()
+def dissection_html(dissection: Any, with_error: bool = False) -> str:
+    """The library's HTML table of a dissection, with some room between the columns.
+
+    The library writes the frame's error under the table; a panel that already says it on its message
+    line leaves it out (``with_error=False``), so that each error appears once.
+    """
+    table = dissection._repr_html_()
+    if not with_error and dissection.error is not None:
+        head, end, _error = table.rpartition("</table>")
+        table = head + end
+    return DISSECTION_CSS + table
+
+
+STALE_STYLE = "opacity:0.4;filter:grayscale(1)"
+
+
+def stale_html(content: str) -> str:
+    """The last good content of a view, greyed out while the input it came from does not read."""
+    if not content or "mbe-stale" in content:
+        return content
+    return (f'<div class="mbe-stale" title="the last good result: fix the marked field" '
+            f'style="{STALE_STYLE}">{content}</div>')
+
+
+def mark_invalid(widget: W.DOMWidget, invalid: bool) -> None:
+    """Mark an input red (class ``mbe-invalid``) while what it holds does not read, unmark it after."""
+    if invalid:
+        widget.add_class("mbe-invalid")
+    else:
+        widget.remove_class("mbe-invalid")
+    widget.layout.border = "2px solid #c92a2a" if invalid else None
 
 
 # --- small widget factories ----------------------------------------------------------------------
 def text_field(description: str, value: str = "", css: str | None = None, width: str = "230px",
                placeholder: str = "", tooltip: str = "") -> W.Text:
-    """A labelled text box (``css`` adds a class for browser tests, e.g. ``mbe-field-address``)."""
+    """A labelled text box (``css`` adds a class for browser tests, e.g. ``mbe-field-address``).
+
+    It applies its text when Enter is pressed or focus leaves it (Tab), not at every keystroke, so a
+    half-typed ``0x`` is never reported as an error."""
     box = W.Text(value=str(value), description=description, placeholder=placeholder,
-                 style={"description_width": "110px"}, layout=W.Layout(width=width))
+                 style={"description_width": "110px"}, layout=W.Layout(width=width),
+                 continuous_update=False)  # Enter (or leaving the field with Tab) applies it
     if tooltip:
         box.tooltip = tooltip
     if css:

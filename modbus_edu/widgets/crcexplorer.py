@@ -19,7 +19,7 @@ from ..crc import (
 )
 from ..errors import ModbusError
 from ..framing import parse_hex
-from .common import MONO, MessageLine, StaticText, esc, guarded, hex_text
+from .common import MONO, MessageLine, StaticText, esc, guarded, hex_text, mark_invalid, stale_html
 
 __all__ = ["CrcExplorer"]
 
@@ -34,6 +34,10 @@ def _bin16(value: int) -> str:
 def _bin8(value: int) -> str:
     b = f"{value:08b}"
     return f"{b[:4]} {b[4:]}"
+
+
+#: The width of the label column of a step ("start running sum" is the longest label).
+LABEL_WIDTH = 19
 
 
 class CrcExplorer(StaticText, W.VBox):
@@ -71,7 +75,7 @@ class CrcExplorer(StaticText, W.VBox):
         self.position = 0
         text = data if isinstance(data, str) else hex_text(bytes(data))
         self.text = W.Text(value=text, description="bytes (hex)", style={"description_width": "90px"},
-                           layout=W.Layout(width="560px"))
+                           layout=W.Layout(width="560px"), continuous_update=False)  # Enter applies
         self.text.add_class("mbe-crc-input")
         self.method = W.ToggleButtons(options=METHODS, value=method)
         self.method.add_class("mbe-crc-method")
@@ -88,7 +92,7 @@ class CrcExplorer(StaticText, W.VBox):
         self.run_to_end = button("run to end", "fast-forward", "do every step")
         self.message = MessageLine()
         self.bytes_view = W.HTML()
-        self.step_view = W.HTML()
+        self.step_view = W.HTML(layout=W.Layout(overflow="auto"))  # long lines scroll, never clip
         self.step_view.add_class("mbe-crc-step")
         self.result_view = W.HTML()
         self.result_view.add_class("mbe-crc-result")
@@ -96,9 +100,9 @@ class CrcExplorer(StaticText, W.VBox):
         self.children = [
             W.HTML("<b>CRC explorer</b> &mdash; the error check, one step at a time"),
             self.text,
+            self.message,  # right under the field: what it says is about the bytes typed there
             self.method,
             W.HBox([self.reset, self.back, self.next_bit, self.next_byte, self.run_to_end]),
-            self.message,
             self.bytes_view,
             self.step_view,
             self.result_view,
@@ -145,9 +149,11 @@ class CrcExplorer(StaticText, W.VBox):
         try:
             data = parse_hex(self.text.value) if self.text.value.strip() else b""
         except ModbusError as exc:
-            self.message.error(exc)
-            self._render()
+            self.message.error(exc)  # right under the bytes field, which is marked red
+            mark_invalid(self.text, True)
+            self._render(stale=True)
             return
+        mark_invalid(self.text, False)
         self.data = data
         method = self.method.value
         if method == "bitwise":
@@ -183,11 +189,17 @@ class CrcExplorer(StaticText, W.VBox):
             return None
         return self.steps[self.position].byte_index
 
-    def _render(self) -> None:
+    def _render(self, stale: bool = False) -> None:
+        """Draw the views; ``stale`` (the bytes do not read): keep the last good views, greyed out."""
         for b in (self.next_bit, self.next_byte, self.run_to_end):
             b.disabled = self.done
         for b in (self.back, self.reset):
             b.disabled = self.position == 0
+        views = (self.bytes_view, self.step_view, self.result_view, self.history_view)
+        if stale:
+            for view in views:
+                view.value = stale_html(view.value)
+            return
         self.bytes_view.value = self._bytes_html()
         self.step_view.value = self._step_html()
         self.result_view.value = self._result_html()
@@ -210,9 +222,10 @@ class CrcExplorer(StaticText, W.VBox):
         return f'<div style="{MONO}">bytes: {" ".join(parts)}</div>'
 
     def _reg_line(self, label: str, value: int, note: str = "", width: int = 16) -> str:
+        """``label`` in a column of its own (at least one space after it), the value in binary and hex."""
         bits = _bin16(value) if width == 16 else _bin8(value)
         hexv = f"0x{value:04X}" if width == 16 else f"0x{value:02X}"
-        return f"{label:<14}{bits}   {hexv}{('   ' + note) if note else ''}"
+        return f"{label:<{LABEL_WIDTH - 1}} {bits}   {hexv}{('   ' + note) if note else ''}"
 
     def _step_html(self) -> str:
         method = self.method.value
@@ -243,11 +256,11 @@ class CrcExplorer(StaticText, W.VBox):
                         lines.append(self._reg_line("XOR 0xA001", POLYNOMIAL, "because the LSB was 1"))
                         lines.append(self._reg_line("=", s.after))
                     else:
-                        lines.append("              (LSB was 0: no XOR)")
+                        lines.append(" " * LABEL_WIDTH + "(LSB was 0: no XOR)")
             elif method == "table":
                 lines.append(f"{title}: {s.describe()}")
                 lines.append(self._reg_line("register", s.before))
-                lines.append(f"index         (0x{s.before & 0xFF:02X} XOR byte 0x{s.byte:02X})"
+                lines.append(f"{'index':<{LABEL_WIDTH - 1}} (0x{s.before & 0xFF:02X} XOR byte 0x{s.byte:02X})"
                              f" = 0x{s.index:02X} = {s.index}")
                 lines.append(self._reg_line(">> 8", s.before >> 8, "the high byte moves down"))
                 lines.append(self._reg_line(f"table[0x{s.index:02X}]", s.table_value,

@@ -76,6 +76,7 @@ class MeterDashboard(StaticText, W.VBox):
         self.max_history = max_history
         self.plot_png: bytes = b""
         self._polling = False
+        self._last = ""  # how the last read ended: "", "valid", "timeout", "error" (the status says it)
         self._task: asyncio.Task | None = None
         self.device: Slave | None = None
         self.master: Master | None = None
@@ -92,11 +93,14 @@ class MeterDashboard(StaticText, W.VBox):
         self.interval = W.BoundedFloatText(value=interval, min=0.01, max=3600, step=0.5,
                                            description="interval (s)", style={"description_width": "80px"},
                                            layout=W.Layout(width="190px"))
-        self.read_button = W.Button(description="read once", icon="download", layout=W.Layout(width="auto"))
+        self.read_button = W.Button(description="read once", icon="download", layout=W.Layout(width="auto"),
+                                    tooltip="read every quantity once (function 03)")
         self.start_button = W.Button(description="start", icon="play", button_style="primary",
-                                     layout=W.Layout(width="auto"))
-        self.stop_button = W.Button(description="stop", icon="stop", layout=W.Layout(width="auto"))
-        self.clear_button = W.Button(description="clear history", icon="trash", layout=W.Layout(width="auto"))
+                                     layout=W.Layout(width="auto"), tooltip="read every interval seconds")
+        self.stop_button = W.Button(description="stop", icon="stop", layout=W.Layout(width="auto"),
+                                    tooltip="stop reading")
+        self.clear_button = W.Button(description="clear history", icon="trash", layout=W.Layout(width="auto"),
+                                     tooltip="forget the readings plotted so far")
         self.plot_group = W.Dropdown(options=[(_group_title(g), g) for g in groups],
                                      value=plot if plot in groups else groups[0], description="plot",
                                      style={"description_width": "40px"}, layout=W.Layout(width="220px"))
@@ -109,6 +113,10 @@ class MeterDashboard(StaticText, W.VBox):
         self.image = W.Image(format="png", layout=W.Layout(width="576px", height="288px", flex="0 0 auto",
                                                             object_fit="contain"))
         self.image.add_class("mbe-md-plot")
+        # tabs keep the panel within 700 px: the buttons and the plot are on screen together
+        self.table_box = W.Box([self.table], layout=W.Layout(max_height="420px", overflow="auto"))
+        self.tabs = W.Tab(children=[W.Box([self.image]), self.table_box], titles=("trend", "values"))
+        self.tabs.add_class("mbe-md-tabs")
         self.children = [
             W.HTML("<b>Power meter dashboard</b> &mdash; the power-meter paper's Table 5, "
                    "read with function 03"),
@@ -116,7 +124,7 @@ class MeterDashboard(StaticText, W.VBox):
             W.HBox([self.interval, self.read_button, self.start_button, self.stop_button, self.plot_group,
                     self.clear_button]),
             self.status,
-            W.HBox([self.table, self.image], layout=W.Layout(flex_flow="row wrap", align_items="flex-start")),
+            self.tabs,
         ]
         g = guarded
         self.read_button.on_click(g(self.message, lambda _b: self.read_once()))
@@ -166,15 +174,18 @@ class MeterDashboard(StaticText, W.VBox):
             values = read_meter(self.master, self.unit, self.entries)
         except ModbusTimeoutError as exc:
             self.counts["timeouts"] += 1
+            self._last = "timeout"
             self.message.error(exc)
             self._render_status()
             return None
         except ModbusError as exc:
             self.counts["errors"] += 1
+            self._last = "error"
             self.message.error(exc)
             self._render_status()
             return None
         self.counts["valid"] += 1
+        self._last = "valid"
         self.values = values
         self.history.append((t, values))
         del self.history[:-self.max_history]
@@ -266,6 +277,10 @@ class MeterDashboard(StaticText, W.VBox):
     def _render_status(self) -> None:
         c = self.counts
         state = f"reading every {float(self.interval.value):g} s" if self._polling else "stopped"
+        if self._last == "timeout":
+            state += ", the last read timed out (no answer)"
+        elif self._last == "error":
+            state += ", the last read failed"
         self.status.value = (
             f'<div style="color:#495057">{state} &middot; reads <b>{c["reads"]}</b> &middot; '
             f'valid <b class="mbe-md-valid">{c["valid"]}</b> &middot; timeouts <b>{c["timeouts"]}</b>'

@@ -7,7 +7,7 @@ from typing import Any
 
 import ipywidgets as W
 
-from ..errors import ModbusError
+from ..errors import ModbusError, ValueFormatError
 from ..explain import Dissection, explain
 from ..framing import Frame, make_frame
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu, request_class, response_class
@@ -21,10 +21,12 @@ from .common import (
     guarded,
     hex_text,
     legend_html,
+    mark_invalid,
     parse_bit_list,
     parse_int,
     parse_int_list,
     shown,
+    stale_html,
     text_field,
 )
 
@@ -34,6 +36,48 @@ MODE_OPTIONS = [("RTU", "rtu"), ("ASCII", "ascii"), ("TCP", "tcp")]
 ROLE_OPTIONS = [("request", "request"), ("response", "response"), ("exception response", "exception")]
 FUNCTION_OPTIONS = [(f"{int(fc):02d} {fc.title}", int(fc)) for fc in FunctionCode]
 EXCEPTION_OPTIONS = [(f"{int(c):02X} {c.title}", int(c)) for c in ExceptionCode]
+
+
+@dataclasses.dataclass(frozen=True)
+class FieldSpec:
+    """How the panel asks for one field of a PDU class (a dataclass field of :mod:`modbus_edu.pdu`).
+
+    ``label`` is the field's name on screen, in the spec's words; its errors use the same words.
+    ``kind``: ``"int"`` (a number), ``"ints"`` (a list of numbers), ``"bits"`` (a list of bits),
+    ``"bool"`` (ON/OFF), ``"exception"`` (an exception code) or ``"list"`` (bits or numbers, as the PDU
+    class's type says).
+    """
+
+    label: str
+    kind: str = "int"
+    tooltip: str = ""
+    width: str = "230px"
+
+
+#: The one place that says how each PDU field is asked for.  The functions and which fields each takes
+#: come from the library (:class:`~modbus_edu.pdu.FunctionCode`, ``request_class``/``response_class``
+#: and their dataclass fields): a function added there appears here, and a field not listed below gets
+#: a number box named after it.
+FIELDS: dict[str, FieldSpec] = {
+    "address": FieldSpec("address", tooltip="0-based address, as in the frame (register 40001 is address 0)"),
+    "count": FieldSpec("quantity", tooltip="the spec's Quantity of Coils / Inputs / Registers: how many"),
+    "value": FieldSpec("value", tooltip="register value 0..65535"),
+    "coil": FieldSpec("coil", "bool", "FF 00 switches the coil ON, 00 00 OFF"),
+    "values": FieldSpec("values", "list", width="420px"),
+    "bits": FieldSpec("bits", "bits", "1, 0, 1, 1  (first bit first)", width="420px"),
+    "registers": FieldSpec("registers", "ints", "1234, 0x04D2", width="420px"),
+    "exception_code": FieldSpec("exception code", "exception", width="420px"),
+}
+
+#: When the library's message names no field shown, the field its error class is about.
+ERROR_FIELDS: dict[str, tuple[str, ...]] = {
+    "QuantityError": ("count", "values", "bits", "registers"),
+    "AddressRangeError": ("address", "count", "values"),
+    "ValueRangeError": ("value", "values", "registers", "address"),
+    "ByteCountError": ("bits", "registers", "values"),
+    "UnitError": ("unit",),
+    "MbapError": ("transaction_id",),
+}
 
 
 def _text(value: Any) -> str:
@@ -56,8 +100,10 @@ class FrameBuilder(StaticText, W.VBox):
     Every byte comes from the library: the widget builds the PDU object
     (:mod:`modbus_edu.pdu`), wraps it with :func:`modbus_edu.framing.make_frame` and shows
     ``.encode()``; the colours and the table below are :func:`modbus_edu.explain.explain`'s rows.
-    Invalid input (a count of 126 for function 3, a unit of 300 on RTU, ``abc`` as an address) shows
-    the library's error message in red, in place, and never raises.
+    Invalid input (a quantity of 126 for function 3, a unit of 300 on RTU, ``abc`` as an address) shows
+    the library's error message in red beside that field (marked red), once, and never raises; the
+    frame and the table keep their place with the last good frame greyed out.  A field applies when
+    you press Enter or leave it (Tab).
 
     Attributes after every change:
 
@@ -73,7 +119,7 @@ class FrameBuilder(StaticText, W.VBox):
         fb = FrameBuilder(mode="rtu", unit=17, function=3, address=0x6B, count=3)
         fb                      # shows the panel; change any field and the frame follows
         fb.frame.hex(" ")       # '11 03 00 6b 00 03 76 87'
-        fb.count.value = "126"  # too many registers: the red line says "quantity ... expected 1 to 125"
+        fb.count.value = "126"  # too many: beside the quantity field, "quantity ... expected 1 to 125"
     """
 
     def __init__(
@@ -108,38 +154,37 @@ class FrameBuilder(StaticText, W.VBox):
                                  width="320px")
         self.unit = text_field("unit (slave id)", unit, css="mbe-field-unit",
                                tooltip="slave address on a serial line, unit identifier on TCP")
-        self.transaction_id = text_field("transaction id", transaction_id, css="mbe-field-transaction-id")
-        self.address = text_field("address", address, css="mbe-field-address",
-                                  tooltip="0-based address, as in the frame (register 40001 is address 0)")
-        self.count = text_field("count", count, css="mbe-field-count")
-        self.value = text_field("value", value, css="mbe-field-value", tooltip="register value 0..65535")
-        self.coil = dropdown("coil", [("ON (FF 00)", True), ("OFF (00 00)", False)], bool(coil),
-                             css="mbe-field-coil")
-        self.values = text_field("values", "", css="mbe-field-values", width="420px")
+        self.transaction_id = text_field("transaction id", transaction_id, css="mbe-field-transaction-id",
+                                         tooltip="MBAP transaction identifier (TCP only), 0..65535")
+        initial = {"address": address, "count": count, "value": value, "coil": bool(coil), "bits": bits,
+                   "registers": registers, "exception_code": int(exception_code), "values": ""}
+        self._field_inputs: list[W.DOMWidget] = []
+        self._error_labels: dict[str, W.HTML] = {}
+        self._rows: dict[str, W.HBox] = {}
+        self.field_errors: dict[str, str] = {}
+        """The error shown beside each field now (field name -> message); empty when all is well."""
+        for name in FIELDS:
+            setattr(self, name, self._make_input(name, initial[name]))
         # FC15 takes coil values, FC16 register values: the field remembers the text of each kind
         self._values_text = {"bits": "1, 0, 1, 1", "registers": "10, 258"}
         self._values_kind: str | None = None
         self._quiet = False
-        self.bits = text_field("bits", _text(bits), css="mbe-field-bits", width="420px",
-                               placeholder="1, 0, 1, 1  (first bit first)")
-        self.registers = text_field("registers", _text(registers), css="mbe-field-registers", width="420px",
-                                    placeholder="1234, 0x04D2")
-        self.exception_code = dropdown("exception code", EXCEPTION_OPTIONS, int(exception_code),
-                                       css="mbe-field-exception-code", width="420px")
-        self._field_inputs = [self.address, self.count, self.value, self.coil, self.values, self.bits,
-                              self.registers, self.exception_code]
 
         self.message = MessageLine()
         self.frame_view = W.HTML()
         self.frame_view.add_class("mbe-frame")
         self.dissection_view = W.HTML()
         self.dissection_view.add_class("mbe-dissection")
+        self._last_good: tuple[str, str] | None = None
 
-        left = W.VBox([self.mode, self.role, self.function, self.unit, self.transaction_id])
-        right = W.VBox(self._field_inputs)
+        self.left = W.VBox([self._row("mode", self.mode), self._row("role", self.role),
+                            self._row("function", self.function), self._row("unit", self.unit),
+                            self._row("transaction_id", self.transaction_id)])
+        self.right = W.VBox([self._rows[name] for name in FIELDS])
+        self.fields_box = W.VBox([self.left, self.right])  # one column: each error has room beside its field
         self.children = [
             W.HTML("<b>Frame builder</b> &mdash; every byte below comes from the library"),
-            W.HBox([left, right]),
+            self.fields_box,
             self.message,
             self.frame_view,
             self.dissection_view,
@@ -154,6 +199,62 @@ class FrameBuilder(StaticText, W.VBox):
                     *self._field_inputs]:
             box.observe(lambda _change: None if self._quiet else self._update(), names="value")
         self._update()
+
+    # -- the inputs, each with its error beside it ------------------------------------------------------
+    def _make_input(self, name: str, initial: Any) -> W.DOMWidget:
+        """The input of one PDU field, as :data:`FIELDS` describes it (a number box when not listed)."""
+        spec = FIELDS.get(name, FieldSpec(name.replace("_", " ")))
+        css = f"mbe-field-{name.replace('_', '-')}"
+        if spec.kind == "bool":
+            box: W.DOMWidget = dropdown(spec.label, [("ON (FF 00)", True), ("OFF (00 00)", False)],
+                                        bool(initial), css=css)
+        elif spec.kind == "exception":
+            box = dropdown(spec.label, EXCEPTION_OPTIONS, int(initial), css=css, width=spec.width)
+        else:
+            placeholder = spec.tooltip if spec.kind in ("bits", "ints") else ""
+            box = text_field(spec.label, _text(initial), css=css, width=spec.width, placeholder=placeholder,
+                             tooltip=spec.tooltip)
+        self._field_inputs.append(box)
+        self._row(name, box)
+        return box
+
+    def _row(self, name: str, box: W.DOMWidget) -> W.HBox:
+        label = W.HTML(layout=W.Layout(margin="0 0 0 8px"))
+        label.add_class("mbe-field-error")
+        label.add_class(f"mbe-field-error-{name.replace('_', '-')}")
+        self._error_labels[name] = label
+        self._rows[name] = W.HBox([box, label], layout=W.Layout(align_items="center"))
+        return self._rows[name]
+
+    def _spec_label(self, name: str) -> str:
+        if name in ("unit", "transaction_id", "mode", "role", "function"):
+            return {"unit": "unit", "transaction_id": "transaction id"}.get(name, name)
+        return FIELDS.get(name, FieldSpec(name.replace("_", " "))).label
+
+    def _mark(self, errors: dict[str, str]) -> None:
+        """Show each error beside its field (once), mark the field red, clear the others."""
+        self.field_errors = dict(errors)
+        for name, label in self._error_labels.items():
+            box = self._rows[name].children[0]
+            text = errors.get(name)
+            label.value = (f'<span style="color:#c92a2a;font-weight:600;white-space:normal">&#9888; '
+                           f"{esc(text)}</span>" if text else "")
+            shown(label, bool(text))
+            mark_invalid(box, bool(text))
+
+    def _field_of(self, exc: ModbusError, needed: dict[str, W.DOMWidget]) -> str | None:
+        """The field an error of the library is about: the first shown field its message names (in
+        the field's words), else the field its error class is about."""
+        visible = ["unit", *(["transaction_id"] if self.mode.value == "tcp" else []),
+                   *[n for n, box in self._field_map().items() if box in needed.values()]]
+        text = str(exc).lower()
+        for name in visible:
+            if self._spec_label(name) in text:
+                return name
+        for name in ERROR_FIELDS.get(type(exc).__name__, ()):
+            if name in visible:
+                return name
+        return None
 
     # -- which fields ----------------------------------------------------------------------------
     def pdu_class(self) -> type[Pdu]:
@@ -172,9 +273,16 @@ class FrameBuilder(StaticText, W.VBox):
                 continue
             if f.name == "code":
                 out[f.name] = self.exception_code
-            elif f.name == "value":
-                out[f.name] = self.coil if "bool" in str(f.type) else self.value
+            elif f.name == "value" and "bool" in str(f.type):
+                out[f.name] = self.coil
             else:
+                if not hasattr(self, f.name):  # a field FIELDS does not list: a box named after it
+                    setattr(self, f.name, self._make_input(f.name, 0))
+                    self.right.children = [*self.right.children, self._rows[f.name]]
+                    self._quiet = True
+                    getattr(self, f.name).observe(
+                        lambda _change: None if self._quiet else self._update(), names="value")
+                    self._quiet = False
                 out[f.name] = getattr(self, f.name)
         return out
 
@@ -197,15 +305,14 @@ class FrameBuilder(StaticText, W.VBox):
         return names
 
     def _field_map(self) -> dict[str, W.DOMWidget]:
-        return {"address": self.address, "count": self.count, "value": self.value, "coil": self.coil,
-                "values": self.values, "bits": self.bits, "registers": self.registers,
-                "exception_code": self.exception_code}
+        return {name: self._rows[name].children[0] for name in self._rows
+                if name not in ("mode", "role", "function", "unit", "transaction_id")}
 
     def _show_fields(self, needed: dict[str, W.DOMWidget]) -> None:
         wanted = set(map(id, needed.values()))
-        for box in self._field_inputs:
-            shown(box, id(box) in wanted)
-        shown(self.transaction_id, self.mode.value == "tcp")
+        for name, box in self._field_map().items():
+            shown(self._rows[name], id(box) in wanted)
+        shown(self._rows["transaction_id"], self.mode.value == "tcp")
         if "values" in needed:
             kind = self._values_kind_now()
             if kind is not None and kind != self._values_kind:
@@ -222,41 +329,60 @@ class FrameBuilder(StaticText, W.VBox):
             self.values.placeholder = "1, 0, 1, 1  (first coil first)" if bits else "10, 0x0102"
 
     # -- building ----------------------------------------------------------------------------------
-    def _arguments(self, needed: dict[str, W.DOMWidget]) -> dict[str, Any]:
+    def _arguments(self, needed: dict[str, W.DOMWidget], errors: dict[str, str]) -> dict[str, Any]:
+        """Read every needed field; a field that does not read gets its error (in its own words)."""
         kwargs: dict[str, Any] = {}
         for name, box in needed.items():
-            if box is self.coil or box is self.exception_code:
-                kwargs[name] = box.value
-            elif name in ("values", "bits"):
-                kwargs[name] = (parse_bit_list(box.value, name) if self._is_bits(name)
-                                else parse_int_list(box.value, name))
-            elif name == "registers":
-                kwargs[name] = parse_int_list(box.value, name)
-            else:
-                kwargs[name] = parse_int(box.value, name)
+            key = next(n for n, b in self._field_map().items() if b is box)
+            label = box.description if hasattr(box, "description") else key
+            try:
+                if isinstance(box, W.Dropdown):
+                    kwargs[name] = box.value
+                elif name in ("values", "bits") or FIELDS.get(key, FieldSpec("")).kind in ("bits", "ints"):
+                    kwargs[name] = (parse_bit_list(box.value, label) if self._is_bits(name)
+                                    else parse_int_list(box.value, label))
+                else:
+                    kwargs[name] = parse_int(box.value, label)
+            except ModbusError as exc:
+                errors[key] = f"{type(exc).__name__}: {exc}"
         if self.role.value == "exception":
             kwargs["function"] = self.function.value
         return kwargs
 
     def update(self) -> None:
-        """Rebuild the frame from the fields (called on every change; errors go to the message line)."""
+        """Rebuild the frame from the fields (called on every change).
+
+        An error goes beside the field it is about, once, in that field's words, and the field is
+        marked; the frame and the table keep their place, showing the last good frame greyed out.
+        """
         needed = self._inputs()
         self._show_fields(needed)
         self.frame, self.adu, self.pdu, self.dissection, self.error = b"", None, None, None, None
+        errors: dict[str, str] = {}
         try:
-            unit = parse_int(self.unit.value, "unit")
-            tid = parse_int(self.transaction_id.value, "transaction id") if self.mode.value == "tcp" else 0
-            pdu = self.pdu_class()(**self._arguments(needed))
+            unit = tid = 0
+            for name, read in (("unit", lambda: parse_int(self.unit.value, "unit")),
+                               ("transaction_id", lambda: parse_int(self.transaction_id.value,
+                                                                    "transaction id"))):
+                if name == "transaction_id" and self.mode.value != "tcp":
+                    continue
+                try:
+                    value = read()
+                except ModbusError as exc:
+                    errors[name] = f"{type(exc).__name__}: {exc}"
+                    self.error = exc
+                else:
+                    unit, tid = (value, tid) if name == "unit" else (unit, value)
+            arguments = self._arguments(needed, errors)
+            if errors:
+                raise ValueFormatError("; ".join(errors.values()))
+            pdu = self.pdu_class()(**arguments)
             adu = make_frame(self.mode.value, unit, pdu, tid)
             data = adu.encode()
         except ModbusError as exc:
-            self.error = exc
-            self.message.error(exc)
-            self.frame_view.value = (
-                '<div class="mbe-frame-bytes" style="color:#868e96;font-style:italic">'
-                "no frame: fix the field named in red</div>")
-            self.dissection_view.value = ""
+            self._failed(exc, errors, needed)
             return
+        self._mark({})
         role = "response" if self.role.value == "exception" else self.role.value
         self.pdu, self.adu, self.frame = pdu, adu, data
         self.dissection = explain(data, self.mode.value, role)
@@ -272,6 +398,28 @@ class FrameBuilder(StaticText, W.VBox):
             f'<code class="mbe-frame-hex">{esc(hex_text(data))}</code></div>'
         )
         self.dissection_view.value = dissection_html(self.dissection)
+        self._last_good = (self.frame_view.value, self.dissection_view.value)
+
+    def _failed(self, exc: ModbusError, errors: dict[str, str], needed: dict[str, W.DOMWidget]) -> None:
+        """No frame now: the error beside its field, the last good frame greyed out in its place."""
+        if not errors:
+            field = self._field_of(exc, needed)
+            if field is not None:
+                errors[field] = f"{type(exc).__name__}: {exc}"
+        self.error = exc
+        self._mark(errors)
+        if errors:
+            names = ", ".join(self._spec_label(n) for n in errors)
+            self.message.show(f"no frame: fix the field marked in red ({names})", "error")
+        else:  # an error no field owns: it goes on the message line (once)
+            self.message.error(exc)
+        if self._last_good is not None:
+            self.frame_view.value = stale_html(self._last_good[0])
+            self.dissection_view.value = stale_html(self._last_good[1])
+        else:
+            self.frame_view.value = ('<div class="mbe-frame-bytes" style="color:#868e96;font-style:italic">'
+                                     "no frame yet: fix the field marked in red</div>")
+            self.dissection_view.value = ""
 
     def static_text(self) -> str:
         return "Frame builder panel: fields in, a Modbus frame out, each byte coloured by its field"

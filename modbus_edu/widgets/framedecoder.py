@@ -19,6 +19,8 @@ from .common import (
     guarded,
     hex_text,
     legend_html,
+    mark_invalid,
+    stale_html,
 )
 
 __all__ = ["FrameDecoder"]
@@ -74,8 +76,8 @@ class FrameDecoder(StaticText, W.VBox):
         self.children = [
             W.HTML("<b>Frame decoder</b> &mdash; paste hex in any common spacing"),
             self.text,
+            self.message,  # right under the field: what it says is about the frame typed there
             W.HBox([self.mode, self.role]),
-            self.message,
             self.frame_view,
             self.dissection_view,
         ]
@@ -87,17 +89,22 @@ class FrameDecoder(StaticText, W.VBox):
     def update(self) -> None:
         """Parse and dissect the text (called on every change)."""
         self.frame, self.dissection, self.error = b"", None, None
-        self.frame_view.value = ""
-        self.dissection_view.value = ""
         if not self.text.value.strip():
+            mark_invalid(self.text, False)
+            self.frame_view.value = ""
+            self.dissection_view.value = ""
             self.message.show("paste a frame above (hex bytes, or an ASCII frame starting with ':')")
             return
         try:
             data = parse_hex(self.text.value)
-        except ModbusError as exc:
+        except ModbusError as exc:  # under the field, which is marked; the last good frame greyed out
             self.error = exc
             self.message.error(exc)
+            mark_invalid(self.text, True)
+            self.frame_view.value = stale_html(self.frame_view.value)
+            self.dissection_view.value = stale_html(self.dissection_view.value)
             return
+        mark_invalid(self.text, False)
         self.frame = data
         mode = None if self.mode.value == "auto" else self.mode.value
         role = None if self.role.value == "auto" else self.role.value
@@ -113,7 +120,7 @@ class FrameDecoder(StaticText, W.VBox):
         self.frame_view.value = body + (
             f'<div style="margin-top:4px;font-size:0.9em">bytes: <code class="mbe-frame-hex">'
             f"{esc(hex_text(data))}</code></div>")
-        self.dissection_view.value = dissection_html(d)
+        self.dissection_view.value = dissection_html(d)  # the error is on the message line, once
 
     def static_text(self) -> str:
         return "Frame decoder panel: hex bytes in, every field of the frame explained"
