@@ -181,8 +181,25 @@ class _EchoLog(TrafficLog):
 # --------------------------------------------------------------------------------------------------
 # crc, lrc
 # --------------------------------------------------------------------------------------------------
+def _ascii_arg(text: str) -> bytes:
+    """The bytes of ASCII ``text``; other characters are refused, never replaced by '?'."""
+    for index, char in enumerate(text):
+        if ord(char) > 127:
+            utf8 = char.encode().hex(" ").upper()
+            raise ConfigError(f"--text takes ASCII text: {char!r} (character {index + 1}) is not ASCII; give "
+                              f"the bytes in hex instead (its UTF-8 bytes are {utf8})")
+    return text.encode("ascii")
+
+
+def _check_seconds(value: float, option: str, low: float, high: float) -> float:
+    """A finite number of seconds within ``low..high`` (inclusive of ``high``), or a ConfigError."""
+    if not low <= value <= high:  # also false for nan
+        raise ConfigError(f"{option} must be a number of seconds from {low:g} to {high:g}, got {value:g}")
+    return value
+
+
 def cmd_crc(args: argparse.Namespace) -> int:
-    data = " ".join(args.hex).encode("ascii", "replace") if args.text else _hex_arg(args.hex)
+    data = _ascii_arg(" ".join(args.hex)) if args.text else _hex_arg(args.hex)
     if args.text and not data:
         raise ConfigError("no text given")
     value = crc16(data)
@@ -417,7 +434,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
 
         server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=args.parity,
                                    stopbits=args.stopbits, mode=args.mode)
-        where = (f"serial {args.serial}, {_default_baud(args)} baud 8{args.parity}{args.stopbits}, "
+        bits = 7 if args.mode == "ascii" else 8  # what SerialServer opens: ASCII carries 7 data bits
+        where = (f"serial {args.serial}, {_default_baud(args)} baud {bits}{args.parity}{args.stopbits}, "
                  f"{args.mode.upper()}")
     else:
         from .links.tcp import TcpServer
@@ -520,8 +538,11 @@ def cmd_poll(args: argparse.Namespace) -> int:
     count = _int(args.count, "--count", 1, 2000 if fc in (1, 2) else 125)
     if args.format.lower() not in {f.lower() for f in FORMATS}:
         raise ConfigError(f"unknown --format {args.format!r}: expected one of {', '.join(FORMATS)}")
-    if args.interval < 0 or args.timeout <= 0:
-        raise ConfigError("--interval must be >= 0 and --timeout > 0 seconds")
+    _check_seconds(args.interval, "--interval", 0, 86_400)
+    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
+    if address + count > 65536:
+        raise ConfigError(f"--address {address} --count {count} runs past the last address, 65535: "
+                          f"at most {65536 - address} from that address")
     if args.polls < 0:
         raise ConfigError("--polls must be 0 (until Ctrl-C) or more")
     _install_stop_signals()

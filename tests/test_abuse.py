@@ -224,3 +224,15 @@ def test_huge_and_wrong_values_give_a_modbus_error_with_a_short_message(name):
     with pytest.raises(mb.ModbusError) as caught:
         HOSTILE_CALLS[name]()
     assert len(str(caught.value)) < 400
+
+
+def test_a_setting_the_operating_system_refuses_is_a_link_error_naming_it(monkeypatch):
+    termios = pytest.importorskip("termios")
+    import serial
+
+    def refuse(*args, **kwargs):
+        raise termios.error(22, "Invalid argument")
+
+    monkeypatch.setattr(serial, "serial_for_url", refuse)
+    with pytest.raises(mb.LinkError, match="refused the settings 9600 baud 7N1"):
+        mb.serial_link("/dev/ttyS99", mode="ascii")

@@ -356,13 +356,6 @@ class TcpServer:
             return
         if self._closed:
             raise LinkError("this TcpServer was closed; create a new one to serve again")
-        if not is_loopback_host(self.host):
-            self.log.warning(
-                "Modbus/TCP server listening on %s, which is reachable from other computers: "
-                "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
-                "port can read and write every register. Use 127.0.0.1 unless you mean it.",
-                self.host,
-            )
         try:
             infos = socket.getaddrinfo(self.host, self.port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
         except socket.gaierror as exc:
@@ -382,6 +375,13 @@ class TcpServer:
             elif exc.errno == errno.EACCES:
                 hint = " - ports below 1024 (such as 502) need administrator rights; try 5020"
             raise LinkError(f"cannot listen on {self.host}:{self.port}: {exc.strerror}{hint}") from exc
+        if not is_loopback_host(self.host):  # said once it really listens, never for a failed bind
+            self.log.warning(
+                "Modbus/TCP server listening on %s, which is reachable from other computers: "
+                "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
+                "port can read and write every register. Use 127.0.0.1 unless you mean it.",
+                self.host,
+            )
         self._listener = listener
         self.address = listener.getsockname()[:2]
         self._selector = selectors.DefaultSelector()
