@@ -236,3 +236,25 @@ def test_a_setting_the_operating_system_refuses_is_a_link_error_naming_it(monkey
     monkeypatch.setattr(serial, "serial_for_url", refuse)
     with pytest.raises(mb.LinkError, match="refused the settings 9600 baud 7N1"):
         mb.serial_link("/dev/ttyS99", mode="ascii")
+
+
+# --- linear-time splitters with bounded look-behind ------------------------------------------------------
+def test_a_long_run_of_colons_is_cut_in_linear_time():
+    splitter = mb.framing.AsciiSplitter()
+    frame = mb.AsciiFrame(unit=5, pdu=mb.WriteSingleRegisterRequest(address=0x1001, value=0x0200)).encode()
+    assert splitter.feed(b":" * 400_000 + frame) == [frame]  # quadratic before: minutes for this
+    assert splitter.discarded == 400_000
+
+
+@pytest.mark.parametrize("role", ["request", "response"])
+def test_rtu_junk_fed_byte_by_byte_keeps_at_most_one_frame_of_look_behind(role):
+    import random
+
+    splitter = mb.framing.RtuSplitter(role)
+    junk = random.Random(5).randbytes(30_000)
+    for byte in junk:
+        splitter.feed(bytes([byte]))
+        assert len(splitter.pending) <= 256
+    good = mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
+    if role == "request":
+        assert splitter.feed(good)[-1:] == [good]
