@@ -26,7 +26,7 @@ import json
 import signal
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from datetime import datetime
 from typing import Any, NoReturn, TextIO
 
@@ -253,25 +253,51 @@ def _dissect(data: bytes, mode: str | None, role: str | None) -> Any:
     return explain(data, mode=mode, role=role)
 
 
+MAX_DECODE_LINE = 4096
+"""The longest line ``decode -`` reads, in characters: the longest frame, ASCII, is 513 characters."""
+
+
+def _stdin_frames() -> Iterator[bytes]:
+    """The frames on standard input, one in hex per line, read one line at a time (memory stays flat)."""
+    number = 0
+    while True:
+        line = sys.stdin.buffer.readline(MAX_DECODE_LINE + 1)
+        if not line:
+            return
+        number += 1
+        if len(line) > MAX_DECODE_LINE and not line.endswith(b"\n"):
+            raise ConfigError(f"line {number} of standard input is longer than {MAX_DECODE_LINE} characters: "
+                              "give one frame in hex per line")
+        text = line.decode("ascii", "replace").strip()
+        if text:
+            yield parse_hex(text)
+
+
 def cmd_decode(args: argparse.Namespace) -> int:
-    if args.frame == ["-"]:
-        frames = [parse_hex(line) for line in sys.stdin if line.strip()]
-        if not frames:
-            raise ConfigError("no frames on standard input (one frame in hex per line)")
-    else:
-        frames = [_hex_arg(args.frame)]
+    frames = _stdin_frames() if args.frame == ["-"] else iter([_hex_arg(args.frame)])
     mode, role = _mode_or_none(args.mode), _mode_or_none(args.role)
-    results = [_dissect(data, mode, role) for data in frames]
+    count, first_error, held = 0, None, None
+    for data in frames:  # each result is printed as it comes: any number of frames in flat memory
+        dissection = _dissect(data, mode, role)
+        count += 1
+        if first_error is None and dissection.error is not None:
+            first_error = (count, dissection.error)
+        if args.json:
+            if count == 1:
+                held = dissection.to_dict()  # one frame prints as an object, several as an array
+                continue
+            if count == 2:
+                print("[\n" + json.dumps(held, indent=2), end="")
+            print(",\n" + json.dumps(dissection.to_dict(), indent=2), end="")
+        else:
+            print(("\n" if count > 1 else "") + dissection.to_text(), flush=False)
+    if count == 0:
+        raise ConfigError("no frames on standard input (one frame in hex per line)")
     if args.json:
-        out: Any = [d.to_dict() for d in results]
-        print(json.dumps(out[0] if len(out) == 1 else out, indent=2))
-    else:
-        print("\n\n".join(d.to_text() for d in results))
-    bad = [d for d in results if d.error is not None]
-    if bad:
-        err = bad[0].error
-        where = f"frame {results.index(bad[0]) + 1}: " if len(results) > 1 else ""
-        raise ModbusError(f"{where}{err}")  # the table above shows where; stderr gets the one line
+        print(json.dumps(held, indent=2) if count == 1 else "\n]")
+    if first_error is not None:
+        where = f"frame {first_error[0]}: " if count > 1 else ""
+        raise ModbusError(f"{where}{first_error[1]}")  # the table above shows where; stderr gets one line
     return 0
 
 

@@ -569,3 +569,15 @@ def test_serve_in_ascii_mode_announces_the_7_data_bits_it_opens():
         if proc.poll() is None:
             proc.kill()
         proc.communicate()
+
+
+def test_decode_reads_standard_input_line_by_line_and_refuses_a_huge_line():
+    frames = "01 03 00 00 00 01 84 0A\n" * 20_000  # 480 kB: decoded as it streams, in flat memory
+    result = run("decode", "-", "--mode", "rtu", stdin=frames)
+    assert result.returncode == 0 and result.stdout.count("RTU request") == 20_000
+    huge = run("decode", "-", stdin="01" * 3_000_000 + "\n")
+    assert huge.returncode != 0 and "longer than 4096 characters" in huge.stderr
+    assert len(huge.stderr.strip().splitlines()) == 1
+    several = json.loads(run("decode", "-", "--json", stdin="01 03 00 00 00 01 84 0A\n" * 3).stdout)
+    one = json.loads(run("decode", "-", "--json", stdin="01 03 00 00 00 01 84 0A\n").stdout)
+    assert isinstance(several, list) and len(several) == 3 and one == several[0]
