@@ -258,3 +258,13 @@ def test_rtu_junk_fed_byte_by_byte_keeps_at_most_one_frame_of_look_behind(role):
     good = mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
     if role == "request":
         assert splitter.feed(good)[-1:] == [good]
+
+
+def test_the_crc_explorer_refuses_more_bytes_than_it_can_step_through():
+    from modbus_edu.widgets import CrcExplorer
+    from modbus_edu.widgets.crcexplorer import MAX_BITWISE_BYTES
+
+    explorer = CrcExplorer("00 " * (MAX_BITWISE_BYTES + 1))
+    assert explorer.steps == [] and "too many to follow bit by bit" in explorer.message.text
+    explorer = CrcExplorer("00 " * (MAX_BITWISE_BYTES + 1), method="table")
+    assert len(explorer.steps) > MAX_BITWISE_BYTES
