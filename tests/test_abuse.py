@@ -268,3 +268,61 @@ def test_the_crc_explorer_refuses_more_bytes_than_it_can_step_through():
     assert explorer.steps == [] and "too many to follow bit by bit" in explorer.message.text
     explorer = CrcExplorer("00 " * (MAX_BITWISE_BYTES + 1), method="table")
     assert len(explorer.steps) > MAX_BITWISE_BYTES
+
+
+# --- the TestTool's configuration: report, change nothing, never raise ---------------------------------
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+JSON_VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=12),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4),
+    max_leaves=12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.dictionaries(st.sampled_from(["port", "unit", "timeout", "interval", "baudrate", "parity", "role",
+                                        "display", "seed", "length", "continuous", "name", "x"]),
+                       JSON_VALUES, max_size=4))
+def test_any_json_configuration_is_applied_whole_or_refused_with_nothing_changed(config):
+    from modbus_edu.widgets import TestTool
+
+    tool = TestTool("rtu_master")
+    before = tool.config()
+    if not tool.apply_config(config):
+        assert tool.config() == before and tool.message.kind == "error"
+
+
+@pytest.mark.parametrize("config, words", [
+    ({"port": 10**100}, "port must be 0 to 65535"),
+    ({"unit": -1}, "unit must be 0 to 255"),
+    ({"interval": float("nan")}, "interval is a number"),
+    ({"timeout": 10**5000}, "timeout must be"),
+    ({"baudrate": 12345}, "baudrate must be one of"),
+    ({"continuous": "yes"}, "continuous is true or false"),
+])
+def test_out_of_range_settings_are_refused_not_clamped(config, words):
+    from modbus_edu.widgets import TestTool
+
+    tool = TestTool("tcp_client")
+    before = tool.config()
+    assert tool.apply_config(config) is False
+    assert words in tool.message.text and tool.config() == before
+
+
+def test_from_config_and_load_config_report_unreadable_files(tmp_path):
+    from modbus_edu.widgets import TestTool
+
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100_000 + "]" * 100_000)
+    broken = tmp_path / "broken.json"
+    broken.write_text("{not json")
+    for path in (deep, broken, tmp_path / "missing.json"):
+        with pytest.raises(mb.ConfigError):
+            TestTool.from_config(path)
+        tool = TestTool("rtu_master")
+        assert tool.load_config(path) is False and tool.message.kind == "error"
+    with pytest.raises(mb.ConfigError, match="unknown role"):
+        TestTool.from_config({"role": ["rtu_master"]})
+    with pytest.raises(mb.ConfigError, match="port must be"):
+        TestTool.from_config({"role": "tcp_client", "port": 70000})
