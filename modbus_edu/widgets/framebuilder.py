@@ -180,11 +180,13 @@ class FrameBuilder(StaticText, W.VBox):
         self.dissection_view.add_class("mbe-dissection")
         self._last_good: tuple[str, str] | None = None
 
-        self.left = W.VBox([self._row("mode", self.mode), self._row("role", self.role),
-                            self._row("function", self.function), self._row("unit", self.unit),
-                            self._row("transaction_id", self.transaction_id)])
+        wrap = W.Layout(flex_flow="row wrap", align_items="center")
+        self.left = W.VBox([W.HBox([self._row("mode", self.mode), self._row("role", self.role),
+                                    self._row("function", self.function)], layout=wrap),
+                            W.HBox([self._row("unit", self.unit),
+                                    self._row("transaction_id", self.transaction_id)], layout=wrap)])
         self.right = W.VBox([self._rows[name] for name in FIELDS])
-        self.fields_box = W.VBox([self.left, self.right])  # one column: each error has room beside its field
+        self.fields_box = W.VBox([self.left, self.right])  # each error has room beside its field
         self.children = [
             W.HTML("<b>Frame builder</b> &mdash; every byte below comes from the library"),
             self.fields_box,

@@ -46,12 +46,17 @@ def write_kernelspec(jupyter_path: Path) -> Path:
 
 
 def quiet_lab_settings(settings_dir: Path) -> None:
-    """Switch off JupyterLab's news and update checks (no network, no pop-up over the notebook)."""
+    """Switch off JupyterLab's news and update checks (no network, no pop-up over the notebook), and
+    the notebook's windowing (cells off screen are rendered too)."""
     d = settings_dir / "@jupyterlab" / "apputils-extension"
     d.mkdir(parents=True, exist_ok=True)
     (d / "notification.jupyterlab-settings").write_text(
         json.dumps({"checkForUpdates": False, "fetchNews": "false"})
     )
+    # every cell rendered and laid out, so that panels far down a notebook can be measured
+    n = settings_dir / "@jupyterlab" / "notebook-extension"
+    n.mkdir(parents=True, exist_ok=True)
+    (n / "tracker.jupyterlab-settings").write_text(json.dumps({"windowingMode": "none"}))
 
 
 @dataclass
