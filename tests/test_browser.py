@@ -102,11 +102,14 @@ def lab(tmp_path_factory):
 
 
 def _open(lab, nb: Path):
-    """A fresh page (1400 x 900) on the notebook, collecting console errors from the start."""
+    """A fresh page (1400 x 900) on the notebook alone (a workspace of its own, reset), collecting
+    console errors from the start."""
+    lab.shutdown_sessions()  # the previous page's kernel
     page = lab.browser.new_page(viewport=VIEWPORT)
     page.set_default_timeout(30_000)
     console = lab_driver.ConsoleErrors(page)
-    lab_driver.open_notebook(page, lab.url(f"lab/tree/{nb.name}"))
+    workspace = re.sub(r"[^a-z0-9]+", "-", nb.stem.lower())
+    lab_driver.open_notebook(page, lab.url(f"lab/workspaces/{workspace}/tree/{nb.name}?reset"))
     return page, console
 
 

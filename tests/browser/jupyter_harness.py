@@ -142,6 +142,21 @@ class JupyterLab:
         self.stop()
         raise RuntimeError(f"JupyterLab did not answer within {self.startup_timeout} s:\n{self.log_tail()}")
 
+    def shutdown_sessions(self) -> int:
+        """Close every notebook session (and so its kernel): a finished page leaves no kernel running."""
+        try:
+            with urllib.request.urlopen(self.url("api/sessions"), timeout=10) as r:
+                sessions = json.loads(r.read())
+        except (urllib.error.URLError, ConnectionError, TimeoutError, OSError, ValueError):
+            return 0
+        for s in sessions:
+            req = urllib.request.Request(self.url(f"api/sessions/{s['id']}"), method="DELETE")
+            try:
+                urllib.request.urlopen(req, timeout=15).close()
+            except (urllib.error.URLError, ConnectionError, TimeoutError, OSError):
+                pass
+        return len(sessions)
+
     def log_tail(self, n: int = 4000) -> str:
         try:
             return self.log_path.read_text(errors="replace")[-n:] if self.log_path else ""
