@@ -26,7 +26,7 @@ import json
 import signal
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from datetime import datetime
 from typing import Any, NoReturn, TextIO
 
@@ -181,8 +181,25 @@ class _EchoLog(TrafficLog):
 # --------------------------------------------------------------------------------------------------
 # crc, lrc
 # --------------------------------------------------------------------------------------------------
+def _ascii_arg(text: str) -> bytes:
+    """The bytes of ASCII ``text``; other characters are refused, never replaced by '?'."""
+    for index, char in enumerate(text):
+        if ord(char) > 127:
+            utf8 = char.encode().hex(" ").upper()
+            raise ConfigError(f"--text takes ASCII text: {char!r} (character {index + 1}) is not ASCII; give "
+                              f"the bytes in hex instead (its UTF-8 bytes are {utf8})")
+    return text.encode("ascii")
+
+
+def _check_seconds(value: float, option: str, low: float, high: float) -> float:
+    """A finite number of seconds within ``low..high`` (inclusive of ``high``), or a ConfigError."""
+    if not low <= value <= high:  # also false for nan
+        raise ConfigError(f"{option} must be a number of seconds from {low:g} to {high:g}, got {value:g}")
+    return value
+
+
 def cmd_crc(args: argparse.Namespace) -> int:
-    data = " ".join(args.hex).encode("ascii", "replace") if args.text else _hex_arg(args.hex)
+    data = _ascii_arg(" ".join(args.hex)) if args.text else _hex_arg(args.hex)
     if args.text and not data:
         raise ConfigError("no text given")
     value = crc16(data)
@@ -236,25 +253,51 @@ def _dissect(data: bytes, mode: str | None, role: str | None) -> Any:
     return explain(data, mode=mode, role=role)
 
 
+MAX_DECODE_LINE = 4096
+"""The longest line ``decode -`` reads, in characters: the longest frame, ASCII, is 513 characters."""
+
+
+def _stdin_frames() -> Iterator[bytes]:
+    """The frames on standard input, one in hex per line, read one line at a time (memory stays flat)."""
+    number = 0
+    while True:
+        line = sys.stdin.buffer.readline(MAX_DECODE_LINE + 1)
+        if not line:
+            return
+        number += 1
+        if len(line) > MAX_DECODE_LINE and not line.endswith(b"\n"):
+            raise ConfigError(f"line {number} of standard input is longer than {MAX_DECODE_LINE} characters: "
+                              "give one frame in hex per line")
+        text = line.decode("ascii", "replace").strip()
+        if text:
+            yield parse_hex(text)
+
+
 def cmd_decode(args: argparse.Namespace) -> int:
-    if args.frame == ["-"]:
-        frames = [parse_hex(line) for line in sys.stdin if line.strip()]
-        if not frames:
-            raise ConfigError("no frames on standard input (one frame in hex per line)")
-    else:
-        frames = [_hex_arg(args.frame)]
+    frames = _stdin_frames() if args.frame == ["-"] else iter([_hex_arg(args.frame)])
     mode, role = _mode_or_none(args.mode), _mode_or_none(args.role)
-    results = [_dissect(data, mode, role) for data in frames]
+    count, first_error, held = 0, None, None
+    for data in frames:  # each result is printed as it comes: any number of frames in flat memory
+        dissection = _dissect(data, mode, role)
+        count += 1
+        if first_error is None and dissection.error is not None:
+            first_error = (count, dissection.error)
+        if args.json:
+            if count == 1:
+                held = dissection.to_dict()  # one frame prints as an object, several as an array
+                continue
+            if count == 2:
+                print("[\n" + json.dumps(held, indent=2), end="")
+            print(",\n" + json.dumps(dissection.to_dict(), indent=2), end="")
+        else:
+            print(("\n" if count > 1 else "") + dissection.to_text(), flush=False)
+    if count == 0:
+        raise ConfigError("no frames on standard input (one frame in hex per line)")
     if args.json:
-        out: Any = [d.to_dict() for d in results]
-        print(json.dumps(out[0] if len(out) == 1 else out, indent=2))
-    else:
-        print("\n\n".join(d.to_text() for d in results))
-    bad = [d for d in results if d.error is not None]
-    if bad:
-        err = bad[0].error
-        where = f"frame {results.index(bad[0]) + 1}: " if len(results) > 1 else ""
-        raise ModbusError(f"{where}{err}")  # the table above shows where; stderr gets the one line
+        print(json.dumps(held, indent=2) if count == 1 else "\n]")
+    if first_error is not None:
+        where = f"frame {first_error[0]}: " if count > 1 else ""
+        raise ModbusError(f"{where}{first_error[1]}")  # the table above shows where; stderr gets one line
     return 0
 
 
@@ -417,7 +460,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
 
         server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=args.parity,
                                    stopbits=args.stopbits, mode=args.mode)
-        where = (f"serial {args.serial}, {_default_baud(args)} baud 8{args.parity}{args.stopbits}, "
+        bits = 7 if args.mode == "ascii" else 8  # what SerialServer opens: ASCII carries 7 data bits
+        where = (f"serial {args.serial}, {_default_baud(args)} baud {bits}{args.parity}{args.stopbits}, "
                  f"{args.mode.upper()}")
     else:
         from .links.tcp import TcpServer
@@ -520,8 +564,11 @@ def cmd_poll(args: argparse.Namespace) -> int:
     count = _int(args.count, "--count", 1, 2000 if fc in (1, 2) else 125)
     if args.format.lower() not in {f.lower() for f in FORMATS}:
         raise ConfigError(f"unknown --format {args.format!r}: expected one of {', '.join(FORMATS)}")
-    if args.interval < 0 or args.timeout <= 0:
-        raise ConfigError("--interval must be >= 0 and --timeout > 0 seconds")
+    _check_seconds(args.interval, "--interval", 0, 86_400)
+    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
+    if address + count > 65536:
+        raise ConfigError(f"--address {address} --count {count} runs past the last address, 65535: "
+                          f"at most {65536 - address} from that address")
     if args.polls < 0:
         raise ConfigError("--polls must be 0 (until Ctrl-C) or more")
     _install_stop_signals()

@@ -55,14 +55,18 @@ CRC_TABLE: tuple[int, ...] = build_crc_table()
 
 
 def _as_bytes(data: bytes | bytearray | memoryview | list[int]) -> bytes:
-    from .errors import ValueRangeError
+    from .errors import ValueRangeError, shown
 
     if isinstance(data, (bytes, bytearray, memoryview)):
         return bytes(data)
+    if isinstance(data, (int, str)):  # bytes(5) would be five zero bytes, and a str has no byte values
+        raise ValueRangeError(f"a checksum is computed over bytes, not {type(data).__name__} {shown(data)}: "
+                              "give bytes (b'\\x01\\x03', bytes.fromhex('01 03')) or a list of ints 0..255")
     try:
         return bytes(data)
-    except (TypeError, ValueError) as exc:
-        raise ValueRangeError(f"cannot read {data!r} as bytes: each item must be an int 0..255") from exc
+    except (TypeError, ValueError):
+        raise ValueRangeError(f"cannot read {shown(data)} as bytes: each item must be an int 0..255"
+                              ) from None
 
 
 def crc16_bitwise(data: bytes) -> int:

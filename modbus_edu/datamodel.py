@@ -45,7 +45,14 @@ from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any, Union
 
-from .errors import DataModelError, IllegalAddressError, ReferenceNumberError, ValueRangeError
+from .errors import (
+    DataModelError,
+    IllegalAddressError,
+    ReferenceNumberError,
+    ValueRangeError,
+    guard_numbers,
+    shown,
+)
 
 __all__ = [
     "ADDRESS_SPACE",
@@ -148,7 +155,7 @@ def _check_address(kind: str, address: Any, count: Any = 1, verb: str = "access"
                 )
             raise IllegalAddressError(
                 f"{_SINGULAR[kind]} address must be a whole number 0..65535, "
-                f"got {type(address).__name__} {address!r}{hint}"
+                f"got {type(address).__name__} {shown(address)}{hint}"
             ) from None
     if isinstance(count, bool) or not isinstance(count, int):
         try:
@@ -157,19 +164,19 @@ def _check_address(kind: str, address: Any, count: Any = 1, verb: str = "access"
             count = operator.index(count)
         except TypeError:
             raise DataModelError(
-                f"count must be a whole number, got {type(count).__name__} {count!r}"
+                f"count must be a whole number, got {type(count).__name__} {shown(count)}"
             ) from None
     if not 0 <= address <= LAST_ADDRESS:
         raise IllegalAddressError(
-            f"{_SINGULAR[kind]} address {address} is outside the table: Modbus addresses run from "
+            f"{_SINGULAR[kind]} address {shown(address)} is outside the table: Modbus addresses run from "
             f"0 to 65535 (the 16-bit address field of the frame)"
         )
     if count < 0:
-        raise DataModelError(f"count must be 0 or more, got {count}")
+        raise DataModelError(f"count must be 0 or more, got {shown(count)}")
     if address + count > ADDRESS_SPACE:
         raise IllegalAddressError(
-            f"cannot {verb} {count} {kind.replace('_', ' ')} from address {address}: that would run to "
-            f"address {address + count - 1}, past the last address 65535"
+            f"cannot {verb} {shown(count)} {kind.replace('_', ' ')} from address {address}: that would run "
+            f"to address {shown(address + count - 1)}, past the last address 65535"
         )
     return address, count
 
@@ -311,7 +318,7 @@ class Table:
             if not ok:
                 raise ValueRangeError(
                     f"{_SINGULAR[self.kind]} at address {address + i} holds a 16-bit unsigned number "
-                    f"0..65535, got {type(v).__name__} {v!r} (for negative or wide numbers convert "
+                    f"0..65535, got {type(v).__name__} {shown(v)} (for negative or wide numbers convert "
                     f"with modbus_edu.values.encode_value)"
                 )
         return array("H", [operator.index(v) for v in values])  # pragma: no cover
@@ -567,7 +574,7 @@ class Reference:
 
 
 def _reference_error(ref: object, why: str) -> ReferenceNumberError:
-    return ReferenceNumberError(f"reference number {ref!r}: {why}")
+    return ReferenceNumberError(f"reference number {shown(ref)}: {why}")
 
 
 _PREFIX_HELP = (
@@ -603,6 +610,7 @@ def _checked_number(ref: object, kind: str, number: int, limit: int, form: str) 
     return number - 1
 
 
+@guard_numbers
 def parse_reference(ref: ReferenceLike) -> Reference:
     """Turn a reference number into a :class:`Reference` (table and 0-based **address**).
 
@@ -670,6 +678,7 @@ def parse_reference(ref: ReferenceLike) -> Reference:
     )
 
 
+@guard_numbers
 def format_reference(kind: str | int, address: int, digits: int = 5, style: str = "plain") -> str:
     """The reference number of ``address`` in table ``kind`` -- the inverse of :func:`parse_reference`.
 

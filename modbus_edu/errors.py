@@ -7,6 +7,12 @@ they say *what* was wrong, *where* (the byte offset, when there is one) and *wha
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+T = TypeVar("T")
+
 
 class ModbusError(Exception):
     """Base class of every error modbus_edu raises on bad input."""
@@ -148,3 +154,39 @@ class LinkError(ModbusError):
 
 class ConfigError(ModbusError):
     """A setting is not valid (baud rate, parity, mode, role name, ...)."""
+
+
+class NumberError(ModbusError):
+    """A number that no Modbus setting or field can hold: thousands of digits, or too large for a float."""
+
+
+def shown(value: object, limit: int = 60) -> str:
+    """``repr(value)`` for a message, safe for any value: huge ints by size, long reprs cut."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:
+        return f"an int of {value.bit_length()} bits"
+    try:
+        text = repr(value)
+    except Exception:  # an object whose __repr__ fails: say what it is
+        return f"a {type(value).__name__}"
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def guard_numbers(function: Callable[..., T]) -> Callable[..., T]:
+    """Let no ValueError or OverflowError out of ``function``: they become :class:`NumberError`.
+
+    Python refuses to print an int of more than 4300 digits (ValueError) and to turn a huge int into a
+    float (OverflowError); a setting or value like that, checked by ``function``, gets a message
+    instead."""
+
+    @functools.wraps(function)
+    def guarded(*args: Any, **kwargs: Any) -> T:
+        try:
+            return function(*args, **kwargs)
+        except (ValueError, OverflowError) as exc:
+            if isinstance(exc, ModbusError):
+                raise
+            name = getattr(function, "__qualname__", "this call").replace(".__init__", "")
+            raise NumberError(f"{name}: a number far too large for any Modbus setting or field "
+                              f"({type(exc).__name__}: {str(exc)[:70]})") from None
+
+    return guarded

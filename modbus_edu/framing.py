@@ -33,10 +33,11 @@ import re
 import struct
 import warnings
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, ClassVar
 
 from . import pdu as _pdu
-from .crc import crc16, lrc
+from .crc import CRC_TABLE, crc16, lrc
 from .errors import (
     AsciiFormatError,
     ConfigError,
@@ -49,6 +50,7 @@ from .errors import (
     PduError,
     ReservedUnitWarning,
     UnitError,
+    shown,
 )
 
 __all__ = [
@@ -157,9 +159,9 @@ def _check_mode(mode: object) -> str:
 def _check_unit(unit: object, highest: int, mode: str) -> int:
     """Validate a unit given to a constructor: one byte; a reserved serial address (248..255) warns."""
     if isinstance(unit, bool) or not isinstance(unit, int):
-        raise UnitError(f"{mode} unit must be an int, got {_short_repr(unit)}")
+        raise UnitError(f"{mode} unit must be an int, got {shown(unit)}")
     if not 0 <= unit <= 255:
-        raise UnitError(f"{mode} unit {_short_repr(unit)} does not fit its one byte: expected 0..255")
+        raise UnitError(f"{mode} unit {shown(unit)} does not fit its one byte: expected 0..255")
     if unit > highest:
         warnings.warn(
             f"{mode} unit {unit} (0x{unit:02X}) is in the reserved range 248..255: standard slaves use "
@@ -177,14 +179,6 @@ def _received(cls: type, unit: int, pdu: _pdu.Pdu) -> Any:
     object.__setattr__(frame, "unit", unit)
     object.__setattr__(frame, "pdu", pdu)
     return frame
-
-
-def _short_repr(value: object) -> str:
-    """``repr(value)`` cut short, safe for ints of any size."""
-    if isinstance(value, int) and value.bit_length() > 64:
-        return f"an int of {value.bit_length()} bits"
-    text = repr(value)
-    return text if len(text) <= 40 else text[:39] + "…"
 
 
 def _check_pdu(pdu: object, cls_name: str) -> None:
@@ -451,7 +445,8 @@ class TcpFrame:
                 and 0 <= self.unit <= 255 and isinstance(self.pdu, _pdu.Pdu)):
             return  # the usual case, checked in one go; the checks below name what is wrong
         if isinstance(tid, bool) or not isinstance(tid, int) or not 0 <= tid <= 0xFFFF:
-            raise MbapError(f"transaction_id {tid!r} does not fit the MBAP's two bytes: expected 0..65535")
+            raise MbapError(f"transaction_id {shown(tid)} does not fit the MBAP's two bytes: "
+                            "expected 0..65535")
         if self.protocol_id != 0:
             raise MbapError(f"protocol_id {self.protocol_id!r}: the MBAP protocol identifier of Modbus is 0")
         _check_unit(self.unit, 255, "TCP")
@@ -700,6 +695,38 @@ class _Splitter:
         raise NotImplementedError
 
 
+class _Scan:
+    """What :meth:`RtuSplitter._complete_frame_after` has worked out while one start waits for bytes."""
+
+    __slots__ = ("start", "known", "seen", "ends")
+
+    def __init__(self, start: int) -> None:
+        self.start = start
+        self.known = start + 1  # offsets before this have a known expected length
+        self.seen = start       # candidates whose frame ends at or before this were CRC-checked
+        self.ends: dict[int, list[int]] = {}  # end of a candidate frame -> the offsets it starts at
+
+
+@lru_cache(maxsize=2)
+def _function_codes(role: str) -> frozenset[int]:
+    """The function-code bytes that can start a PDU of ``role`` (a fast first test for the splitter)."""
+    codes = set()
+    for code in range(256):
+        try:
+            _pdu.pdu_length(bytes([code, 0, 0, 0, 0, 0]), role)
+        except ModbusError:
+            continue
+        codes.add(code)
+    return frozenset(codes)
+
+
+@lru_cache(maxsize=2)
+def _start_pattern(role: str) -> re.Pattern[bytes]:
+    """Two bytes that can begin an RTU frame of ``role``: a unit 0..247, then a known function code."""
+    codes = b"".join(re.escape(bytes([code])) for code in sorted(_function_codes(role)))
+    return re.compile(b"[\\x00-\\xf7][" + codes + b"]", re.DOTALL)
+
+
 class RtuSplitter(_Splitter):
     """Cut RTU frames out of a byte stream by their expected length.
 
@@ -728,6 +755,17 @@ class RtuSplitter(_Splitter):
     def __init__(self, role: str = "request") -> None:
         super().__init__()
         self.role = _check_role(role)
+        self._starts = _function_codes(self.role)
+        self._next_start = _start_pattern(self.role)
+        self._scan: _Scan | None = None
+
+    def _drop(self, count: int) -> None:
+        super()._drop(count)
+        self._scan = None
+
+    def reset(self) -> None:
+        super().reset()
+        self._scan = None
 
     def _frame_length(self, start: int) -> int | None:
         """Expected frame length at ``start``: an int, None (need more bytes) or -1 (cannot be a frame)."""
@@ -736,20 +774,49 @@ class RtuSplitter(_Splitter):
             return -1  # a reserved address: too rare to take for the start of a frame in a byte stream
         if len(buf) - start < 2:
             return None
+        if buf[start + 1] not in self._starts:
+            return -1
         try:  # the function code and at most 5 more bytes decide the length (FC 15/16 byte count)
             size = _pdu.pdu_length(bytes(buf[start + 1 : start + 7]), self.role)
         except ModbusError:
             return -1
         if size is None:
             return None
-        if not 1 <= size <= _pdu.MAX_PDU_SIZE:
+        if not 1 <= size <= _pdu.MAX_PDU_SIZE or not self._plausible(start):
             return -1
         return 1 + size + 2
+
+    def _plausible(self, start: int) -> bool:
+        """Whether the byte count at ``start`` fits its function (a quick test before the CRC's)."""
+        buf = self._buffer
+        function = buf[start + 1]
+        if self.role == "response" and function in (1, 2, 3, 4):
+            count = buf[start + 2]
+            return 1 <= count <= 250 and (function < 3 or count % 2 == 0)
+        if self.role == "request" and function in (15, 16) and len(buf) - start >= 7:
+            quantity, count = int.from_bytes(buf[start + 4:start + 6], "big"), buf[start + 6]
+            return count == (2 * quantity if function == 16 else (quantity + 7) // 8)
+        return True
 
     def _cut(self, final: bool = False) -> list[bytes]:
         frames: list[bytes] = []
         buf = self._buffer
+        exceptions = self.role == "response"
         while buf:
+            if exceptions and len(buf) >= 5 and buf[1] > 0x80 and buf[0] <= MAX_SERIAL_UNIT:
+                # an exception response (5 bytes): half the byte values start one, so check it here,
+                # with the CRC of its 3 bytes worked out inline
+                table = CRC_TABLE
+                register = (0xFFFF >> 8) ^ table[(0xFFFF ^ buf[0]) & 0xFF]
+                register = (register >> 8) ^ table[(register ^ buf[1]) & 0xFF]
+                register = (register >> 8) ^ table[(register ^ buf[2]) & 0xFF]
+                if register == buf[3] | buf[4] << 8:
+                    frames.append(bytes(buf[:5]))
+                    del buf[:5]
+                    self._scan = None
+                else:
+                    self._drop(1)
+                continue
             total = self._frame_length(0)
             if total is None or (total > 0 and total > len(buf)):
                 later = self._complete_frame_after(0)
@@ -761,25 +828,53 @@ class RtuSplitter(_Splitter):
                 self._drop(1)  # no more bytes will come: this start cannot be completed
                 continue
             if total < 0:
-                self._drop(1)
+                following = self._next_start.search(buf, 1)  # skip what cannot start a frame, in C
+                self._drop(following.start() if following else max(1, len(buf) - 1))
                 continue
             if crc16(bytes(buf[: total - 2])) != int.from_bytes(buf[total - 2 : total], "little"):
                 self._drop(1)
                 continue
             frames.append(bytes(buf[:total]))
             del buf[:total]
+            self._scan = None
         return frames
 
     def _complete_frame_after(self, start: int) -> int | None:
-        """The first offset after ``start`` where a complete frame with a correct CRC is buffered."""
+        """The first offset after ``start`` where a complete frame with a correct CRC is buffered.
+
+        Called while the frame at ``start`` waits for bytes.  The buffer then only grows, so the work is
+        kept in :attr:`_scan`: each offset's expected length is worked out once, and each candidate's CRC
+        is checked once, when its last byte arrives.  Fed byte by byte, the splitter stays linear.
+        """
         buf = self._buffer
-        for offset in range(start + 1, len(buf) - 3):
+        size = len(buf)
+        scan = self._scan
+        if scan is None or scan.start != start:
+            scan = self._scan = _Scan(start)
+        found: list[int] = []
+
+        def check(offset: int, end: int) -> None:
+            if crc16(bytes(buf[offset:end - 2])) == int.from_bytes(buf[end - 2:end], "little"):
+                found.append(offset)
+
+        offset = scan.known
+        while offset < size - 3:
             total = self._frame_length(offset)
-            if total is not None and 0 < total <= len(buf) - offset:
+            if total is None:
+                break  # this offset needs more bytes to say its length: look again next time
+            if total > 0:
                 end = offset + total
-                if crc16(bytes(buf[offset:end - 2])) == int.from_bytes(buf[end - 2:end], "little"):
-                    return offset
-        return None
+                if end <= scan.seen:
+                    check(offset, end)  # its last byte came before this offset was looked at
+                else:
+                    scan.ends.setdefault(end, []).append(offset)
+            offset += 1
+        scan.known = offset
+        for end in range(scan.seen + 1, size + 1):
+            for candidate in scan.ends.pop(end, ()):
+                check(candidate, end)
+        scan.seen = size
+        return min(found) if found else None
 
     def flush(self) -> list[bytes]:
         """End of frame by silence: cut what can be cut from the pending bytes, discard the rest."""
@@ -816,14 +911,17 @@ class AsciiSplitter(_Splitter):
                 break
             if start > 0:
                 self._drop(start)
-            end = buf.find(b"\r\n")
-            restart = buf.find(b":", 1)
+            # look for the end only up to the next ':' (and a frame's size): linear on any input
+            restart = buf.find(b":", 1, ASCII_MAX_FRAME + 1)
+            end = buf.find(b"\r\n", 0, restart + 1 if restart > 0 else ASCII_MAX_FRAME + 1)
             if restart > 0 and (end < 0 or restart < end):
                 self._drop(restart)  # a new ':' begins a new frame
                 continue
             if end < 0:
-                if len(buf) >= ASCII_MAX_FRAME:
-                    self._drop(len(buf))  # cannot end within 513 characters
+                if len(buf) >= ASCII_MAX_FRAME:  # cannot end within 513 characters: junk up to the next ':'
+                    following = buf.find(b":", 1)
+                    self._drop(following if following > 0 else len(buf))
+                    continue
                 break
             size = end + 2
             if size > ASCII_MAX_FRAME:

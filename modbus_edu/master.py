@@ -62,6 +62,7 @@ from .errors import (
     ModbusTimeoutError,
     PduError,
     TransactionMismatchError,
+    guard_numbers,
 )
 from .framing import decode_frame, make_frame
 from .links.base import Link
@@ -213,6 +214,7 @@ class Master:
     22.92
     """
 
+    @guard_numbers
     def __init__(
         self,
         link: Link,

@@ -40,6 +40,7 @@ from .errors import (
     TruncatedError,
     UnknownFunctionError,
     ValueRangeError,
+    shown,
 )
 
 MAX_READ_BITS = 2000
@@ -152,7 +153,9 @@ class Field:
 
 def _check_int(value: Any, name: str) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise ValueRangeError(f"{name} must be an integer, got {value!r}")
+        raise ValueRangeError(f"{name} must be an integer, got {shown(value)}")
+    if value.bit_length() > 64:
+        raise ValueRangeError(f"{name} is {shown(value)}: far outside any Modbus field")
     return value
 
 

@@ -63,6 +63,7 @@ from .errors import (
     ModbusExceptionError,
     PduError,
     UnknownFunctionError,
+    guard_numbers,
 )
 from .framing import MODES, Frame, decode_frame, make_frame
 from .pdu import ExceptionCode, ExceptionResponse, Pdu
@@ -153,6 +154,7 @@ class Slave:
     '01 03 02 04 d2 3a d9'
     """
 
+    @guard_numbers
     def __init__(
         self,
         unit: int | None = 1,

@@ -55,7 +55,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from decimal import ROUND_HALF_UP, Decimal, InvalidOperation
 
-from .errors import ValueFormatError
+from .errors import ValueFormatError, guard_numbers, shown
 
 __all__ = [
     "TYPES",
@@ -189,6 +189,7 @@ def _registers_to_bytes(registers: list[int], order: str) -> bytes:
     return bytes(out)
 
 
+@guard_numbers
 def encode_value(value: int | float, type: str = "uint16", order: str = "ABCD") -> list[int]:
     """The registers that carry ``value`` as ``type`` in ``order``.
 
@@ -238,6 +239,7 @@ def encode_value(value: int | float, type: str = "uint16", order: str = "ABCD") 
     return _bytes_to_registers(data, order)
 
 
+@guard_numbers
 def decode_value(registers: Sequence[int], type: str = "uint16", order: str = "ABCD") -> int | float:
     """The value that ``registers`` carry as ``type`` in ``order`` (the inverse of :func:`encode_value`).
 
@@ -292,6 +294,7 @@ def _decimal(x: int | float | Decimal | str, what: str) -> Decimal:
     return d
 
 
+@guard_numbers
 def scale(raw: int | float, factor: int | float = 10) -> float:
     """The engineering value of a raw register value the device multiplied by ``factor``.
 
@@ -303,9 +306,14 @@ def scale(raw: int | float, factor: int | float = 10) -> float:
     f = _decimal(factor, "factor")
     if f == 0:
         raise ValueFormatError("factor must not be 0 (it is what the device multiplied the value by)")
-    return float(_decimal(raw, "raw value") / f)
+    result = float(_decimal(raw, "raw value") / f)
+    if not math.isfinite(result):
+        raise ValueFormatError(f"scale({shown(raw)}, {shown(factor)}) is too large for a float: no register "
+                               "carries such a value")
+    return result
 
 
+@guard_numbers
 def unscale(value: int | float, factor: int | float = 10) -> int:
     """The raw integer to send for ``value`` on a device that scales by ``factor``: ``unscale(403.6, 10)``
     -> ``4036``.  Rounds half away from zero (``unscale(0.665, 100)`` -> 67), working in decimal on the
@@ -314,7 +322,11 @@ def unscale(value: int | float, factor: int | float = 10) -> int:
     f = _decimal(factor, "factor")
     if f == 0:
         raise ValueFormatError("factor must not be 0 (it is what the device multiplied the value by)")
-    return int((_decimal(value, "value") * f).quantize(Decimal(1), rounding=ROUND_HALF_UP))
+    try:
+        return int((_decimal(value, "value") * f).quantize(Decimal(1), rounding=ROUND_HALF_UP))
+    except InvalidOperation:
+        raise ValueFormatError(f"unscale({shown(value)}, {shown(factor)}): the raw value has more digits "
+                               "than any register pair can carry") from None
 
 
 # --- text ---------------------------------------------------------------------------------------------------
@@ -430,6 +442,7 @@ def _check_format(fmt: str) -> str:
     raise ValueFormatError(f"unknown display format {fmt!r}: expected one of {', '.join(FORMATS)}")
 
 
+@guard_numbers
 def format_registers(registers: Sequence[int], fmt: str = "unsigned") -> list[str]:
     """One display string per register, as a test tool's data grid shows them.
 

@@ -533,3 +533,51 @@ def test_keyboard_interrupt_during_poll_prints_statistics_and_exits_0(meter_serv
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (("crc", "--text", "é€"), "is not ASCII"),
+    (("poll", "--tcp", "127.0.0.1:1", "--timeout", "inf"), "--timeout must be a number of seconds"),
+    (("poll", "--tcp", "127.0.0.1:1", "--timeout", "1e300"), "--timeout must be a number of seconds"),
+    (("poll", "--tcp", "127.0.0.1:1", "--interval", "nan"), "--interval must be a number of seconds"),
+    (("poll", "--tcp", "127.0.0.1:1", "--interval", "inf"), "--interval must be a number of seconds"),
+    (("poll", "--tcp", "127.0.0.1:1", "--address", "65535", "--count", "2"), "runs past the last address"),
+    (("serve", "bank", "--tcp", "256.1.1.1:5020"), "cannot listen"),
+])
+def test_bad_numbers_and_hosts_are_refused_up_front_in_one_line(args, words):
+    result = run(*args)
+    assert result.returncode != 0 and "Traceback" not in result.stderr
+    assert words in result.stderr and "listening on" not in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1, result.stderr
+
+
+def test_serve_in_ascii_mode_announces_the_7_data_bits_it_opens():
+    listener = socket.socket()
+    listener.bind(("127.0.0.1", 0))
+    listener.listen(1)
+    listener.settimeout(20)
+    port = listener.getsockname()[1]
+    proc = subprocess.Popen([*CLI, "serve", "bank", "--mode", "ascii", "--serial", f"socket://127.0.0.1:{port}"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV)
+    try:
+        conn, _ = listener.accept()
+        line = _readline(proc.stdout, 20)
+        assert "9600 baud 7N1, ASCII" in line, line
+        conn.close()
+    finally:
+        listener.close()
+        if proc.poll() is None:
+            proc.kill()
+        proc.communicate()
+
+
+def test_decode_reads_standard_input_line_by_line_and_refuses_a_huge_line():
+    frames = "01 03 00 00 00 01 84 0A\n" * 20_000  # 480 kB: decoded as it streams, in flat memory
+    result = run("decode", "-", "--mode", "rtu", stdin=frames)
+    assert result.returncode == 0 and result.stdout.count("RTU request") == 20_000
+    huge = run("decode", "-", stdin="01" * 3_000_000 + "\n")
+    assert huge.returncode != 0 and "longer than 4096 characters" in huge.stderr
+    assert len(huge.stderr.strip().splitlines()) == 1
+    several = json.loads(run("decode", "-", "--json", stdin="01 03 00 00 00 01 84 0A\n" * 3).stdout)
+    one = json.loads(run("decode", "-", "--json", stdin="01 03 00 00 00 01 84 0A\n").stdout)
+    assert isinstance(several, list) and len(several) == 3 and one == several[0]

@@ -77,12 +77,20 @@ def test_serve_forever_in_a_thread_stops_on_close():
     assert not thread.is_alive()
 
 
-def test_binding_beyond_loopback_warns_that_modbus_tcp_has_no_authentication(caplog):
-    # 192.0.2.1 is TEST-NET-1: not assigned to this machine, so the bind fails after the warning
-    # and nothing is ever exposed to a network.
+def test_binding_beyond_loopback_warns_that_modbus_tcp_has_no_authentication(caplog, monkeypatch):
+    # 192.0.2.1 is TEST-NET-1: not assigned to this machine, so the bind fails - and a server that never
+    # listened must not say it listens.
     with caplog.at_level(logging.WARNING, logger="modbus_edu.tcp"):
         with pytest.raises(LinkError, match="cannot listen on 192.0.2.1"):
             TcpServer(Slave(), host="192.0.2.1").start()
+    assert "no authentication" not in caplog.text
+    # A server that does listen beyond loopback says so once it listens. (It really binds 127.0.0.1 here:
+    # the test only makes the server believe the address is reachable from other computers.)
+    import modbus_edu.links.tcp as tcp_module
+
+    monkeypatch.setattr(tcp_module, "is_loopback_host", lambda host: False)
+    with caplog.at_level(logging.WARNING, logger="modbus_edu.tcp"), TcpServer(Slave(), host="127.0.0.1"):
+        pass
     assert "no authentication" in caplog.text
 
 

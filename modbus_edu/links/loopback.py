@@ -28,7 +28,7 @@ from collections.abc import Iterable
 from functools import partial
 
 from ..clock import VirtualClock
-from ..errors import ConfigError, LinkError
+from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpSplitter
 from ..slave import Slave
 from ..traffic import TrafficLog
@@ -438,6 +438,7 @@ class LoopbackTcpLink(_LoopbackLink):
         return f"virtual Modbus/TCP connection{lat}, {n} slave{'s' if n != 1 else ''}"
 
 
+@guard_numbers
 def loopback_serial(
     slaves: Slave | Iterable[Slave] | None = None,
     baudrate: int = 9600,
@@ -462,6 +463,7 @@ def loopback_serial(
     )
 
 
+@guard_numbers
 def loopback_tcp(
     slaves: Slave | Iterable[Slave] | None = None,
     latency: float = 0.0,

@@ -42,7 +42,7 @@ from typing import Any
 
 from ..clock import RealClock
 from ..crc import crc16
-from ..errors import ConfigError, LinkError
+from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import splitter_for
 from .base import Link
 from .tcp import normalize_slaves
@@ -82,6 +82,14 @@ def _timing(baudrate: Any, parity: Any, stopbits: Any, mode: Any, bytesize: Any)
     return SerialTiming(baudrate=baudrate, parity=parity, stopbits=stopbits, bytesize=bytesize, mode=mode)
 
 
+try:
+    import termios
+
+    _OS_REFUSALS: tuple[type[BaseException], ...] = (termios.error,)
+except ImportError:  # pragma: no cover - Windows has no termios
+    _OS_REFUSALS = ()
+
+
 def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None = 2.0) -> Any:
     """Open a pyserial port (or URL) with the settings of ``timing``; raise LinkError saying why not."""
     try:
@@ -100,6 +108,10 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
         )
     except ValueError as exc:  # pyserial: a setting the port does not support
         raise ConfigError(f"serial port {url!r} rejects the settings {timing}: {exc}") from exc
+    except _OS_REFUSALS as exc:  # termios.error: the driver refused a setting (a pty and 7 data bits)
+        raise LinkError(f"the operating system refused the settings {timing} for {url!r}: {exc} - the "
+                        "port or adapter may not support this number of data bits, parity or baud rate"
+                        ) from exc
     except (serial.SerialException, OSError) as exc:
         hint = (
             "is a server listening there?" if url.startswith("socket://")
@@ -293,6 +305,7 @@ class SerialLink(Link):
                 pass
 
 
+@guard_numbers
 def serial_link(
     url: str,
     baudrate: int = 9600,

@@ -46,7 +46,7 @@ from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 from ..clock import Clock, RealClock
-from ..errors import ConfigError, LinkError
+from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpFrame, TcpSplitter
 from ..pdu import ExceptionResponse
 from .base import Link
@@ -293,6 +293,7 @@ class TcpServer:
     :class:`~modbus_edu.errors.ConfigError` at once, saying what was expected.
     """
 
+    @guard_numbers
     def __init__(
         self,
         slaves: Any,
@@ -355,13 +356,6 @@ class TcpServer:
             return
         if self._closed:
             raise LinkError("this TcpServer was closed; create a new one to serve again")
-        if not is_loopback_host(self.host):
-            self.log.warning(
-                "Modbus/TCP server listening on %s, which is reachable from other computers: "
-                "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
-                "port can read and write every register. Use 127.0.0.1 unless you mean it.",
-                self.host,
-            )
         try:
             infos = socket.getaddrinfo(self.host, self.port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
         except socket.gaierror as exc:
@@ -381,6 +375,13 @@ class TcpServer:
             elif exc.errno == errno.EACCES:
                 hint = " - ports below 1024 (such as 502) need administrator rights; try 5020"
             raise LinkError(f"cannot listen on {self.host}:{self.port}: {exc.strerror}{hint}") from exc
+        if not is_loopback_host(self.host):  # said once it really listens, never for a failed bind
+            self.log.warning(
+                "Modbus/TCP server listening on %s, which is reachable from other computers: "
+                "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
+                "port can read and write every register. Use 127.0.0.1 unless you mean it.",
+                self.host,
+            )
         self._listener = listener
         self.address = listener.getsockname()[:2]
         self._selector = selectors.DefaultSelector()
@@ -909,6 +910,7 @@ class TcpLink(Link):
         self.closed = True
 
 
+@guard_numbers
 def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> TcpLink:
     """Connect to a Modbus/TCP server and return a :class:`TcpLink` (mode ``"tcp"``, real clock).
 

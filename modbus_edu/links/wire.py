@@ -66,7 +66,7 @@ from itertools import repeat
 from operator import add
 
 from ..clock import Timer, VirtualClock
-from ..errors import ConfigError
+from ..errors import ConfigError, shown
 from ..traffic import TrafficLog
 from .faults import Faults
 
@@ -82,6 +82,10 @@ def _parity(parity: str) -> str:
     if value not in PARITIES:
         raise ConfigError(f"parity must be 'N' (none), 'E' (even) or 'O' (odd), got {parity!r}")
     return value
+
+
+MAX_BAUDRATE = 100_000_000
+"""The fastest serial line the course models (real RS-485 stops near 10 Mbit/s)."""
 
 
 @dataclass(frozen=True)
@@ -104,8 +108,9 @@ class SerialTiming:
 
     def __post_init__(self) -> None:
         baud = self.baudrate
-        if isinstance(baud, bool) or not isinstance(baud, (int, float)) or not baud > 0:
-            raise ConfigError(f"baudrate must be a positive number of bits per second, got {self.baudrate!r}")
+        if isinstance(baud, bool) or not isinstance(baud, (int, float)) or not 0 < baud <= MAX_BAUDRATE:
+            raise ConfigError(f"baudrate must be a number of bits per second, 1 to {MAX_BAUDRATE:,}, "
+                              f"got {shown(self.baudrate)}")
         object.__setattr__(self, "parity", _parity(self.parity))
         if self.stopbits not in (1, 1.5, 2):
             raise ConfigError(f"stopbits must be 1, 1.5 or 2, got {self.stopbits!r}")

@@ -23,6 +23,12 @@ from .common import MONO, MessageLine, StaticText, esc, guarded, hex_text, mark_
 
 __all__ = ["CrcExplorer"]
 
+MAX_BITWISE_BYTES = 2048
+"""The most bytes the explorer follows bit by bit (18 432 steps); a frame has at most 256."""
+
+MAX_BYTES = 65536
+"""The most bytes the explorer follows by table or LRC, one step a byte."""
+
 METHODS = [("CRC-16 bit by bit", "bitwise"), ("CRC-16 by table", "table"), ("LRC (ASCII mode)", "lrc")]
 
 
@@ -153,9 +159,18 @@ class CrcExplorer(StaticText, W.VBox):
             mark_invalid(self.text, True)
             self._render(stale=True)
             return
+        method = self.method.value
+        limit = MAX_BITWISE_BYTES if method == "bitwise" else MAX_BYTES
+        if len(data) > limit:
+            how = "bit by bit (9 steps a byte)" if method == "bitwise" else "step by step"
+            self.message.show(f"{len(data):,} bytes are too many to follow {how}: at most {limit:,}. "
+                              "Shorten them" + (", or choose 'by table'." if method == "bitwise" else "."),
+                              "error")
+            mark_invalid(self.text, True)
+            self._render(stale=True)
+            return
         mark_invalid(self.text, False)
         self.data = data
-        method = self.method.value
         if method == "bitwise":
             self.steps = list(crc16_trace(data))
         elif method == "table":
