@@ -478,6 +478,7 @@ def format_registers(registers: Sequence[int], fmt: str = "unsigned") -> list[st
     return out
 
 
+@guard_numbers
 def parse_formatted(text: str, fmt: str = "unsigned") -> list[int]:
     """The registers a grid cell's ``text`` stands for in display format ``fmt`` (the inverse of
     :func:`format_registers` for one value): ``parse_formatted("0x04D2", "hex")`` -> ``[1234]``,

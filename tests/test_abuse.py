@@ -326,3 +326,13 @@ def test_from_config_and_load_config_report_unreadable_files(tmp_path):
         TestTool.from_config({"role": ["rtu_master"]})
     with pytest.raises(mb.ConfigError, match="port must be"):
         TestTool.from_config({"role": "tcp_client", "port": 70000})
+
+
+def test_panels_report_huge_numbers_beside_the_field():
+    from modbus_edu.widgets import FrameBuilder, TestTool
+
+    builder = FrameBuilder(unit=HUGE)
+    assert builder.frame == b"" and "unit" in builder.message.text
+    tool = TestTool("rtu_slave")
+    tool._cells[0].value = "9" * 5000
+    assert tool.message.kind == "error" and "far too large" in tool.message.text

@@ -15,6 +15,7 @@ from typing import Any
 import ipywidgets as W
 
 from ..errors import ModbusError, ValueFormatError
+from ..errors import shown as shown_value
 
 __all__ = [
     "PALETTE",
@@ -313,7 +314,8 @@ def text_field(description: str, value: str = "", css: str | None = None, width:
 
     It applies its text when Enter is pressed or focus leaves it (Tab), not at every keystroke, so a
     half-typed ``0x`` is never reported as an error."""
-    box = W.Text(value=str(value), description=description, placeholder=placeholder,
+    box = W.Text(value=value if isinstance(value, str) else shown_value(value), description=description,
+                 placeholder=placeholder,
                  style={"description_width": "110px"}, layout=W.Layout(width=width),
                  continuous_update=False)  # Enter (or leaving the field with Tab) applies it
     if tooltip:
