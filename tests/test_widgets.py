@@ -180,6 +180,7 @@ def test_frame_builder_bad_lists_and_values_never_raise(function, role, field, t
 def test_frame_builder_builds_for_a_reserved_serial_unit_and_tcp_units():
     fb = FrameBuilder(mode="rtu", unit=250)  # reserved on a serial line, but some devices answer it
     assert fb.frame[0] == 250
+    assert "reserved" in fb.field_notes["unit"] and fb.field_errors == {}  # said beside the unit, amber
     fb.mode.value = "tcp"
     assert fb.frame and fb.frame[6] == 250
 

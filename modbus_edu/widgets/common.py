@@ -270,7 +270,7 @@ def legend_html(dissection: Any) -> str:
 #: Spacing for the dissection table of :meth:`modbus_edu.explain.Dissection._repr_html_` inside a panel.
 DISSECTION_CSS = (
     "<style>.mbe-dissection table.modbus-edu-dissection td, .mbe-dissection table.modbus-edu-dissection th"
-    " {padding: 1px 8px; text-align: left; vertical-align: top}</style>"
+    " {padding: 1px 8px; text-align: left; vertical-align: top; line-height: 1.35}</style>"
 )
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from typing import Any
 
 import ipywidgets as W
@@ -163,6 +164,8 @@ class FrameBuilder(StaticText, W.VBox):
         self._rows: dict[str, W.HBox] = {}
         self.field_errors: dict[str, str] = {}
         """The error shown beside each field now (field name -> message); empty when all is well."""
+        self.field_notes: dict[str, str] = {}
+        """A warning shown beside a field whose frame still builds (a reserved unit, say)."""
         for name in FIELDS:
             setattr(self, name, self._make_input(name, initial[name]))
         # FC15 takes coil values, FC16 register values: the field remembers the text of each kind
@@ -177,11 +180,13 @@ class FrameBuilder(StaticText, W.VBox):
         self.dissection_view.add_class("mbe-dissection")
         self._last_good: tuple[str, str] | None = None
 
-        self.left = W.VBox([self._row("mode", self.mode), self._row("role", self.role),
-                            self._row("function", self.function), self._row("unit", self.unit),
-                            self._row("transaction_id", self.transaction_id)])
+        wrap = W.Layout(flex_flow="row wrap", align_items="center")
+        self.left = W.VBox([W.HBox([self._row("mode", self.mode), self._row("role", self.role),
+                                    self._row("function", self.function)], layout=wrap),
+                            W.HBox([self._row("unit", self.unit),
+                                    self._row("transaction_id", self.transaction_id)], layout=wrap)])
         self.right = W.VBox([self._rows[name] for name in FIELDS])
-        self.fields_box = W.VBox([self.left, self.right])  # one column: each error has room beside its field
+        self.fields_box = W.VBox([self.left, self.right])  # each error has room beside its field
         self.children = [
             W.HTML("<b>Frame builder</b> &mdash; every byte below comes from the library"),
             self.fields_box,
@@ -231,15 +236,23 @@ class FrameBuilder(StaticText, W.VBox):
             return {"unit": "unit", "transaction_id": "transaction id"}.get(name, name)
         return FIELDS.get(name, FieldSpec(name.replace("_", " "))).label
 
-    def _mark(self, errors: dict[str, str]) -> None:
-        """Show each error beside its field (once), mark the field red, clear the others."""
+    def _mark(self, errors: dict[str, str], notes: dict[str, str] | None = None) -> None:
+        """Show each error beside its field (once), mark the field red, clear the others.  ``notes``:
+        warnings of the library about a field whose frame still builds (amber, the field not marked)."""
         self.field_errors = dict(errors)
+        self.field_notes = dict(notes or {})
         for name, label in self._error_labels.items():
             box = self._rows[name].children[0]
             text = errors.get(name)
-            label.value = (f'<span style="color:#c92a2a;font-weight:600;white-space:normal">&#9888; '
-                           f"{esc(text)}</span>" if text else "")
-            shown(label, bool(text))
+            note = self.field_notes.get(name)
+            if text:
+                label.value = (f'<span style="color:#c92a2a;font-weight:600;white-space:normal">&#9888; '
+                               f"{esc(text)}</span>")
+            elif note:
+                label.value = f'<span style="color:#e67700;white-space:normal">&#9888; {esc(note)}</span>'
+            else:
+                label.value = ""
+            shown(label, bool(text or note))
             mark_invalid(box, bool(text))
 
     def _field_of(self, exc: ModbusError, needed: dict[str, W.DOMWidget]) -> str | None:
@@ -377,12 +390,18 @@ class FrameBuilder(StaticText, W.VBox):
             if errors:
                 raise ValueFormatError("; ".join(errors.values()))
             pdu = self.pdu_class()(**arguments)
-            adu = make_frame(self.mode.value, unit, pdu, tid)
-            data = adu.encode()
+            with warnings.catch_warnings(record=True) as caught:  # e.g. a reserved unit: built, with a note
+                warnings.simplefilter("always")
+                adu = make_frame(self.mode.value, unit, pdu, tid)
+                data = adu.encode()
         except ModbusError as exc:
             self._failed(exc, errors, needed)
             return
-        self._mark({})
+        notes = {}
+        for w in caught:
+            field = self._field_of(ModbusError(str(w.message)), needed) or "unit"
+            notes[field] = f"{w.category.__name__}: {w.message}"
+        self._mark({}, notes)
         role = "response" if self.role.value == "exception" else self.role.value
         self.pdu, self.adu, self.frame = pdu, adu, data
         self.dissection = explain(data, self.mode.value, role)

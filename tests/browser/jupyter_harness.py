@@ -46,12 +46,17 @@ def write_kernelspec(jupyter_path: Path) -> Path:
 
 
 def quiet_lab_settings(settings_dir: Path) -> None:
-    """Switch off JupyterLab's news and update checks (no network, no pop-up over the notebook)."""
+    """Switch off JupyterLab's news and update checks (no network, no pop-up over the notebook), and
+    the notebook's windowing (cells off screen are rendered too)."""
     d = settings_dir / "@jupyterlab" / "apputils-extension"
     d.mkdir(parents=True, exist_ok=True)
     (d / "notification.jupyterlab-settings").write_text(
         json.dumps({"checkForUpdates": False, "fetchNews": "false"})
     )
+    # every cell rendered and laid out, so that panels far down a notebook can be measured
+    n = settings_dir / "@jupyterlab" / "notebook-extension"
+    n.mkdir(parents=True, exist_ok=True)
+    (n / "tracker.jupyterlab-settings").write_text(json.dumps({"windowingMode": "none"}))
 
 
 @dataclass
@@ -136,6 +141,21 @@ class JupyterLab:
             time.sleep(0.25)
         self.stop()
         raise RuntimeError(f"JupyterLab did not answer within {self.startup_timeout} s:\n{self.log_tail()}")
+
+    def shutdown_sessions(self) -> int:
+        """Close every notebook session (and so its kernel): a finished page leaves no kernel running."""
+        try:
+            with urllib.request.urlopen(self.url("api/sessions"), timeout=10) as r:
+                sessions = json.loads(r.read())
+        except (urllib.error.URLError, ConnectionError, TimeoutError, OSError, ValueError):
+            return 0
+        for s in sessions:
+            req = urllib.request.Request(self.url(f"api/sessions/{s['id']}"), method="DELETE")
+            try:
+                urllib.request.urlopen(req, timeout=15).close()
+            except (urllib.error.URLError, ConnectionError, TimeoutError, OSError):
+                pass
+        return len(sessions)
 
     def log_tail(self, n: int = 4000) -> str:
         try:

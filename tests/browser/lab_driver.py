@@ -102,3 +102,41 @@ def cell_errors(page) -> list[str]:
     """Texts of any error outputs (tracebacks) in the notebook."""
     return page.locator('.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.stderr"], '
                         '.jp-RenderedText[data-mime-type="application/vnd.jupyter.error"]').all_inner_texts()
+
+
+def restart_and_run_all(page, attempts: int = 4) -> None:
+    """Kernel > Restart Kernel and Run All Cells (command ``runmenu:restart-and-run-all``), accepting
+    the "Restart kernel?" dialog; returns once some cell has started ("[*]:")."""
+    for _ in range(attempts):
+        accept_dialogs(page)
+        page.locator(".lm-MenuBar-item", has_text=re.compile(r"^Kernel$")).first.click()
+        item = page.locator('.lm-Menu-item[data-command="runmenu:restart-and-run-all"]')
+        item.wait_for(state="visible", timeout=10_000)
+        if "lm-mod-disabled" in (item.get_attribute("class") or ""):
+            page.keyboard.press("Escape")
+            page.wait_for_timeout(500)
+            continue
+        item.click()
+        accept_dialogs(page, settle_ms=3000)
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline:
+            if any(p == "[*]:" or re.fullmatch(r"\[\d+\]:", p) for p in _prompts(page)):
+                return
+            page.wait_for_timeout(200)
+    raise TimeoutError("Kernel > Restart Kernel and Run All Cells did not start the cells")
+
+
+class ConsoleErrors:
+    """Collect the page's JavaScript console errors and uncaught exceptions from now on."""
+
+    #: Not the panels' doing: the browser's own requests (the favicon) and the offline lab's news.
+    IGNORE = (re.compile(r"favicon"),)
+
+    def __init__(self, page) -> None:
+        self.errors: list[str] = []
+        page.on("console", self._console)
+        page.on("pageerror", lambda exc: self.errors.append(f"uncaught: {exc}"))
+
+    def _console(self, msg) -> None:
+        if msg.type == "error" and not any(p.search(msg.text) for p in self.IGNORE):
+            self.errors.append(msg.text)

@@ -75,7 +75,7 @@ def small(widget: W.DOMWidget, width: str = "210px", label: str = "95px") -> W.D
 def button(label: str, icon: str = "", css: str = "", tip: str = "", style: str = "") -> W.Button:
     """A button whose tooltip says what it does (``tip``; the label when no tip is given)."""
     b = W.Button(description=label, icon=icon, tooltip=tip or label, button_style=style,
-                 layout=W.Layout(width="auto"))
+                 layout=W.Layout(width="auto", flex="0 0 auto"))  # never squeezed into "write cell (FC…"
     if css:
         b.add_class(css)
     return b
