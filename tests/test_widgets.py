@@ -890,3 +890,35 @@ def test_frame_decoder_says_each_error_once_under_its_field():
     assert "mbe-stale" in fd.dissection_view.value and good in fd.dissection_view.value
     fd.text.value = "01 03 00 00 00 01 84 0A"
     assert "mbe-invalid" not in fd.text._dom_classes and fd.dissection_view.value == good
+
+
+def test_text_fields_apply_on_enter_or_tab_not_at_every_keystroke():
+    fb = FrameBuilder()
+    cx = CrcExplorer()
+    tool = TestTool("rtu_master")
+    for box in (fb.unit, fb.address, fb.count, fb.values, cx.text, tool.address, tool.length, tool.unit):
+        assert box.continuous_update is False, box.description
+
+
+def test_a_real_server_clears_a_stale_message_when_requests_arrive():
+    server = TestTool("tcp_server", connection="tcp", host="127.0.0.1", port=0, unit=1, length=4)
+    try:
+        assert server.connect(), server.message.text
+        client = TestTool("tcp_client", connection="tcp", host="127.0.0.1", port=server.port.value, unit=1,
+                          length=4, timeout=2.0)
+        assert client.connect(), client.message.text
+        server.auto_fill_stop()
+        assert server.message.text == "auto fill stopped"
+
+        async def one_tick():
+            task = asyncio.ensure_future(server._tick_loop())
+            await asyncio.sleep(0.1)
+            assert client.poll_once() == [0, 0, 0, 0]
+            await asyncio.sleep(0.7)  # the ticker looks twice a second, on the real clock
+            task.cancel()
+
+        asyncio.run(asyncio.wait_for(one_tick(), timeout=5))
+        assert server.message.text == ""
+        client.disconnect()
+    finally:
+        server.disconnect()

@@ -431,17 +431,25 @@ class ConnectionMixin:
         self._tick_task = loop.create_task(self._tick_loop())
 
     async def _tick_loop(self) -> None:
+        seen = self._requests_seen()
         try:
             while self.server is not None or (self._autofill is not None and self._autofill.running):
                 if self._autofill is not None and self.link is None:
                     with self._lock():
                         self._autofill.update(self.clock.now)
+                if self._requests_seen() != seen:  # requests came in: older info is not the present
+                    seen = self._requests_seen()
+                    self._clear_stale()
                 self.refresh()
                 await asyncio.sleep(0.5)
         except Exception as exc:  # noqa: BLE001
             self.message.error(exc)
         finally:
             self._tick_task = None
+
+    def _requests_seen(self) -> int:
+        """How many requests this tool's slave has received (0 without a slave)."""
+        return self.slave.counters.as_dict().get("requests", 0) if self.slave is not None else 0
 
     def _lock(self) -> Any:
         lock = getattr(self.server, "lock", None)
