@@ -145,8 +145,8 @@ def _function(text: str) -> int:
         if key in names:
             return names[key]
         raise ConfigError(
-            f"unknown function {text!r}: give a code (1, 2, 3, 4, 5, 6, 15, 16) or a name such as "
-            f"read_holding_registers"
+            f"unknown function {text!r}: give a code (1, 2, 3, 4, 5, 6, 7, 15, 16, 17, 22, 23) or a name "
+            f"such as read_holding_registers"
         ) from None
     if code not in _pdu.REQUEST_CLASSES:
         raise ModbusError(
@@ -303,7 +303,17 @@ def cmd_decode(args: argparse.Namespace) -> int:
 
 def _request_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
     cls = _pdu.REQUEST_CLASSES[fc]
+    if fc in (0x07, 0x11):  # the function code alone
+        return cls()
     address = _need(args, "address", fc)
+    if fc == 0x16:  # Mask Write Register: --values AND_MASK,OR_MASK
+        masks = [_int(v, "each of --values") for v in _split_values(_need(args, "values", fc, raw=True))]
+        if len(masks) != 2:
+            raise ConfigError("Mask Write Register takes --values AND_MASK,OR_MASK (two numbers)")
+        return cls(address, *masks)
+    if fc == 0x17:  # Read/Write Multiple Registers: read --count from --address, write --values there
+        items = _split_values(_need(args, "values", fc, raw=True))
+        return cls(address, _need(args, "count", fc), address, [_int(v, "each of --values") for v in items])
     if fc in (1, 2, 3, 4):
         return cls(address=address, count=_need(args, "count", fc))
     if fc == 5:
@@ -320,13 +330,20 @@ def _response_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
     if args.exception is not None:
         return _pdu.ExceptionResponse(function=fc, code=_int(args.exception, "--exception", 1, 255))
     cls = _pdu.RESPONSE_CLASSES[fc]
+    if fc == 0x07:
+        return cls(_int(_need(args, "value", fc, raw=True), "--value", 0, 255))
+    if fc == 0x11:
+        return cls(_ascii_arg(_need(args, "value", fc, raw=True)), True)
     if fc in (1, 2):
         items = _split_values(_need(args, "values", fc, True))
         return cls(bits=[_bit(v, "each of --values") for v in items])
-    if fc in (3, 4):
+    if fc in (3, 4, 0x17):
         items = _split_values(_need(args, "values", fc, True))
         return cls(registers=[_int(v, "each of --values") for v in items])
     address = _need(args, "address", fc)
+    if fc == 0x16:
+        request = _request_pdu(fc, args)
+        return _pdu.MaskWriteRegisterResponse(request.address, request.and_mask, request.or_mask)
     if fc == 5:
         return cls(address=address, value=_bit(_need(args, "value", fc, raw=True)))
     if fc == 6:

@@ -776,8 +776,8 @@ class RtuSplitter(_Splitter):
             return None
         if buf[start + 1] not in self._starts:
             return -1
-        try:  # the function code and at most 5 more bytes decide the length (FC 15/16 byte count)
-            size = _pdu.pdu_length(bytes(buf[start + 1 : start + 7]), self.role)
+        try:  # the function code and at most 9 more bytes decide the length (FC 23: byte count at 9)
+            size = _pdu.pdu_length(bytes(buf[start + 1 : start + 11]), self.role)
         except ModbusError:
             return -1
         if size is None:

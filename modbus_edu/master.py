@@ -286,6 +286,31 @@ class Master:
         """FC 16: set ``len(values)`` holding registers from ``address``."""
         self.execute(unit, _pdu.WriteMultipleRegistersRequest(address=address, values=values))
 
+    def read_exception_status(self, unit: int) -> int:
+        """FC 7 (serial lines): the device's eight exception-status bits, as an int 0..255."""
+        return self._ask(unit, _pdu.ReadExceptionStatusRequest()).status
+
+    def report_server_id(self, unit: int) -> _pdu.ReportServerIdResponse:
+        """FC 17 (serial lines): what the device says it is (``.server_id`` bytes) and ``.run_indicator``."""
+        return self._ask(unit, _pdu.ReportServerIdRequest())
+
+    def mask_write_register(self, unit: int, address: int, and_mask: int, or_mask: int) -> None:
+        """FC 22: change some bits of one holding register, ``(value AND and_mask) OR (or_mask AND NOT
+        and_mask)`` (see :func:`modbus_edu.pdu.mask_write`), without reading it first."""
+        self.execute(unit, _pdu.MaskWriteRegisterRequest(address, and_mask, or_mask))
+
+    def read_write_multiple_registers(self, unit: int, read_address: int, read_count: int, write_address: int,
+                                      values: Any) -> list[int]:
+        """FC 23: write ``values`` from ``write_address``, then read ``read_count`` registers from
+        ``read_address``, in one transaction; returns the registers read."""
+        request = _pdu.ReadWriteMultipleRegistersRequest(read_address, read_count, write_address, values)
+        return list(self._ask(unit, request).registers)
+
+    def _ask(self, unit: int, request: Pdu) -> Any:
+        if self._is_broadcast(unit):
+            raise ConfigError(f"{request.title} cannot be broadcast (unit 0): no slave answers a broadcast")
+        return self.execute(unit, request)
+
     def _is_broadcast(self, unit: int) -> bool:
         """Unit 0 on a serial line is a broadcast; on Modbus/TCP it is the device itself (no broadcast)."""
         return unit == 0 and self.link.mode != "tcp"
@@ -398,7 +423,7 @@ class Master:
         """
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
-        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4):
+        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4, 0x07, 0x11, 0x17):
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         error: ModbusError | None = None
         for attempt in range(self.retries + 1):
@@ -572,6 +597,14 @@ class Master:
             if (response.address, response.value) != (request.address, request.value):
                 return (f"the echo says address {response.address} value {response.value!r}, the request "
                         f"was address {request.address} value {request.value!r}")
+        elif function == 0x16:
+            if response != _pdu.MaskWriteRegisterResponse(request.address, request.and_mask, request.or_mask):
+                return "the echo differs from the request"
+        elif function == 0x17:
+            if len(response.registers) != request.read_count:
+                return f"{len(response.registers)} registers, expected {request.read_count}"
+        elif function in (0x07, 0x11):
+            pass
         elif (response.address, response.count) != (request.address, len(request.values)):
             return (f"the echo says address {response.address} count {response.count}, the request was "
                     f"address {request.address} count {len(request.values)}")

@@ -51,6 +51,8 @@ MAX_WRITE_COILS = 1968
 """Write Multiple Coils: 1 to 1968 coils (0x7B0) per request (246 data bytes)."""
 MAX_WRITE_REGISTERS = 123
 """Write Multiple Registers: 1 to 123 registers (0x7B) per request (246 data bytes)."""
+MAX_READ_WRITE_REGISTERS = 121
+"""Read/Write Multiple Registers (FC 23): 1 to 121 registers written per request (0x79)."""
 MAX_PDU_SIZE = 253
 """A serial ADU is at most 256 bytes: 1 address + 253 PDU + 2 CRC."""
 
@@ -59,7 +61,7 @@ COIL_OFF = 0x0000
 
 
 class FunctionCode(IntEnum):
-    """The eight everyday public function codes."""
+    """The public function codes this library implements: the eight everyday ones, and 7, 17, 22, 23."""
 
     READ_COILS = 0x01
     READ_DISCRETE_INPUTS = 0x02
@@ -67,8 +69,12 @@ class FunctionCode(IntEnum):
     READ_INPUT_REGISTERS = 0x04
     WRITE_SINGLE_COIL = 0x05
     WRITE_SINGLE_REGISTER = 0x06
+    READ_EXCEPTION_STATUS = 0x07
     WRITE_MULTIPLE_COILS = 0x0F
     WRITE_MULTIPLE_REGISTERS = 0x10
+    REPORT_SERVER_ID = 0x11
+    MASK_WRITE_REGISTER = 0x16
+    READ_WRITE_MULTIPLE_REGISTERS = 0x17
 
     @property
     def title(self) -> str:
@@ -1017,14 +1023,307 @@ class ExceptionResponse(Pdu):
         return f"Exception response to {function_title(self.function)}: code {self.code:02X}, {self.meaning}"
 
 
+# --- beyond the eight: FC 7, 17, 22, 23 -----------------------------------------------------------------
+
+class _NoDataRequest(Pdu):
+    """A request that is its function code alone (FC 7, FC 17)."""
+
+    __slots__ = ()
+    role: ClassVar[str] = "request"
+    function_code: ClassVar[int]
+
+    def encode(self) -> bytes:
+        return bytes([self.function_code])
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 1, f"{function_title(cls.function_code)} request", offset)
+        return cls()
+
+    def fields(self) -> list[Field]:
+        return [self._function_field(self.encode())]
+
+
+@dataclass(frozen=True, slots=True)
+class ReadExceptionStatusRequest(_NoDataRequest):
+    """Read Exception Status (FC 07) request, serial line only: the function code alone::
+
+        offset  size  field
+        0       1     function code 0x07
+    """
+
+    function_code: ClassVar[int] = 0x07
+
+
+@dataclass(frozen=True, slots=True)
+class ReadExceptionStatusResponse(Pdu):
+    """Read Exception Status (FC 07) response: eight status bits the device defines::
+
+        offset  size  field
+        0       1     function code 0x07
+        1       1     output data: the exception status byte (bit 0 = the device's first status flag)
+    """
+
+    status: int
+
+    function_code: ClassVar[int] = 0x07
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        status = _check_int(self.status, "status")
+        if not 0 <= status <= 0xFF:
+            raise ValueRangeError(f"exception status {status} does not fit its one byte: expected 0..255")
+
+    def encode(self) -> bytes:
+        return bytes([0x07, self.status])
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 2, "Read Exception Status response", offset)
+        return cls(data[1])
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:2], "exception status", self.status, f"bits {self.status:08b} (bit 0 last)")]
+
+    def _summary_items(self):
+        return [("status", f"0b{self.status:08b}")]
+
+
+@dataclass(frozen=True, slots=True)
+class ReportServerIdRequest(_NoDataRequest):
+    """Report Server ID (FC 17, 0x11) request, serial line only: the function code alone::
+
+        offset  size  field
+        0       1     function code 0x11
+    """
+
+    function_code: ClassVar[int] = 0x11
+
+
+@dataclass(frozen=True, slots=True)
+class ReportServerIdResponse(Pdu):
+    """Report Server ID (FC 17, 0x11) response: what the device says it is, and whether it runs::
+
+        offset  size  field
+        0       1     function code 0x11
+        1       1     byte count N + 1
+        2       N     server ID (device specific bytes)
+        2+N     1     run indicator status: 0xFF ON, 0x00 OFF
+    """
+
+    server_id: bytes
+    run_indicator: bool = True
+
+    function_code: ClassVar[int] = 0x11
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.server_id, (bytes, bytearray)):
+            raise ValueRangeError(f"server_id must be bytes, got {shown(self.server_id)}")
+        if len(self.server_id) > 250:
+            raise ValueRangeError(f"server_id has {len(self.server_id)} bytes: at most 250 fit a response")
+        if not isinstance(self.run_indicator, bool):
+            raise ValueRangeError(f"run_indicator must be True or False, got {shown(self.run_indicator)}")
+        object.__setattr__(self, "server_id", bytes(self.server_id))
+
+    def encode(self) -> bytes:
+        run = b"\xff" if self.run_indicator else b"\x00"
+        return bytes([0x11, len(self.server_id) + 1]) + self.server_id + run
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Report Server ID response"
+        _expect_minimum(data, 3, name, offset)
+        _expect_byte_count(data, 2, data[1], name, offset)
+        run = data[-1]
+        if run not in (0x00, 0xFF):
+            raise ValueRangeError(f"at byte {offset + len(data) - 1}: run indicator 0x{run:02X}, expected "
+                                  "0xFF (ON) or 0x00 (OFF)")
+        return cls(bytes(data[2:-1]), run == 0xFF)
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        end = 2 + len(self.server_id)
+        text = self.server_id.decode("ascii", "replace")
+        return [self._function_field(raw),
+                Field(1, raw[1:2], "byte count", raw[1], "server ID + run indicator"),
+                Field(2, raw[2:end], "server ID", self.server_id.hex(" ").upper(), f"as text: {text!r}"),
+                Field(end, raw[end:], "run indicator", self.run_indicator,
+                      "0xFF: ON, the device runs" if self.run_indicator else "0x00: OFF")]
+
+    def _summary_items(self):
+        return [("server_id", self.server_id), ("run_indicator", self.run_indicator)]
+
+
+@dataclass(frozen=True, slots=True)
+class _MaskWriteRegister(Pdu):
+    address: int
+    and_mask: int
+    or_mask: int
+
+    function_code: ClassVar[int] = 0x16
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        object.__setattr__(self, "and_mask", _check_register(self.and_mask))
+        object.__setattr__(self, "or_mask", _check_register(self.or_mask))
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHHH", 0x16, self.address, self.and_mask, self.or_mask)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 7, f"Mask Write Register {cls.role}", offset)
+        _fc, address, and_mask, or_mask = struct.unpack(">BHHH", data)
+        return cls(address, and_mask, or_mask)
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "reference address", self.address, "0-based holding register address"),
+                Field(3, raw[3:5], "AND mask", self.and_mask, f"0x{self.and_mask:04X}: bits kept"),
+                Field(5, raw[5:7], "OR mask", self.or_mask,
+                      f"0x{self.or_mask:04X}: bits set (where not kept)")]
+
+    def _summary_items(self):
+        return [("address", self.address), ("and_mask", f"0x{self.and_mask:04X}"),
+                ("or_mask", f"0x{self.or_mask:04X}")]
+
+
+def mask_write(current: int, and_mask: int, or_mask: int) -> int:
+    """The register value after FC 22: ``(current AND and_mask) OR (or_mask AND NOT and_mask)``.
+
+    The specification's example: ``mask_write(0x12, 0xF2, 0x25)`` is ``0x17``."""
+    return (current & and_mask) | (or_mask & ~and_mask & 0xFFFF)
+
+
+@dataclass(frozen=True, slots=True)
+class MaskWriteRegisterRequest(_MaskWriteRegister):
+    """Mask Write Register (FC 22, 0x16) request: change some bits of one holding register::
+
+        offset  size  field
+        0       1     function code 0x16
+        1       2     reference address
+        3       2     AND mask
+        5       2     OR mask
+
+    The register becomes ``(current AND and_mask) OR (or_mask AND NOT and_mask)`` (see :func:`mask_write`).
+    """
+
+    role: ClassVar[str] = "request"
+
+
+@dataclass(frozen=True, slots=True)
+class MaskWriteRegisterResponse(_MaskWriteRegister):
+    """Mask Write Register (FC 22, 0x16) response: an echo of the request (same layout)."""
+
+    role: ClassVar[str] = "response"
+
+
+@dataclass(frozen=True, slots=True)
+class ReadWriteMultipleRegistersRequest(Pdu):
+    """Read/Write Multiple Registers (FC 23, 0x17) request: a write, then a read, in one transaction::
+
+        offset  size  field
+        0       1     function code 0x17
+        1       2     read starting address
+        3       2     quantity to read (1-125)
+        5       2     write starting address
+        7       2     quantity to write (1-121)
+        9       1     write byte count 2 x N
+        10      2N    write register values, each high byte first
+
+    The server writes first, then reads (the read sees the values just written).
+    """
+
+    read_address: int
+    read_count: int
+    write_address: int
+    values: tuple[int, ...]
+
+    function_code: ClassVar[int] = 0x17
+    role: ClassVar[str] = "request"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "read_address", _check_address(self.read_address))
+        object.__setattr__(self, "read_count", _check_quantity(self.read_count, MAX_READ_REGISTERS,
+                                                                "registers to read", "read_count"))
+        _check_span(self.read_address, self.read_count, "register")
+        object.__setattr__(self, "write_address", _check_address(self.write_address))
+        values = _check_registers(self.values, "values")
+        _check_quantity(len(values), MAX_READ_WRITE_REGISTERS, "registers to write", "len(values)")
+        _check_span(self.write_address, len(values), "register")
+        object.__setattr__(self, "values", values)
+
+    def encode(self) -> bytes:
+        count = len(self.values)
+        return struct.pack(f">BHHHHB{count}H", 0x17, self.read_address, self.read_count, self.write_address,
+                           count, 2 * count, *self.values)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Read/Write Multiple Registers request"
+        _expect_minimum(data, 10, name, offset)
+        _fc, read_address, read_count, write_address, count, byte_count = struct.unpack(">BHHHHB", data[:10])
+        if not 1 <= read_count <= MAX_READ_REGISTERS:
+            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: quantity to read is {read_count}, "
+                                f"expected 1 to {MAX_READ_REGISTERS}")
+        if not 1 <= count <= MAX_READ_WRITE_REGISTERS:
+            raise QuantityError(f"at bytes {offset + 7}-{offset + 8}: quantity to write is {count}, "
+                                f"expected 1 to {MAX_READ_WRITE_REGISTERS}")
+        if byte_count != 2 * count:
+            raise ByteCountError(f"at byte {offset + 9}: write byte count {byte_count}, expected {2 * count} "
+                                 f"for {count} registers")
+        _expect_byte_count(data, 10, byte_count, name, offset)
+        try:
+            return cls(read_address, read_count, write_address, struct.unpack(f">{count}H", data[10:]))
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 8}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:3], "read starting address", self.read_address, "0-based holding register"),
+                Field(3, raw[3:5], "quantity to read", self.read_count, "1-125"),
+                Field(5, raw[5:7], "write starting address", self.write_address, "0-based holding register"),
+                Field(7, raw[7:9], "quantity to write", len(self.values), "1-121"),
+                Field(9, raw[9:10], "write byte count", raw[9], "2 bytes per register")]
+        for index, value in enumerate(self.values):
+            at = 10 + 2 * index
+            rows.append(Field(at, raw[at:at + 2], f"write register {index}", value,
+                              f"0x{value:04X} = {value} (high byte first)"))
+        return rows
+
+    def _summary_items(self):
+        return [("read_address", self.read_address), ("read_count", self.read_count),
+                ("write_address", self.write_address), ("values", list(self.values))]
+
+
+@dataclass(frozen=True, slots=True)
+class ReadWriteMultipleRegistersResponse(_ReadRegistersResponse):
+    """Read/Write Multiple Registers (FC 23, 0x17) response: the registers read (after the write)::
+
+        offset  size  field
+        0       1     function code 0x17
+        1       1     byte count 2 x N
+        2       2N    register values, each high byte first
+    """
+
+    function_code: ClassVar[int] = 0x17
+
+
 REQUEST_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadCoilsRequest, ReadDiscreteInputsRequest, ReadHoldingRegistersRequest, ReadInputRegistersRequest,
     WriteSingleCoilRequest, WriteSingleRegisterRequest, WriteMultipleCoilsRequest,
-    WriteMultipleRegistersRequest)}
+    WriteMultipleRegistersRequest, ReadExceptionStatusRequest, ReportServerIdRequest,
+    MaskWriteRegisterRequest, ReadWriteMultipleRegistersRequest)}
 RESPONSE_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadCoilsResponse, ReadDiscreteInputsResponse, ReadHoldingRegistersResponse, ReadInputRegistersResponse,
     WriteSingleCoilResponse, WriteSingleRegisterResponse, WriteMultipleCoilsResponse,
-    WriteMultipleRegistersResponse)}
+    WriteMultipleRegistersResponse, ReadExceptionStatusResponse, ReportServerIdResponse,
+    MaskWriteRegisterResponse, ReadWriteMultipleRegistersResponse)}
 
 ROLES = ("request", "response")
 
@@ -1084,8 +1383,9 @@ def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
 def pdu_length(data: bytes, role: str) -> int | None:
     """The total length of the PDU that starts ``data``, or None if more bytes are needed to know.
 
-    Requests of functions 1-6 are 5 bytes; FC 15 and 16 requests are 6 + byte count.  Responses of
-    functions 1-4 are 2 + byte count; of 5, 6, 15, 16 five bytes; exception responses two.  This is how
+    Requests of functions 1-6 are 5 bytes; FC 15 and 16 requests are 6 + byte count, FC 23 10 + byte
+    count, FC 22 seven bytes, FC 7 and 17 one.  Responses of functions 1-4, 17 and 23 are 2 + byte
+    count; of 5, 6, 15, 16 five bytes; FC 22 seven, FC 7 two; exception responses two.  This is how
     a receiver finds the end of an RTU frame without relying on silence on the line.
     """
     _check_role(role)
@@ -1096,13 +1396,23 @@ def pdu_length(data: bytes, role: str) -> int | None:
     if role == "response":
         if function & 0x80:
             return 2
-        if function in (1, 2, 3, 4):
+        if function in (1, 2, 3, 4, 0x11, 0x17):
             return 2 + data[1] if len(data) >= 2 else None
         if function in (5, 6, 15, 16):
             return 5
+        if function == 0x07:
+            return 2
+        if function == 0x16:
+            return 7
     else:
         if function in (1, 2, 3, 4, 5, 6):
             return 5
         if function in (15, 16):
             return 6 + data[5] if len(data) >= 6 else None
+        if function in (0x07, 0x11):
+            return 1
+        if function == 0x16:
+            return 7
+        if function == 0x17:
+            return 10 + data[9] if len(data) >= 10 else None
     raise _unknown(function, 0, role)

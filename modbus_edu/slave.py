@@ -74,7 +74,7 @@ __all__ = ["Slave", "SlaveCounters", "dispatch"]
 ReadHook = Callable[["Slave", str, int, int], Any]
 WriteHook = Callable[["Slave", str, int, list], Any]
 
-_WRITE_FUNCTIONS = frozenset({5, 6, 15, 16})
+_WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 0x16})
 
 
 @dataclass
@@ -164,6 +164,9 @@ class Slave:
         on_read: ReadHook | None = None,
         on_write: WriteHook | None = None,
         name: str | None = None,
+        server_id: bytes | None = None,
+        run_indicator: bool = True,
+        exception_status: int = 0,
     ) -> None:
         if unit is not None and (isinstance(unit, bool) or not isinstance(unit, int) or not 1 <= unit <= 255):
             raise ConfigError(
@@ -196,6 +199,14 @@ class Slave:
         self.on_read = on_read
         self.on_write = on_write
         self.name = name or (f"slave {unit}" if unit is not None else "slave (any unit)")
+        self.server_id = bytes(server_id) if server_id is not None else f"modbus_edu {self.name}".encode()
+        """What Report Server ID (FC 17) answers: device-specific bytes (default: the slave's name)."""
+        self.run_indicator = run_indicator
+        """FC 17's run indicator: True (0xFF, the device runs) or False (0x00)."""
+        self.exception_status = exception_status
+        """FC 7's eight status bits, 0..255, which the device defines (0 by default: nothing to report)."""
+        _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)  # checks both (a ValueRangeError)
+        _pdu.ReadExceptionStatusResponse(self.exception_status)
         self.counters = SlaveCounters()
         self.log = TrafficLog(maxlen=1000)
         """The newest 1000 frames this slave received (``rx``) and sent (``tx``)."""
@@ -397,6 +408,12 @@ class Slave:
 
     def _execute(self, request: Any) -> Pdu:
         function = request.function_code
+        if function == 0x07:
+            return _pdu.ReadExceptionStatusResponse(self.exception_status)
+        if function == 0x11:
+            return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
+        if function in (0x16, 0x17):
+            return self._execute_registers(request)
         kind = table_kind(function)
         table = self.bank.table(kind)
         if function in (1, 2, 3, 4):
@@ -415,6 +432,25 @@ class Slave:
         table.write(request.address, values)
         self.after_write(kind, request.address, values)
         return _pdu.RESPONSE_CLASSES[function](address=request.address, count=len(values))
+
+    def _execute_registers(self, request: Any) -> Pdu:
+        """FC 22 (mask write one register) and FC 23 (write, then read, holding registers)."""
+        kind = "holding_registers"
+        table = self.bank.table(kind)
+        if request.function_code == 0x16:
+            self.before_read(kind, request.address, 1)
+            current = table.read(request.address, 1)[0]
+            value = _pdu.mask_write(current, request.and_mask, request.or_mask)
+            table.write(request.address, [value])
+            self.after_write(kind, request.address, [value])
+            return _pdu.MaskWriteRegisterResponse(request.address, request.and_mask, request.or_mask)
+        table.read(request.read_address, request.read_count)  # both ranges exist, or nothing is written
+        values = list(request.values)
+        table.write(request.write_address, values)
+        self.after_write(kind, request.write_address, values)
+        self.before_read(kind, request.read_address, request.read_count)
+        registers = table.read(request.read_address, request.read_count)
+        return _pdu.ReadWriteMultipleRegistersResponse(registers=tuple(registers))
 
     # -- hooks ----------------------------------------------------------------------------------
     def before_read(self, table_kind: str, address: int, count: int) -> None:

@@ -266,7 +266,7 @@ def test_decode_bad_crc_shows_the_table_and_fails():
     register((), [
         (["decode", "010300000001840"], 1, "odd number of hex digits"),
         (["decode", "01 03 zz"], 1, "not a hex digit"),
-        (["decode", "01 07 41 E2"], 1, "function code 0x07"),
+        (["decode", "01 08 01 E6"], 1, "function code 0x08"),
         (["decode", "--mode", "foo", "01"], 2, "invalid choice"),
         (["decode", "--role", "both", "01"], 2, "invalid choice"),
         (["decode", "-"], 1, "no frames"),
@@ -307,7 +307,7 @@ def test_build_writes_and_responses():
 @pytest.mark.parametrize(
     "args, code, message",
     register(("build",), [
-        (["--function", "7", "--address", "0", "--count", "1"], 1, "function 7"),
+        (["--function", "8", "--address", "0", "--count", "1"], 1, "function 8"),
         (["--function", "read_everything"], 1, "unknown function"),
         (["--function", "3", "--address", "0"], 1, "needs --count"),
         (["--function", "3", "--address", "0", "--count", "200"], 1, "quantity"),
@@ -581,3 +581,14 @@ def test_decode_reads_standard_input_line_by_line_and_refuses_a_huge_line():
     several = json.loads(run("decode", "-", "--json", stdin="01 03 00 00 00 01 84 0A\n" * 3).stdout)
     one = json.loads(run("decode", "-", "--json", stdin="01 03 00 00 00 01 84 0A\n").stdout)
     assert isinstance(several, list) and len(several) == 3 and one == several[0]
+
+
+@pytest.mark.parametrize(("args", "expected"), [
+    (("build", "--function", "22", "--address", "4", "--values", "0xF2,0x25"),
+     "01 16 00 04 00 F2 00 25 67 EE"),
+    (("build", "--function", "7"), "01 07 41 E2"),
+    (("build", "--function", "7", "--role", "response", "--value", "0x6D"), "01 07 6D E3 DD"),
+])
+def test_build_knows_the_functions_beyond_the_eight(args, expected):
+    assert ok(*args).splitlines()[0] == expected
+    assert "Mask Write Register" in ok("decode", "01 16 00 04 00 F2 00 25 67 EE")

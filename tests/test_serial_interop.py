@@ -85,12 +85,13 @@ def test_pymodbus_serial_client_drives_our_serial_server(mode):
                 0, 100, 200, 300]
             bad = client.read_holding_registers(65535, count=2, device_id=3)  # runs past 65535
             assert isinstance(bad, PymodbusException) and bad.exception_code == 0x02
-            bad = client.read_exception_status(device_id=3)
+            assert client.read_exception_status(device_id=3).status == 0  # FC 7: nothing to report
+            bad = client.read_fifo_queue(address=0, device_id=3)  # FC 24: not implemented here
             assert isinstance(bad, PymodbusException) and bad.exception_code == 0x01
         finally:
             client.close()
     assert slave.bank.holding_registers.read(20, 3) == [5, 6, 7]
-    assert server.counters.responses == 11
+    assert server.counters.responses == 12
     assert slave.counters.checksum_errors == 0
 
 

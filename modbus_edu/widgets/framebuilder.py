@@ -10,7 +10,7 @@ import ipywidgets as W
 
 from ..errors import ModbusError, ValueFormatError
 from ..explain import Dissection, explain
-from ..framing import Frame, make_frame
+from ..framing import Frame, make_frame, parse_hex
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu, request_class, response_class
 from .common import (
     MessageLine,
@@ -68,6 +68,14 @@ FIELDS: dict[str, FieldSpec] = {
     "bits": FieldSpec("bits", "bits", "1, 0, 1, 1  (first bit first)", width="420px"),
     "registers": FieldSpec("registers", "ints", "1234, 0x04D2", width="420px"),
     "exception_code": FieldSpec("exception code", "exception", width="420px"),
+    "and_mask": FieldSpec("AND mask", tooltip="FC 22: the bits of the register that are kept"),
+    "or_mask": FieldSpec("OR mask", tooltip="FC 22: the bits set where the AND mask has 0"),
+    "read_address": FieldSpec("read address", tooltip="FC 23: first register read (after the write)"),
+    "read_count": FieldSpec("read quantity", tooltip="FC 23: 1..125 registers read"),
+    "write_address": FieldSpec("write address", tooltip="FC 23: first register written"),
+    "status": FieldSpec("exception status", tooltip="FC 7: eight status bits, 0..255"),
+    "server_id": FieldSpec("server ID", "hex", "bytes in hex, e.g. 4D 45 54 45 52", width="420px"),
+    "run_indicator": FieldSpec("run indicator", "run", "FF: the device runs, 00: it does not"),
 }
 
 #: When the library's message names no field shown, the field its error class is about.
@@ -158,7 +166,8 @@ class FrameBuilder(StaticText, W.VBox):
         self.transaction_id = text_field("transaction id", transaction_id, css="mbe-field-transaction-id",
                                          tooltip="MBAP transaction identifier (TCP only), 0..65535")
         initial = {"address": address, "count": count, "value": value, "coil": bool(coil), "bits": bits,
-                   "registers": registers, "exception_code": int(exception_code), "values": ""}
+                   "registers": registers, "exception_code": int(exception_code), "values": "",
+                   "read_count": 1}
         self._field_inputs: list[W.DOMWidget] = []
         self._error_labels: dict[str, W.HTML] = {}
         self._rows: dict[str, W.HBox] = {}
@@ -167,7 +176,8 @@ class FrameBuilder(StaticText, W.VBox):
         self.field_notes: dict[str, str] = {}
         """A warning shown beside a field whose frame still builds (a reserved unit, say)."""
         for name in FIELDS:
-            setattr(self, name, self._make_input(name, initial[name]))
+            default = "" if FIELDS[name].kind == "hex" else True if FIELDS[name].kind == "run" else 0
+            setattr(self, name, self._make_input(name, initial.get(name, default)))
         # FC15 takes coil values, FC16 register values: the field remembers the text of each kind
         self._values_text = {"bits": "1, 0, 1, 1", "registers": "10, 258"}
         self._values_kind: str | None = None
@@ -213,6 +223,8 @@ class FrameBuilder(StaticText, W.VBox):
         if spec.kind == "bool":
             box: W.DOMWidget = dropdown(spec.label, [("ON (FF 00)", True), ("OFF (00 00)", False)],
                                         bool(initial), css=css)
+        elif spec.kind == "run":
+            box = dropdown(spec.label, [("ON (FF)", True), ("OFF (00)", False)], True, css=css)
         elif spec.kind == "exception":
             box = dropdown(spec.label, EXCEPTION_OPTIONS, int(initial), css=css, width=spec.width)
         else:
@@ -290,7 +302,8 @@ class FrameBuilder(StaticText, W.VBox):
                 out[f.name] = self.coil
             else:
                 if not hasattr(self, f.name):  # a field FIELDS does not list: a box named after it
-                    setattr(self, f.name, self._make_input(f.name, 0))
+                    kind = FIELDS.get(f.name, FieldSpec("")).kind
+                    setattr(self, f.name, self._make_input(f.name, "" if kind == "hex" else 0))
                     self.right.children = [*self.right.children, self._rows[f.name]]
                     self._quiet = True
                     getattr(self, f.name).observe(
@@ -351,6 +364,8 @@ class FrameBuilder(StaticText, W.VBox):
             try:
                 if isinstance(box, W.Dropdown):
                     kwargs[name] = box.value
+                elif FIELDS.get(key, FieldSpec("")).kind == "hex":
+                    kwargs[name] = parse_hex(box.value)
                 elif name in ("values", "bits") or FIELDS.get(key, FieldSpec("")).kind in ("bits", "ints"):
                     kwargs[name] = (parse_bit_list(box.value, label) if self._is_bits(name)
                                     else parse_int_list(box.value, label))
