@@ -241,11 +241,16 @@ def test_widgets_render_and_respond_in_jupyterlab(lab):
 @pytest.mark.parametrize("notebook", _panel_notebooks(), ids=lambda p: p.stem)
 def test_every_course_panel_fits_the_screen_after_restart_and_run_all(lab, notebook):
     started = time.monotonic()
-    nb = copy_notebook(notebook, lab.root_dir)
+    nb = copy_notebook(notebook, lab.root_dir, clear=True)
     page, console = _open(lab, nb)
     try:
         lab_driver.restart_and_run_all(page)
         lab_driver.wait_all_cells_ran(page, timeout_s=RUN_ALL_TIMEOUT_S)
+        # every view drawn (the widget manager renders the last outputs a moment after the kernel idles)
+        page.wait_for_function(
+            "sel => [...document.querySelectorAll(sel)].every("
+            "el => el.querySelector('input, select, textarea, button'))",
+            arg=panels.PANEL_SELECTOR, timeout=30_000)
         found = page.locator(panels.PANEL_SELECTOR)
         # the TestTool's and the dashboard's inner boxes are not panels of their own
         all_panels = [p for p in found.all() if p.evaluate(

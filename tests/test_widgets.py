@@ -481,8 +481,11 @@ def test_editing_a_slave_cell_is_served_at_once():
     master.poll_once()
     assert master.values[2] == 0xFFFE
     slave._cells[3].value = "not a number"
-    assert slave.message.kind == "error" and slave.bank.holding_registers[3] == 130
+    assert slave.grid_message.kind == "error" and slave.bank.holding_registers[3] == 130
+    assert slave.message.kind != "error"  # said once, under the grid it is about
     assert slave._cells[3].value == "130"  # the cell shows the table again
+    slave._cells[3].value = "131"
+    assert slave.grid_message.text == "" and slave.bank.holding_registers[3] == 131
 
 
 def test_dummy_data_random_fill_is_seeded_and_auto_fill_runs_on_the_wire_clock():

@@ -192,9 +192,17 @@ class JupyterLab:
         self.stop()
 
 
-def copy_notebook(src: Path, dest_dir: Path) -> Path:
-    """Copy the test notebook into the server's root, naming the private kernel in its metadata."""
+def copy_notebook(src: Path, dest_dir: Path, clear: bool = False) -> Path:
+    """Copy the test notebook into the server's root, naming the private kernel in its metadata.
+
+    ``clear``: without stored outputs, execution counts or widget state, so that whatever the page
+    shows after a run was made by that run."""
     nb = json.loads(src.read_text())
+    if clear:
+        nb.get("metadata", {}).pop("widgets", None)
+        for cell in nb.get("cells", []):
+            if cell.get("cell_type") == "code":
+                cell["outputs"], cell["execution_count"] = [], None
     nb.setdefault("metadata", {})["kernelspec"] = {
         "name": KERNEL_NAME, "display_name": "modbus_edu test (project venv)", "language": "python",
     }

@@ -85,15 +85,26 @@ def run_all_cells(page, attempts: int = 4) -> None:
 def wait_all_cells_ran(page, timeout_s: float = 60.0) -> list[str]:
     """Wait until every code cell shows an execution count ("[n]:"), then for the kernel to be idle.
 
+    Cells run in order, so once the last cell has its number and the kernel has stayed idle for a few
+    seconds, an earlier prompt still showing "[*]:" is a prompt the page did not redraw: accepted.
     Returns the prompts it saw.
     """
     deadline = time.monotonic() + timeout_s
     prompts: list[str] = []
+    idle_since = None
     while time.monotonic() < deadline:
         prompts = _prompts(page)
-        if prompts and all(re.fullmatch(r"\[\d+\]:", p) for p in prompts):
+        numbered = [bool(re.fullmatch(r"\[\d+\]:", p)) for p in prompts]
+        if prompts and all(numbered):
             wait_kernel_idle(page, int(max(1.0, deadline - time.monotonic()) * 1000))
             return prompts
+        idle = page.locator('.jp-Notebook-ExecutionIndicator[data-status="idle"]').count() > 0
+        if prompts and numbered[-1] and idle:
+            idle_since = idle_since or time.monotonic()
+            if time.monotonic() - idle_since > 3:
+                return prompts
+        else:
+            idle_since = None
         time.sleep(0.2)
     raise TimeoutError(f"cells did not finish running; prompts: {prompts}")
 

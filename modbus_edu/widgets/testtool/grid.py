@@ -90,7 +90,7 @@ class GridMixin:
 
         A wide format (say ``float32_ABCD``) writes all the registers of the value.  A slave serves the
         new value at once; a master keeps it for *write cell* / *write cells*.  Returns False (and
-        says why on the message line) when the text does not fit the format.
+        says why under the grid, beside the cells and the write fields) when the text does not fit.
         """
         table = self.table
         try:
@@ -105,7 +105,7 @@ class GridMixin:
             with self._lock():
                 table.write(address, new)
         except ModbusError as exc:
-            self.message.error(exc)
+            self.grid_message.error(exc)  # under the grid, once (not also on the header's line)
             self._render_grid()
             return False
         previous, self._updating = self._updating, True
@@ -115,6 +115,7 @@ class GridMixin:
             self._updating = previous
         self._selected_changed()
         self._render_grid()
+        self.grid_message.clear()
         self.message.show(f"cell {address} = {text}", "info")
         return True
 

@@ -249,6 +249,8 @@ class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
                               "60px")
         self.grid = W.VBox(layout=W.Layout(max_height=GRID_HEIGHT, overflow="auto"))  # scrolls past 8 rows
         self.grid.add_class("mbe-tt-grid")
+        self.grid_message = MessageLine()  # errors of a cell or of the write fields, right beside them
+        self.grid_message.add_class("mbe-tt-grid-message")
         self._cells: list[W.Text] = []
         self._grid_shape: tuple | None = None
         self.selected = small(W.BoundedIntText(value=0, min=0, max=65535, description="cell address"))
@@ -335,6 +337,7 @@ class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
             row(self.display),
             self.grid,
             self.write_box,
+            self.grid_message,
             section("Dummy data"),
             row(self.random_button, self.fill_start, self.increment, self.fill_step, self.fill_button),
             row(self.auto_interval, self.auto_start_button, self.auto_stop_button, self.auto_state),
