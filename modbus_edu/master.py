@@ -306,6 +306,10 @@ class Master:
         request = _pdu.ReadWriteMultipleRegistersRequest(read_address, read_count, write_address, values)
         return list(self._ask(unit, request).registers)
 
+    def read_fifo_queue(self, unit: int, address: int) -> list[int]:
+        """FC 24: the queue whose count is in holding register ``address`` (its values follow it)."""
+        return list(self._ask(unit, _pdu.ReadFifoQueueRequest(address)).values)
+
     def _ask(self, unit: int, request: Pdu) -> Any:
         if self._is_broadcast(unit):
             raise ConfigError(f"{request.title} cannot be broadcast (unit 0): no slave answers a broadcast")
@@ -423,7 +427,7 @@ class Master:
         """
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
-        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4, 0x07, 0x11, 0x17):
+        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4, 0x07, 0x11, 0x17, 0x18):
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         error: ModbusError | None = None
         for attempt in range(self.retries + 1):
@@ -603,7 +607,7 @@ class Master:
         elif function == 0x17:
             if len(response.registers) != request.read_count:
                 return f"{len(response.registers)} registers, expected {request.read_count}"
-        elif function in (0x07, 0x11):
+        elif function in (0x07, 0x11, 0x18):
             pass
         elif (response.address, response.count) != (request.address, len(request.values)):
             return (f"the echo says address {response.address} count {response.count}, the request was "

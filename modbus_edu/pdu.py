@@ -75,6 +75,7 @@ class FunctionCode(IntEnum):
     REPORT_SERVER_ID = 0x11
     MASK_WRITE_REGISTER = 0x16
     READ_WRITE_MULTIPLE_REGISTERS = 0x17
+    READ_FIFO_QUEUE = 0x18
 
     @property
     def title(self) -> str:
@@ -1314,16 +1315,107 @@ class ReadWriteMultipleRegistersResponse(_ReadRegistersResponse):
     function_code: ClassVar[int] = 0x17
 
 
+MAX_FIFO_COUNT = 31
+"""Read FIFO Queue (FC 24): a queue holds at most 31 values (more is exception 03)."""
+
+
+@dataclass(frozen=True, slots=True)
+class ReadFifoQueueRequest(Pdu):
+    """Read FIFO Queue (FC 24, 0x18) request::
+
+        offset  size  field
+        0       1     function code 0x18
+        1       2     FIFO pointer address (the register that holds the queue's count)
+    """
+
+    address: int
+
+    function_code: ClassVar[int] = 0x18
+    role: ClassVar[str] = "request"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+
+    def encode(self) -> bytes:
+        return struct.pack(">BH", 0x18, self.address)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 3, "Read FIFO Queue request", offset)
+        return cls(struct.unpack(">H", data[1:3])[0])
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "FIFO pointer address", self.address, "the register holding the count")]
+
+    def _summary_items(self):
+        return [("address", self.address)]
+
+
+@dataclass(frozen=True, slots=True)
+class ReadFifoQueueResponse(Pdu):
+    """Read FIFO Queue (FC 24, 0x18) response: the queue's values, oldest first::
+
+        offset  size  field
+        0       1     function code 0x18
+        1       2     byte count 2 + 2N (two bytes: this function's count is a word)
+        3       2     FIFO count N (0-31)
+        5       2N    FIFO values, each high byte first
+    """
+
+    values: tuple[int, ...]
+
+    function_code: ClassVar[int] = 0x18
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        values = () if self.values == () else _check_registers(self.values, "values")
+        if len(values) > MAX_FIFO_COUNT:
+            raise QuantityError(f"a FIFO queue holds at most {MAX_FIFO_COUNT} values, got {len(values)}")
+        object.__setattr__(self, "values", tuple(values))
+
+    def encode(self) -> bytes:
+        count = len(self.values)
+        return struct.pack(f">BHH{count}H", 0x18, 2 + 2 * count, count, *self.values)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Read FIFO Queue response"
+        _expect_minimum(data, 5, name, offset)
+        byte_count, count = struct.unpack(">HH", data[1:5])
+        if count > MAX_FIFO_COUNT:
+            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: FIFO count {count}, expected 0 to 31")
+        if byte_count != 2 + 2 * count:
+            raise ByteCountError(f"at bytes {offset + 1}-{offset + 2}: byte count {byte_count}, expected "
+                                 f"{2 + 2 * count} for {count} values")
+        _expect_length(data, 3 + byte_count, name, offset)
+        return cls(struct.unpack(f">{count}H", data[5:]))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:3], "byte count", 2 + 2 * len(self.values), "FIFO count + values (2 bytes)"),
+                Field(3, raw[3:5], "FIFO count", len(self.values), "values in the queue (0-31)")]
+        for index, value in enumerate(self.values):
+            at = 5 + 2 * index
+            rows.append(Field(at, raw[at:at + 2], f"FIFO value {index}", value, f"0x{value:04X} = {value}"))
+        return rows
+
+    def _summary_items(self):
+        return [("values", list(self.values))]
+
+
 REQUEST_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadCoilsRequest, ReadDiscreteInputsRequest, ReadHoldingRegistersRequest, ReadInputRegistersRequest,
     WriteSingleCoilRequest, WriteSingleRegisterRequest, WriteMultipleCoilsRequest,
     WriteMultipleRegistersRequest, ReadExceptionStatusRequest, ReportServerIdRequest,
-    MaskWriteRegisterRequest, ReadWriteMultipleRegistersRequest)}
+    MaskWriteRegisterRequest, ReadWriteMultipleRegistersRequest, ReadFifoQueueRequest)}
 RESPONSE_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadCoilsResponse, ReadDiscreteInputsResponse, ReadHoldingRegistersResponse, ReadInputRegistersResponse,
     WriteSingleCoilResponse, WriteSingleRegisterResponse, WriteMultipleCoilsResponse,
     WriteMultipleRegistersResponse, ReadExceptionStatusResponse, ReportServerIdResponse,
-    MaskWriteRegisterResponse, ReadWriteMultipleRegistersResponse)}
+    MaskWriteRegisterResponse, ReadWriteMultipleRegistersResponse, ReadFifoQueueResponse)}
 
 ROLES = ("request", "response")
 
@@ -1404,6 +1496,8 @@ def pdu_length(data: bytes, role: str) -> int | None:
             return 2
         if function == 0x16:
             return 7
+        if function == 0x18:
+            return 3 + int.from_bytes(data[1:3], "big") if len(data) >= 3 else None
     else:
         if function in (1, 2, 3, 4, 5, 6):
             return 5
@@ -1415,4 +1509,6 @@ def pdu_length(data: bytes, role: str) -> int | None:
             return 7
         if function == 0x17:
             return 10 + data[9] if len(data) >= 10 else None
+        if function == 0x18:
+            return 3
     raise _unknown(function, 0, role)

@@ -412,7 +412,7 @@ class Slave:
             return _pdu.ReadExceptionStatusResponse(self.exception_status)
         if function == 0x11:
             return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
-        if function in (0x16, 0x17):
+        if function in (0x16, 0x17, 0x18):
             return self._execute_registers(request)
         kind = table_kind(function)
         table = self.bank.table(kind)
@@ -437,6 +437,15 @@ class Slave:
         """FC 22 (mask write one register) and FC 23 (write, then read, holding registers)."""
         kind = "holding_registers"
         table = self.bank.table(kind)
+        if request.function_code == 0x18:  # the count at the pointer address, the values after it
+            self.before_read(kind, request.address, 1)
+            count = table.read(request.address, 1)[0]
+            if count > _pdu.MAX_FIFO_COUNT:
+                raise ModbusExceptionError(0x18, int(ExceptionCode.ILLEGAL_DATA_VALUE))
+            if request.address + 1 + count > 0x10000:
+                raise ModbusExceptionError(0x18, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
+            self.before_read(kind, request.address + 1, count)
+            return _pdu.ReadFifoQueueResponse(tuple(table.read(request.address + 1, count)))
         if request.function_code == 0x16:
             self.before_read(kind, request.address, 1)
             current = table.read(request.address, 1)[0]

@@ -112,17 +112,37 @@ def test_our_server_answers_pymodbus_and_our_master_the_new_functions():
             assert master.read_exception_status(1) == 0b1010
 
 
+def test_fc24_reads_the_queue_and_checks_its_count_both_ways_with_pymodbus():
+    slave = mb.Slave(unit=1)
+    slave.bank.holding_registers.write(100, [3, 0x1B8, 0x1284, 7])
+    slave.bank.holding_registers.write(200, [32])
+    link = mb.loopback_serial(slave)
+    master = mb.Master(link)
+    assert master.read_fifo_queue(1, 100) == [0x1B8, 0x1284, 7]
+    with pytest.raises(mb.ModbusExceptionError) as caught:
+        master.read_fifo_queue(1, 200)
+    assert caught.value.code == 3
+    ours = P.ReadFifoQueueResponse((0x1B8, 0x1284))
+    assert ours.encode() == bytes.fromhex("18 00 06 00 02 01 B8 12 84")  # the spec's example
+    theirs = DecodePDU(is_server=False).decode(ours.encode())
+    assert list(theirs.values) == [0x1B8, 0x1284]
+    from pymodbus.pdu import file_message as pf
+
+    request = pf.ReadFifoQueueRequest(address=0x4DE, dev_id=1)
+    assert P.decode_pdu(bytes([0x18]) + request.encode(), "request") == P.ReadFifoQueueRequest(0x4DE)
+
+
 def test_the_rtu_splitter_and_explain_know_the_new_lengths():
     frames = [mb.RtuFrame(1, pdu).encode() for pdu in (
         P.MaskWriteRegisterRequest(1, 2, 3), P.ReadWriteMultipleRegistersRequest(0, 2, 0, [5, 6]),
-        P.ReadExceptionStatusRequest(), P.ReportServerIdRequest())]
+        P.ReadExceptionStatusRequest(), P.ReportServerIdRequest(), P.ReadFifoQueueRequest(5))]
     splitter = mb.framing.RtuSplitter("request")
     assert splitter.feed(b"".join(frames)) == frames
     assert "AND mask" in mb.explain(frames[0]).to_text()
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.sampled_from([0x07, 0x11, 0x16, 0x17]), st.binary(max_size=40),
+@given(st.sampled_from([0x07, 0x11, 0x16, 0x17, 0x18]), st.binary(max_size=40),
        st.sampled_from(["request", "response"]))
 def test_fuzzing_the_new_decoders_lets_only_modbus_errors_out(function, body, role):
     try:

@@ -139,7 +139,7 @@ def exception_of(answer: bytes, mode: str = "rtu") -> ExceptionResponse:
     return frame.pdu
 
 
-@pytest.mark.parametrize("function", [8, 0x0B, 0x14, 0x18, 0x2B, 0x7F])
+@pytest.mark.parametrize("function", [8, 0x0B, 0x14, 0x41, 0x2B, 0x7F])
 def test_unknown_function_is_exception_01(slave, function):
     answer = slave.handle(rtu(f"11 {function:02X} 00 00 00 01"), "rtu")
     assert exception_of(answer) == ExceptionResponse(function=function, code=1)

@@ -84,9 +84,9 @@ def test_pymodbus_client_gets_illegal_data_address(served):
 
 def test_pymodbus_client_gets_illegal_function(served):
     slave, server, client = served
-    r = client.read_fifo_queue(address=0, device_id=1)  # FC 24: a function this library lacks
+    r = client.diag_read_diagnostic_register(device_id=1)  # FC 8: a function this library lacks
     assert isinstance(r, PymodbusException)
-    assert r.function_code == 0x98 and r.exception_code == 0x01
+    assert r.function_code == 0x88 and r.exception_code == 0x01
 
 
 def test_pymodbus_client_gets_gateway_exception_for_unknown_unit(served):
