@@ -326,11 +326,12 @@ class CrcExplorer(StaticText, W.VBox):
 
     # -- optional plot -------------------------------------------------------------------------------
     def plot(self, ax: Any = None) -> Any:
-        """Plot the register after every step (matplotlib); returns the Axes."""
-        import matplotlib.pyplot as plt
+        """Plot the register after every step (matplotlib, the course's :mod:`~modbus_edu.plotstyle`);
+        returns the Axes."""
+        from ..plotstyle import figure
 
         if ax is None:
-            _fig, ax = plt.subplots(figsize=(8, 2.5))
+            _fig, ax = figure()
         values = [self.initial] + [s.after for s in self.steps]
         ax.step(range(len(values)), values, where="post")
         ax.set_xlabel("step")

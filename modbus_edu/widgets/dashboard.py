@@ -110,7 +110,7 @@ class MeterDashboard(StaticText, W.VBox):
         self.status = W.HTML()
         self.table = W.HTML(layout=W.Layout(flex="0 0 auto"))
         self.table.add_class("mbe-md-table")
-        self.image = W.Image(format="png", layout=W.Layout(width="576px", height="288px", flex="0 0 auto",
+        self.image = W.Image(format="png", layout=W.Layout(width="900px", max_width="100%", height="auto",
                                                             object_fit="contain"))
         self.image.add_class("mbe-md-plot")
         # tabs keep the panel within 700 px: the buttons and the plot are on screen together
@@ -310,26 +310,31 @@ class MeterDashboard(StaticText, W.VBox):
             + "".join(rows) + "</table>")
 
     def _render_plot(self) -> None:
-        """Draw the trend of the chosen group of quantities into a PNG (matplotlib, no pyplot state)."""
+        """Draw the trend of the chosen group of quantities into a PNG (matplotlib, no pyplot state), in
+        the course's plot style (:mod:`modbus_edu.plotstyle`: size, fonts, the legend beside the data)."""
+        import matplotlib as mpl
         from matplotlib.figure import Figure
+
+        from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
 
         group = self.plot_group.value
         members = [e for e in self.entries if e.unit == group]
-        fig = Figure(figsize=(6.4, 3.2), dpi=90)
-        ax = fig.add_subplot(1, 1, 1)
-        for e in members:
-            times, values = self.series(e.name)
-            if times:
-                ax.plot(times, values, label=e.name, linewidth=1.2, marker="." if len(times) < 30 else None)
-        ax.set_xlabel("time on the line's clock (s)")
-        ax.set_ylabel(_group_title(group))
-        ax.set_title(f"{_group_title(group)}: {len(self.history)} readings")
-        if any(self.series(e.name)[0] for e in members):
-            ax.legend(loc="upper right", fontsize="small")
-        ax.grid(True, alpha=0.3)
-        fig.tight_layout()
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png")
+        with mpl.rc_context(STYLE):
+            fig = Figure(figsize=(WIDTH, HEIGHT), dpi=STYLE["figure.dpi"], layout="constrained")
+            ax = fig.add_subplot(1, 1, 1)
+            for e in members:
+                times, values = self.series(e.name)
+                if times:
+                    ax.plot(times, values, label=e.name, linewidth=1.2,
+                            marker="." if len(times) < 30 else None)
+            ax.set_xlabel("time on the line's clock (s)")
+            ax.set_ylabel(_group_title(group))
+            ax.set_title(f"{_group_title(group)}: {len(self.history)} readings")
+            if any(self.series(e.name)[0] for e in members):
+                legend_outside(ax)
+            ax.grid(True, alpha=0.3)
+            buf = io.BytesIO()
+            fig.savefig(buf, format="png")
         self.plot_png = buf.getvalue()
         self.image.value = self.plot_png
 
