@@ -61,7 +61,7 @@ COIL_OFF = 0x0000
 
 
 class FunctionCode(IntEnum):
-    """The public function codes this library implements: the eight everyday ones, and 7, 17, 22, 23."""
+    """The public function codes this library implements: the eight everyday ones, 7, 17, 22, 23, 24, 43."""
 
     READ_COILS = 0x01
     READ_DISCRETE_INPUTS = 0x02
@@ -81,7 +81,10 @@ class FunctionCode(IntEnum):
     @property
     def title(self) -> str:
         """The specification's name, e.g. ``"Read Holding Registers"``."""
-        return self.name.replace("_", " ").title()
+        return _TITLES.get(self.value) or self.name.replace("_", " ").title()
+
+
+_TITLES = {0x11: "Report Server ID", 0x17: "Read/Write Multiple Registers", 0x18: "Read FIFO Queue"}
 
 
 class ExceptionCode(IntEnum):
