@@ -537,6 +537,35 @@ def _open_link(args: argparse.Namespace) -> Any:
     return tcp_link(host, port, timeout=args.timeout)
 
 
+def cmd_identify(args: argparse.Namespace) -> int:
+    from .errors import ModbusExceptionError
+    from .master import Master
+
+    unit = _int(args.unit, "--unit", 0 if args.tcp is not None else 1, 255 if args.tcp is not None else 247)
+    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
+    link = _open_link(args)
+    try:
+        master = Master(link, timeout=args.timeout)
+        try:
+            objects = master.read_device_identification(unit, read_code=3)
+        except ModbusExceptionError as exc:
+            if exc.code != 1:
+                raise
+            print(f"unit {unit} does not answer Read Device Identification (FC 43/14): exception 01; "
+                  "asking Report Server ID (FC 17)")
+            report = master.report_server_id(unit)
+            text = report.server_id.decode("ascii", "replace")
+            print(f"server ID: {report.server_id.hex(' ').upper()} ({text!r}), run indicator: "
+                  f"{'ON' if report.run_indicator else 'OFF'}")
+            return 0
+        for object_id, value in sorted(objects.items()):
+            name = _pdu.DEVICE_ID_OBJECTS.get(object_id, f"object 0x{object_id:02X}")
+            print(f"{object_id:#04x}  {name:<20} {value}")
+    finally:
+        link.close()
+    return 0
+
+
 def _stats_line(stats: Any) -> str:
     latencies = list(getattr(stats, "latencies", []) or [])
     parts = [
@@ -792,6 +821,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--csv", metavar="FILE", help="also write every poll to this CSV file")
     _common(p)
     p.set_defaults(func=cmd_poll)
+
+    p = subs.add_parser("identify", help="ask a device what it is (FC 43/14, else FC 17)",
+                        description="Ask a device for its identification: Read Device Identification (FC "
+                                    "43 with MEI type 14), all the objects it has, and where the device does "
+                                    "not know that function, Report Server ID (FC 17). Example: modbus-edu "
+                                    "identify --tcp 127.0.0.1:5020")
+    _wire_options(p, serve=False)
+    p.add_argument("--unit", default="1", help="unit identifier / slave address (default 1)")
+    p.add_argument("--timeout", type=float, default=1.0, help="response timeout, seconds (default 1)")
+    _common(p)
+    p.set_defaults(func=cmd_identify)
     return parser
 
 

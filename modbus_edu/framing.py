@@ -776,8 +776,11 @@ class RtuSplitter(_Splitter):
             return None
         if buf[start + 1] not in self._starts:
             return -1
-        try:  # the function code and at most 9 more bytes decide the length (FC 23: byte count at 9)
-            size = _pdu.pdu_length(bytes(buf[start + 1 : start + 11]), self.role)
+        # the function code and at most 9 more bytes decide the length (FC 23: byte count at 9); an FC 43
+        # response needs its object headers
+        look = _pdu.MAX_PDU_SIZE if buf[start + 1] == 0x2B else 10
+        try:
+            size = _pdu.pdu_length(bytes(buf[start + 1 : start + 1 + look]), self.role)
         except ModbusError:
             return -1
         if size is None:

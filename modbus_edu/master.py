@@ -310,6 +310,21 @@ class Master:
         """FC 24: the queue whose count is in holding register ``address`` (its values follow it)."""
         return list(self._ask(unit, _pdu.ReadFifoQueueRequest(address)).values)
 
+    def read_device_identification(self, unit: int, read_code: int = 1, object_id: int = 0) -> dict[int, str]:
+        """FC 43/14: the device's identification objects, ``{0: "vendor", 1: "product", 2: "1.0", ...}``.
+
+        ``read_code`` 1 basic, 2 regular, 3 extended (streams from ``object_id``), 4 that one object.  A
+        stream that does not fit one response comes in parts ('more follows'); this follows them to the
+        end (at most 256 requests, never backwards)."""
+        objects: dict[int, str] = {}
+        for _ in range(256):
+            response = self._ask(unit, _pdu.ReadDeviceIdentificationRequest(read_code, object_id))
+            objects.update((i, value.decode("utf-8", "replace")) for i, value in response.objects)
+            if not response.more_follows or response.next_object_id <= object_id:
+                break
+            object_id = response.next_object_id
+        return objects
+
     def _ask(self, unit: int, request: Pdu) -> Any:
         if self._is_broadcast(unit):
             raise ConfigError(f"{request.title} cannot be broadcast (unit 0): no slave answers a broadcast")
@@ -427,7 +442,7 @@ class Master:
         """
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
-        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4, 0x07, 0x11, 0x17, 0x18):
+        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4, 0x07, 0x11, 0x17, 0x18, 0x2B):
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         error: ModbusError | None = None
         for attempt in range(self.retries + 1):
@@ -607,7 +622,7 @@ class Master:
         elif function == 0x17:
             if len(response.registers) != request.read_count:
                 return f"{len(response.registers)} registers, expected {request.read_count}"
-        elif function in (0x07, 0x11, 0x18):
+        elif function in (0x07, 0x11, 0x18, 0x2B):
             pass
         elif (response.address, response.count) != (request.address, len(request.values)):
             return (f"the echo says address {response.address} count {response.count}, the request was "

@@ -167,6 +167,7 @@ class Slave:
         server_id: bytes | None = None,
         run_indicator: bool = True,
         exception_status: int = 0,
+        identity: dict[int, str | bytes] | None = None,
     ) -> None:
         if unit is not None and (isinstance(unit, bool) or not isinstance(unit, int) or not 1 <= unit <= 255):
             raise ConfigError(
@@ -205,6 +206,9 @@ class Slave:
         """FC 17's run indicator: True (0xFF, the device runs) or False (0x00)."""
         self.exception_status = exception_status
         """FC 7's eight status bits, 0..255, which the device defines (0 by default: nothing to report)."""
+        self.identity = _identity(identity if identity is not None else {
+            0x00: "modbus_edu", 0x01: "simulated slave", 0x02: "1.0", 0x04: self.name})
+        """FC 43/14's objects: id -> bytes (0-2 basic, 3-6 regular, 0x80-0xFF extended)."""
         _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)  # checks both (a ValueRangeError)
         _pdu.ReadExceptionStatusResponse(self.exception_status)
         self.counters = SlaveCounters()
@@ -414,6 +418,8 @@ class Slave:
             return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
         if function in (0x16, 0x17, 0x18):
             return self._execute_registers(request)
+        if function == 0x2B:
+            return self._identify(request)
         kind = table_kind(function)
         table = self.bank.table(kind)
         if function in (1, 2, 3, 4):
@@ -432,6 +438,32 @@ class Slave:
         table.write(request.address, values)
         self.after_write(kind, request.address, values)
         return _pdu.RESPONSE_CLASSES[function](address=request.address, count=len(values))
+
+    def _identify(self, request: Any) -> Pdu:
+        """FC 43/14: the identity objects asked for; a stream that does not fit says 'more follows'."""
+        objects = self.identity
+        code, start = request.read_code, request.object_id
+        level = 0x83 if any(i >= 0x80 for i in objects) else 0x82 if any(i >= 3 for i in objects) else 0x81
+        if code == 4:  # one object
+            if start not in objects:
+                raise ModbusExceptionError(0x2B, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
+            return _pdu.ReadDeviceIdentificationResponse(4, level, False, 0, ((start, objects[start]),))
+        last = {1: 0x02, 2: 0x06, 3: 0xFF}[code]
+        ids = [i for i in sorted(objects) if i <= last]
+        if start not in ids:
+            start = 0  # the spec: an unknown object id in a stream starts it from the beginning
+        ids = [i for i in ids if i >= start]
+        room, chosen = _pdu.MAX_PDU_SIZE - 7, []
+        for object_id in ids:
+            size = 2 + len(objects[object_id])
+            if size > room and chosen:
+                following = ids[len(chosen)]
+                return _pdu.ReadDeviceIdentificationResponse(
+                    code, level, True, following, tuple((i, objects[i]) for i in chosen))
+            room -= size
+            chosen.append(object_id)
+        return _pdu.ReadDeviceIdentificationResponse(code, level, False, 0,
+                                                     tuple((i, objects[i]) for i in chosen))
 
     def _execute_registers(self, request: Any) -> Pdu:
         """FC 22 (mask write one register) and FC 23 (write, then read, holding registers)."""
@@ -471,6 +503,21 @@ class Slave:
         """Called after every write; calls ``on_write``.  Override to react to what was written."""
         if self.on_write is not None:
             self.on_write(self, table_kind, address, values)
+
+
+def _identity(objects: Any) -> dict[int, bytes]:
+    """Identity objects as id -> bytes, checked: ids 0..255, values text or bytes of at most 244 bytes."""
+    if not isinstance(objects, dict):
+        raise ConfigError(f"identity is a dict of object id -> text, got {type(objects).__name__}")
+    checked = {}
+    for object_id, value in objects.items():
+        if isinstance(object_id, bool) or not isinstance(object_id, int) or not 0 <= object_id <= 0xFF:
+            raise ConfigError(f"identity object ids are 0..255, got {object_id!r}")
+        data = value.encode() if isinstance(value, str) else value
+        if not isinstance(data, (bytes, bytearray)) or len(data) > _pdu.MAX_PDU_SIZE - 9:
+            raise ConfigError(f"identity object {object_id} must be text or bytes of at most 244 bytes")
+        checked[object_id] = bytes(data)
+    return checked
 
 
 def dispatch(slaves: Slave | Iterable[Slave], frame: bytes, mode: str = "rtu") -> list[bytes]:

@@ -335,4 +335,4 @@ def test_panels_report_huge_numbers_beside_the_field():
     assert builder.frame == b"" and "unit" in builder.message.text
     tool = TestTool("rtu_slave")
     tool._cells[0].value = "9" * 5000
-    assert tool.message.kind == "error" and "far too large" in tool.message.text
+    assert tool.grid_message.kind == "error" and "far too large" in tool.grid_message.text

@@ -29,6 +29,7 @@ from modbus_edu.framing import RtuFrame
 from modbus_edu.links.serial import SerialServer, TcpSerialPort
 from modbus_edu.links.tcp import TcpServer
 from modbus_edu.pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
+from modbus_edu.slave import Slave
 
 CLI = [sys.executable, "-m", "modbus_edu"]
 ROOT = Path(__file__).resolve().parents[1]
@@ -592,3 +593,21 @@ def test_decode_reads_standard_input_line_by_line_and_refuses_a_huge_line():
 def test_build_knows_the_functions_beyond_the_eight(args, expected):
     assert ok(*args).splitlines()[0] == expected
     assert "Mask Write Register" in ok("decode", "01 16 00 04 00 F2 00 25 67 EE")
+
+
+def test_identify_asks_device_identification_and_falls_back_to_report_server_id():
+    class Old(Slave):
+        def process(self, request):  # an older device: no FC 43
+            if request.function_code == 0x2B:
+                from modbus_edu.pdu import ExceptionResponse
+
+                return ExceptionResponse(0x2B, 1)
+            return super().process(request)
+
+    modern = Slave(unit=1, identity={0: "ACME", 1: "PM-9", 2: "2.1"})
+    with TcpServer(modern) as server:
+        out = ok("identify", "--tcp", f"127.0.0.1:{server.address[1]}")
+    assert "VendorName" in out and "ACME" in out and "MajorMinorRevision" in out
+    with TcpServer(Old(unit=1, server_id=b"OLD-7")) as server:
+        out = ok("identify", "--tcp", f"127.0.0.1:{server.address[1]}")
+    assert "FC 17" in out and "OLD-7" in out and "run indicator: ON" in out

@@ -142,10 +142,44 @@ def test_the_rtu_splitter_and_explain_know_the_new_lengths():
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.sampled_from([0x07, 0x11, 0x16, 0x17, 0x18]), st.binary(max_size=40),
+@given(st.sampled_from([0x07, 0x11, 0x16, 0x17, 0x18, 0x2B]), st.binary(max_size=40),
        st.sampled_from(["request", "response"]))
 def test_fuzzing_the_new_decoders_lets_only_modbus_errors_out(function, body, role):
     try:
         P.decode_pdu(bytes([function]) + body, role)
     except mb.ModbusError:
         pass
+
+
+def test_fc43_device_identification_splits_with_more_follows_and_pymodbus_reads_it():
+    extended = {0x80 + i: f"x{i}" * 30 for i in range(6)}
+    identity = {0: "ACME", 1: "PM-9", 2: "2.1", 4: "Power meter", **extended}
+    slave = mb.Slave(unit=1, identity=identity)
+    master = mb.Master(mb.loopback_serial(slave))
+    assert master.read_device_identification(1) == {0: "ACME", 1: "PM-9", 2: "2.1"}
+    everything = master.read_device_identification(1, read_code=3)
+    assert everything == identity and master.stats.requests == 1 + 2  # the extended stream came in 2 parts
+    assert master.read_device_identification(1, read_code=4, object_id=4) == {4: "Power meter"}
+    with pytest.raises(mb.ModbusExceptionError) as caught:
+        master.read_device_identification(1, read_code=4, object_id=0x05)
+    assert caught.value.code == 2
+    with mb.TcpServer(slave) as server:
+        client = ModbusTcpClient("127.0.0.1", port=server.address[1])
+        assert client.connect()
+        try:
+            reply = client.read_device_information(read_code=1, object_id=0, device_id=1)
+            assert reply.information == {0: b"ACME", 1: b"PM-9", 2: b"2.1"}
+        finally:
+            client.close()
+    from pymodbus.pdu import mei_message as pm
+
+    request = pm.ReadDeviceInformationRequest(read_code=2, object_id=0, dev_id=1)
+    ours = P.decode_pdu(bytes([0x2B]) + request.encode(), "request")
+    assert ours == P.ReadDeviceIdentificationRequest(2, 0)
+    objects = ((0, b"ACME"), (1, b"PM-9"), (2, b"2.1"))
+    response = P.ReadDeviceIdentificationResponse(1, 0x81, False, 0, objects)
+    theirs = DecodePDU(is_server=False).decode(response.encode())
+    assert theirs.information == {0: b"ACME", 1: b"PM-9", 2: b"2.1"}
+    assert P.decode_pdu(response.encode(), "response") == response
+    frame = mb.RtuFrame(1, response).encode()
+    assert mb.framing.RtuSplitter("response").feed(frame) == [frame]

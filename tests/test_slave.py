@@ -139,7 +139,7 @@ def exception_of(answer: bytes, mode: str = "rtu") -> ExceptionResponse:
     return frame.pdu
 
 
-@pytest.mark.parametrize("function", [8, 0x0B, 0x14, 0x41, 0x2B, 0x7F])
+@pytest.mark.parametrize("function", [8, 0x0B, 0x14, 0x41, 0x2C, 0x7F])
 def test_unknown_function_is_exception_01(slave, function):
     answer = slave.handle(rtu(f"11 {function:02X} 00 00 00 01"), "rtu")
     assert exception_of(answer) == ExceptionResponse(function=function, code=1)
@@ -147,7 +147,7 @@ def test_unknown_function_is_exception_01(slave, function):
 
 
 def test_exception_01_in_ascii_and_tcp(slave):
-    assert exception_of(slave.handle(ascii_frame("11 2B 0E 01 00"), "ascii"), "ascii").code == 1
+    assert exception_of(slave.handle(ascii_frame("11 2C 0E 01 00"), "ascii"), "ascii").code == 1
     assert exception_of(slave.handle(bytes.fromhex("00 07 00 00 00 02 11 08"), "tcp"), "tcp").code == 1
 
 
@@ -346,8 +346,8 @@ def test_handle_direct_answers_exceptions_too(slave):
     bad = slave.handle_direct(bytes.fromhex("00 01 00 00 00 06 00 03 00 00 00 00"))
     assert TcpFrame.decode(bad, "response").pdu == ExceptionResponse(3, 3)
     assert bad[6] == 0
-    unknown = slave.handle_direct(bytes.fromhex("00 02 00 00 00 04 FF 2B 0E 01"))
-    assert TcpFrame.decode(unknown, "response").pdu == ExceptionResponse(0x2B, 1)
+    unknown = slave.handle_direct(bytes.fromhex("00 02 00 00 00 04 FF 2C 0E 01"))
+    assert TcpFrame.decode(unknown, "response").pdu == ExceptionResponse(0x2C, 1)
     assert slave.counters.exceptions == 2 and slave.counters.broadcasts == 0
 
 

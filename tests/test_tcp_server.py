@@ -306,9 +306,9 @@ def test_bad_pdu_inside_a_good_mbap_gets_an_exception_response_not_a_hang_up():
         sock.sendall(bytes.fromhex("0007 0000 0006 01 03 0000 0000"))
         frame = response(recv_frame(sock))
         assert frame.transaction_id == 7 and frame.pdu == ExceptionResponse(function=3, code=3)
-        # function 0x2B (encapsulated interface): not implemented, illegal function (01)
-        sock.sendall(bytes.fromhex("0008 0000 0004 01 2B 0E 01"))
-        assert response(recv_frame(sock)).pdu == ExceptionResponse(function=0x2B, code=1)
+        # function 0x2C: not implemented, illegal function (01)
+        sock.sendall(bytes.fromhex("0008 0000 0004 01 2C 0E 01"))
+        assert response(recv_frame(sock)).pdu == ExceptionResponse(function=0x2C, code=1)
         # and the connection still serves
         sock.sendall(request(9, 1))
         assert response(recv_frame(sock)).transaction_id == 9

@@ -76,6 +76,13 @@ FIELDS: dict[str, FieldSpec] = {
     "status": FieldSpec("exception status", tooltip="FC 7: eight status bits, 0..255"),
     "server_id": FieldSpec("server ID", "hex", "bytes in hex, e.g. 4D 45 54 45 52", width="420px"),
     "run_indicator": FieldSpec("run indicator", "run", "FF: the device runs, 00: it does not"),
+    "read_code": FieldSpec("read device ID code",
+                           tooltip="FC 43/14: 1 basic, 2 regular, 3 extended, 4 one object"),
+    "object_id": FieldSpec("object id", tooltip="FC 43/14: where the stream starts, or the one object"),
+    "conformity": FieldSpec("conformity level", tooltip="0x81 basic, 0x82 regular, 0x83 extended"),
+    "more_follows": FieldSpec("more follows", "more", "FF: another response continues the objects"),
+    "next_object_id": FieldSpec("next object id", tooltip="where the next request starts"),
+    "objects": FieldSpec("objects", "objects", "0=ACME; 1=PM-9; 2=1.0  (id=text; ...)", width="420px"),
 }
 
 #: When the library's message names no field shown, the field its error class is about.
@@ -87,6 +94,19 @@ ERROR_FIELDS: dict[str, tuple[str, ...]] = {
     "UnitError": ("unit",),
     "MbapError": ("transaction_id",),
 }
+
+
+def _parse_objects(text: str, label: str) -> tuple[tuple[int, bytes], ...]:
+    """``"0=ACME; 1=PM-9"`` as FC 43/14 objects: ((0, b"ACME"), (1, b"PM-9"))."""
+    objects = []
+    for part in (p.strip() for p in text.split(";")):
+        if not part:
+            continue
+        key, sep, value = part.partition("=")
+        if not sep:
+            raise ValueFormatError(f"{label}: {part!r} is not id=text (e.g. 0=ACME)")
+        objects.append((parse_int(key.strip(), label), value.strip().encode()))
+    return tuple(objects)
 
 
 def _text(value: Any) -> str:
@@ -167,7 +187,7 @@ class FrameBuilder(StaticText, W.VBox):
                                          tooltip="MBAP transaction identifier (TCP only), 0..65535")
         initial = {"address": address, "count": count, "value": value, "coil": bool(coil), "bits": bits,
                    "registers": registers, "exception_code": int(exception_code), "values": "",
-                   "read_count": 1}
+                   "read_count": 1, "read_code": 1, "conformity": 0x81, "objects": "0=ACME; 1=PM-9; 2=1.0"}
         self._field_inputs: list[W.DOMWidget] = []
         self._error_labels: dict[str, W.HTML] = {}
         self._rows: dict[str, W.HBox] = {}
@@ -225,6 +245,9 @@ class FrameBuilder(StaticText, W.VBox):
                                         bool(initial), css=css)
         elif spec.kind == "run":
             box = dropdown(spec.label, [("ON (FF)", True), ("OFF (00)", False)], True, css=css)
+        elif spec.kind == "more":
+            box = dropdown(spec.label, [("00: the last part", False), ("FF: more follows", True)], False,
+                           css=css)
         elif spec.kind == "exception":
             box = dropdown(spec.label, EXCEPTION_OPTIONS, int(initial), css=css, width=spec.width)
         else:
@@ -366,6 +389,8 @@ class FrameBuilder(StaticText, W.VBox):
                     kwargs[name] = box.value
                 elif FIELDS.get(key, FieldSpec("")).kind == "hex":
                     kwargs[name] = parse_hex(box.value)
+                elif FIELDS.get(key, FieldSpec("")).kind == "objects":
+                    kwargs[name] = _parse_objects(box.value, label)
                 elif name in ("values", "bits") or FIELDS.get(key, FieldSpec("")).kind in ("bits", "ints"):
                     kwargs[name] = (parse_bit_list(box.value, label) if self._is_bits(name)
                                     else parse_int_list(box.value, label))
