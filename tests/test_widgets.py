@@ -925,3 +925,14 @@ def test_a_real_server_clears_a_stale_message_when_requests_arrive():
         client.disconnect()
     finally:
         server.disconnect()
+
+
+def test_the_test_tool_offers_only_functions_whose_table_its_grid_shows():
+    from modbus_edu.datamodel import table_kind
+
+    tool = TestTool("rtu_master")
+    offered = [value for _label, value in tool.function.options]
+    assert offered == [1, 2, 3, 4, 5, 6, 15, 16]
+    for fc in offered:
+        table_kind(fc)  # each reaches a table
+    assert tool.apply_config({"function": 7}) is False and tool.message.kind == "error"

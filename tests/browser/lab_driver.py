@@ -99,10 +99,14 @@ def wait_all_cells_ran(page, timeout_s: float = 60.0) -> list[str]:
             wait_kernel_idle(page, int(max(1.0, deadline - time.monotonic()) * 1000))
             return prompts
         idle = page.locator('.jp-Notebook-ExecutionIndicator[data-status="idle"]').count() > 0
-        if prompts and numbered[-1] and idle:
+        if idle:
             idle_since = idle_since or time.monotonic()
             if time.monotonic() - idle_since > 3:
-                return prompts
+                if prompts and numbered[-1]:
+                    return prompts
+                errors = cell_errors(page)
+                if errors:  # Run All stopped at a cell that raised: say which, do not wait out the clock
+                    raise RuntimeError("a cell raised, so Run All stopped:\n" + "\n".join(errors)[-3000:])
         else:
             idle_since = None
         time.sleep(0.2)

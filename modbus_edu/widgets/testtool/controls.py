@@ -8,6 +8,8 @@ from dataclasses import dataclass
 
 import ipywidgets as W
 
+from ...datamodel import table_kind
+from ...errors import ModbusError
 from ...pdu import FunctionCode
 from ...values import FORMATS
 
@@ -35,7 +37,19 @@ ROLES: dict[str, Role] = {
     "tcp_server": Role("tcp_server", "TCP server", "tcp", "slave", "#f8f0fc", "#ae3ec9"),
 }
 ROLE_OPTIONS = [(r.title, r.key) for r in ROLES.values()]
-FUNCTION_OPTIONS = [(f"{int(fc):02d} {fc.title}", int(fc)) for fc in FunctionCode]
+
+
+def _reaches_a_table(fc: FunctionCode) -> bool:
+    """Whether the data model says which table this function reads or writes (the grid shows it)."""
+    try:
+        table_kind(int(fc))
+    except ModbusError:
+        return False
+    return True
+
+
+#: The functions the tool polls with: those that reach one of the four tables (the grid is that table).
+FUNCTION_OPTIONS = [(f"{int(fc):02d} {fc.title}", int(fc)) for fc in FunctionCode if _reaches_a_table(fc)]
 BAUD_RATES = [1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200]
 FORMAT_OPTIONS = [(f.replace("_", " "), f) for f in FORMATS]
 MAX_CELLS = 250
