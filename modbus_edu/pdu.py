@@ -1531,16 +1531,18 @@ class ReadDeviceIdentificationResponse(Pdu):
         if data[4] not in (0x00, 0xFF):
             raise ValueRangeError(f"at byte {offset + 4}: more follows is 0x{data[4]:02X}, expected 0x00 or "
                                   "0xFF")
-        objects, at = [], 7
+        objects, at, size = [], 7, len(data)
         for _ in range(data[6]):
-            if at + 2 > len(data) or at + 2 + data[at + 1] > len(data):
+            end = at + 2 + data[at + 1] if at + 2 <= size else size + 1
+            if end > size:
                 raise TruncatedError(f"{name} is truncated: object {len(objects) + 1} of {data[6]} runs past "
-                                     f"its {len(data)} bytes (from byte {offset + at})")
-            objects.append((data[at], bytes(data[at + 2:at + 2 + data[at + 1]])))
-            at += 2 + data[at + 1]
-        if at != len(data):
-            raise TrailingBytesError(f"{name} has {len(data) - at} trailing byte(s) from byte {offset + at}")
-        return cls(data[2], data[3], data[4] == 0xFF, data[5], tuple(objects))
+                                     f"its {size} bytes (from byte {offset + at})")
+            objects.append((data[at], data[at + 2:end]))
+            at = end
+        if at != size:
+            raise TrailingBytesError(f"{name} has {size - at} trailing byte(s) from byte {offset + at}")
+        # every field was checked above: build without checking again
+        return cls._from_wire(data[2], data[3], data[4] == 0xFF, data[5], tuple(objects))
 
     def fields(self) -> list[Field]:
         raw = self.encode()
