@@ -151,6 +151,10 @@ def check_notebook(path: Path | str, last: bool = False) -> list[Problem]:
     def problem(message: str) -> None:
         problems.append(Problem(name, message))
 
+    if "widgets" in notebook.metadata:
+        problem("it stores widget state: re-execute it with the course script, which strips it (an unrun "
+                "notebook then shows each panel's text, never dead controls)")
+
     kernel = notebook.metadata.get("kernelspec", {}).get("name")
     if kernel != "python3":
         problem(f"kernelspec is {kernel!r}, expected 'python3'")

@@ -61,7 +61,7 @@ COIL_OFF = 0x0000
 
 
 class FunctionCode(IntEnum):
-    """The public function codes this library implements: the eight everyday ones, and 7, 17, 22, 23."""
+    """The public function codes this library implements: the eight everyday ones, 7, 17, 22, 23, 24, 43."""
 
     READ_COILS = 0x01
     READ_DISCRETE_INPUTS = 0x02
@@ -81,7 +81,13 @@ class FunctionCode(IntEnum):
     @property
     def title(self) -> str:
         """The specification's name, e.g. ``"Read Holding Registers"``."""
-        return self.name.replace("_", " ").title()
+        return _TITLES.get(self.value) or self.name.replace("_", " ").title()
+
+
+SERIAL_LINE_ONLY = frozenset({0x07, 0x08, 0x0B, 0x0C, 0x11})
+"""Functions the specification defines for serial lines only (a gateway may still pass them on)."""
+
+_TITLES = {0x11: "Report Server ID", 0x17: "Read/Write Multiple Registers", 0x18: "Read FIFO Queue"}
 
 
 class ExceptionCode(IntEnum):
@@ -321,8 +327,9 @@ class Pdu:
         raise NotImplementedError
 
     def _function_field(self, raw: bytes) -> Field:
+        note = "; the spec defines it for serial lines only" if self.function_code in SERIAL_LINE_ONLY else ""
         return Field(0, raw[:1], "function code", self.function_code,
-                     f"{function_title(self.function_code)} ({self.role})")
+                     f"{function_title(self.function_code)} ({self.role}){note}")
 
     @classmethod
     def _from_wire(cls, *values: Any) -> Pdu:

@@ -1,0 +1,3 @@
+# FC 22: keep the bits of 0x00A5 where the AND mask is 1 (0x0005), take the OR mask's bits elsewhere (0x0130).
+answer = (0x00A5 & 0x000F) | (0x0130 & ~0x000F & 0xFFFF)
+print(hex(answer))   # 0x135
