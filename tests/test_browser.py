@@ -167,6 +167,11 @@ def test_widgets_render_and_respond_in_jupyterlab(lab):
             if i:  # the first change also warms up the comm
                 FIGURES["typing_latency_ms"].append(round(ms, 1))
 
+        # Tab moves from one field to the next
+        address.focus()
+        page.keyboard.press("Tab")
+        assert page.evaluate("() => !!document.activeElement.closest('.mbe-field-count')")
+
         # an invalid field: its error beside that field, once, the field marked, the frame kept
         count = fb.locator(".mbe-field-count input")
         count.fill("126")
@@ -216,6 +221,13 @@ def test_widgets_render_and_respond_in_jupyterlab(lab):
         assert int(slave_requests) >= 6
         valid = int(master.locator(".mbe-tt-count-valid").inner_text())
         assert valid >= 6 and master.locator(".mbe-tt-count-timeouts").inner_text() == "0"
+
+        # every button says what it does (a tooltip)
+        untitled = page.evaluate(
+            "sel => [...document.querySelectorAll(sel)].flatMap(p => [...p.querySelectorAll('button')])"
+            ".filter(b => b.offsetParent !== null && !b.title).map(b => b.innerText)",
+            panels.PANEL_SELECTOR)
+        assert not untitled, f"buttons without a tooltip: {untitled}"
 
         page.screenshot(path=str(shot), full_page=True)
         for i, panel in enumerate(page.locator(panels.PANEL_SELECTOR).all()):

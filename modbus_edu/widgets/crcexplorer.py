@@ -30,6 +30,9 @@ MAX_BYTES = 65536
 """The most bytes the explorer follows by table or LRC, one step a byte."""
 
 METHODS = [("CRC-16 bit by bit", "bitwise"), ("CRC-16 by table", "table"), ("LRC (ASCII mode)", "lrc")]
+METHOD_TIPS = ["RTU's CRC-16: each byte, then eight shifts, XOR 0xA001 when a 1 falls out",
+               "the same CRC-16, one look-up in a 256-entry table per byte",
+               "ASCII mode's LRC: add the bytes, keep 8 bits, take the two's complement"]
 
 
 def _bin16(value: int) -> str:
@@ -83,7 +86,7 @@ class CrcExplorer(StaticText, W.VBox):
         self.text = W.Text(value=text, description="bytes (hex)", style={"description_width": "90px"},
                            layout=W.Layout(width="560px"), continuous_update=False)  # Enter applies
         self.text.add_class("mbe-crc-input")
-        self.method = W.ToggleButtons(options=METHODS, value=method)
+        self.method = W.ToggleButtons(options=METHODS, value=method, tooltips=METHOD_TIPS)
         self.method.add_class("mbe-crc-method")
 
         def button(label: str, icon: str, tip: str) -> W.Button:
