@@ -104,6 +104,15 @@ from .pdu import (  # noqa: F401
     decode_pdu,
     pdu_length,
 )
+from .registermap import (  # noqa: F401
+    Point,
+    Poll,
+    RegisterMap,
+    RegisterMapError,
+    datasheet_to_address,
+    load_map,
+    plan_polls,
+)
 from .slave import Slave, SlaveCounters  # noqa: F401
 from .traffic import Traffic, TrafficLog  # noqa: F401
 from .values import (  # noqa: F401
