@@ -64,6 +64,7 @@ from .links import (  # noqa: F401
 from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
 from .links.tcp import TcpLink, TcpServer, tcp_link  # noqa: F401
 from .links.udp import UdpLink, UdpServer, udp_link  # noqa: F401
+from .gateway import TcpGateway  # noqa: F401
 from .master import Master, MasterStats  # noqa: F401
 from .pdu import (  # noqa: F401
     MAX_READ_BITS,
