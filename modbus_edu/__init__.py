@@ -50,6 +50,7 @@ from .framing import (  # noqa: F401
     parse_hex,
     splitter_for,
 )
+from .gateway import TcpGateway  # noqa: F401
 from .links import (  # noqa: F401
     BusStats,
     Faults,
@@ -64,7 +65,6 @@ from .links import (  # noqa: F401
 from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
 from .links.tcp import TcpLink, TcpServer, tcp_link  # noqa: F401
 from .links.udp import UdpLink, UdpServer, udp_link  # noqa: F401
-from .gateway import TcpGateway  # noqa: F401
 from .master import Master, MasterStats  # noqa: F401
 from .pdu import (  # noqa: F401
     MAX_READ_BITS,
