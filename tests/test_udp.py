@@ -68,3 +68,33 @@ def test_a_datagram_that_is_not_one_frame_is_dropped():
 def test_bad_port_is_a_config_error():
     with pytest.raises(mb.ModbusError, match="UDP port"):
         mb.udp_link(HOST, 0)
+
+
+def test_udp_link_reads_pymodbus_udp_server():
+    import asyncio
+
+    from conftest_io import PymodbusServer, pymodbus_device
+    from pymodbus.server import ModbusUdpServer
+
+    class PymodbusUdpServer(PymodbusServer):
+        def _run(self):
+            async def main():
+                self._server = ModbusUdpServer(self.devices, address=(HOST, 0))
+                await self._server.serve_forever(background=True)
+                self.port = self._server.transport.get_extra_info("sockname")[1]
+                self._loop = asyncio.get_running_loop()
+                self._ready.set()
+                await self._server.serving
+
+            try:
+                asyncio.run(main())
+            except BaseException as exc:  # noqa: BLE001 - reported to the test thread
+                self._error = exc
+                self._ready.set()
+
+    with PymodbusUdpServer(pymodbus_device(1, holding=[7, 8, 9])) as server:
+        with mb.udp_link(HOST, server.port) as link:
+            master = mb.Master(link, timeout=2, retries=1)
+            assert master.read_holding_registers(unit=1, address=0, count=3) == [7, 8, 9]
+            master.write_single_register(unit=1, address=1, value=88)
+            assert master.read_holding_registers(unit=1, address=0, count=3) == [7, 88, 9]
