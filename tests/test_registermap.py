@@ -92,3 +92,16 @@ def test_datasheet_numbering():
     assert datasheet_to_address(400001, "reference") == 0
     with pytest.raises(RegisterMapError):
         datasheet_to_address(10001, "reference")
+
+
+def test_power_meter_map_file_matches_the_meter():
+    from modbus_edu.devices import PowerMeter
+    from modbus_edu.devices.meter import METER_MAP, power_meter_map, read_meter
+
+    m = power_meter_map()
+    assert [(p.name, p.address, p.unit) for p in m] == [(e.name, e.address, e.unit) for e in METER_MAP]
+    assert all(p.scale == pytest.approx(1 / e.scale) for p, e in zip(m, METER_MAP))
+    master = mb.Master(mb.loopback_serial(PowerMeter(unit=1, trial=1), baudrate=PowerMeter.BAUDRATE))
+    from_file = m.read(master, unit=1)
+    expected = read_meter(master, unit=1)
+    assert from_file == pytest.approx(expected)
