@@ -50,6 +50,7 @@ from .framing import (  # noqa: F401
     parse_hex,
     splitter_for,
 )
+from .gateway import TcpGateway  # noqa: F401
 from .links import (  # noqa: F401
     BusStats,
     Faults,
@@ -63,6 +64,7 @@ from .links import (  # noqa: F401
 )
 from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
 from .links.tcp import TcpLink, TcpServer, tcp_link  # noqa: F401
+from .links.udp import UdpLink, UdpServer, udp_link  # noqa: F401
 from .master import Master, MasterStats  # noqa: F401
 from .pdu import (  # noqa: F401
     MAX_READ_BITS,
@@ -104,6 +106,16 @@ from .pdu import (  # noqa: F401
     decode_pdu,
     pdu_length,
 )
+from .registermap import (  # noqa: F401
+    Point,
+    Poll,
+    RegisterMap,
+    RegisterMapError,
+    datasheet_to_address,
+    load_map,
+    plan_polls,
+)
+from .scan import ScanHit, ScanReport, scan  # noqa: F401
 from .slave import Slave, SlaveCounters  # noqa: F401
 from .traffic import Traffic, TrafficLog  # noqa: F401
 from .values import (  # noqa: F401

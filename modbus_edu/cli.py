@@ -687,6 +687,69 @@ class _Parser(argparse.ArgumentParser):
         raise CliError(_one_line(message) + hint)
 
 
+# --------------------------------------------------------------------------------------------------
+# gateway, scan
+# --------------------------------------------------------------------------------------------------
+def cmd_gateway(args: argparse.Namespace) -> int:
+    if args.serial is None or args.tcp is None:
+        raise ConfigError("a gateway needs both sides: --tcp HOST:PORT to listen on and --serial URL behind")
+    from .gateway import TcpGateway
+    from .links.serial import serial_link
+
+    host, port = parse_endpoint(args.tcp)
+    link = serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
+                       stopbits=args.stopbits, mode=args.mode)
+    _install_stop_signals()
+    gateway = TcpGateway(link, host=host, port=port, timeout=args.timeout)
+    try:
+        gateway.start()
+        bound_host, bound_port = gateway.address[:2]
+        print(f"gateway: Modbus/TCP {bound_host}:{bound_port} -> {link.description}; Ctrl-C to stop",
+              flush=True)
+        while True:
+            time.sleep(0.2)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        gateway.close()
+        link.close()
+    c = gateway.counters
+    print(f"stopped: {c['forwarded']} forwarded, {c['no_response']} answered 0B, "
+          f"{c['path_unavailable']} answered 0A", flush=True)
+    return 0
+
+
+def cmd_scan(args: argparse.Namespace) -> int:
+    from .scan import scan
+
+    first, _, last = args.units.partition("-")
+    units = range(_int(first, "first unit", 1, 247), _int(last or first, "last unit", 1, 247) + 1)
+    if args.serial is not None and args.tcp is None:
+        from .links.serial import serial_link
+
+        bauds = [_baud(b) for b in _split_values(args.bauds)] if args.bauds else [args.baud or 9600]
+        parities = [p.upper() for p in _split_values(args.parities)] if args.parities else [args.parity]
+        settings = [{"baudrate": b, "parity": p} for b in bauds for p in parities]
+
+        def opener(**setting: Any) -> Any:
+            return serial_link(args.serial, stopbits=args.stopbits, mode=args.mode, **setting)
+
+        report = scan(opener, units, settings=settings, timeout=args.timeout, budget=args.budget,
+                      progress=True)
+    else:
+        link = _open_link(args)
+        try:
+            report = scan(link, units, timeout=args.timeout, budget=args.budget, progress=True)
+        finally:
+            link.close()
+    for hit in report:
+        where = ", ".join(f"{k} {v}" for k, v in hit.settings.items())
+        print(f"unit {hit.unit:3d}{'  ' + where if where else ''}: {hit.answer}")
+    tail = "" if report.complete else f" (stopped at the {args.budget:g} s budget)"
+    print(f"{len(report)} found, {report.asked} asked{tail}")
+    return 0
+
+
 def _common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
                         help="show the traffic (crc/lrc: the calculation step by step)")
@@ -832,6 +895,29 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--timeout", type=float, default=1.0, help="response timeout, seconds (default 1)")
     _common(p)
     p.set_defaults(func=cmd_identify)
+
+    p = subs.add_parser("gateway", help="Modbus/TCP in front of a serial bus",
+                        description="Serve Modbus/TCP and forward each request to the serial slave of its "
+                                    "unit id; 0x0B when it stays silent, 0x0A for unit 0 or 248-255. "
+                                    "Example: modbus-edu gateway --tcp 127.0.0.1:5020 --serial /dev/ttyUSB0 "
+                                    "--baud 19200 --parity E")
+    _wire_options(p, serve=False)
+    p.add_argument("--timeout", type=float, default=0.5, help="wait for a slave, seconds (default 0.5)")
+    _common(p)
+    p.set_defaults(func=cmd_gateway)
+
+    p = subs.add_parser("scan", help="find who answers on a bus (unit ids, baud rates, parities)",
+                        description="Ask every unit id (read holding register 0) and report who answers, "
+                                    "with a progress bar, within a time budget. Example: modbus-edu scan "
+                                    "--serial /dev/ttyUSB0 --bauds 9600,19200 --parities N,E --units 1-32")
+    _wire_options(p, serve=False)
+    p.add_argument("--units", default="1-247", help="unit ids to try, FIRST-LAST (default 1-247)")
+    p.add_argument("--bauds", help="serial baud rates to try, comma-separated (default --baud)")
+    p.add_argument("--parities", help="serial parities to try, e.g. N,E (default --parity)")
+    p.add_argument("--timeout", type=float, default=0.1, help="wait per question, seconds (default 0.1)")
+    p.add_argument("--budget", type=float, default=120.0, help="stop after this many seconds (default 120)")
+    _common(p)
+    p.set_defaults(func=cmd_scan)
     return parser
 
 

@@ -58,6 +58,7 @@ from .generators import Noise, Sine
 __all__ = [
     "MeterRegister",
     "METER_MAP",
+    "power_meter_map",
     "METER_BY_NAME",
     "TRIALS",
     "TRIAL_ENERGY_KWH",
@@ -164,6 +165,17 @@ METER_MAP: tuple[MeterRegister, ...] = (
     _entry("PF3", "Power factor - PF3", 0x1C, "", 100, "P.F. x 100",
            "power factor of phase L3, in hundredths"),
 )
+
+def power_meter_map() -> Any:
+    """The same map as a register map file, ``devices/maps/power_meter.csv``, loaded into a
+    :class:`~modbus_edu.registermap.RegisterMap` (uint32 ABCD points, scale = 1 / the meter's factor):
+    ``power_meter_map().read(master, unit=1)`` gives what :func:`read_meter` gives."""
+    from importlib import resources
+
+    from ..registermap import load_map
+
+    return load_map(resources.files("modbus_edu.devices") / "maps" / "power_meter.csv")
+
 
 #: The entries of :data:`METER_MAP` by name.
 METER_BY_NAME: dict[str, MeterRegister] = {e.name: e for e in METER_MAP}

@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError, guard_numbers
-from ..framing import TcpFrame, TcpSplitter
+from ..framing import TcpFrame, splitter_for
 from ..pdu import ExceptionResponse
 from .base import Link
 
@@ -73,6 +73,8 @@ MIN_MBAP_LENGTH = 2
 MAX_MBAP_LENGTH = 254
 #: Exception code a gateway returns when the addressed device does not answer (spec section 7).
 GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
+#: The framings a TCP socket can carry: Modbus/TCP's MBAP, or RTU/ASCII frames (a serial device server).
+FRAMINGS = ("tcp", "rtu", "ascii")
 #: Exception code for "an unrecoverable error occurred while the server was performing the action".
 SERVER_DEVICE_FAILURE = 0x04
 #: The unit ids that mean "the device itself" on Modbus/TCP (implementation guide, section 4.4.1.2):
@@ -222,7 +224,8 @@ class TcpServerCounters:
 class _Connection:
     """One accepted client: its socket, what it sent that is not yet a whole frame, what we owe it."""
 
-    __slots__ = ("sock", "peer", "inbuf", "outbuf", "last_activity", "partial_since", "events")
+    __slots__ = ("sock", "peer", "inbuf", "outbuf", "last_activity", "partial_since", "events", "splitter",
+                 "frames")
 
     def __init__(self, sock: socket.socket, peer: Any, now: float) -> None:
         self.sock = sock
@@ -232,6 +235,8 @@ class _Connection:
         self.last_activity = now
         self.partial_since: float | None = None  # when the first byte of an unfinished request came
         self.events = selectors.EVENT_READ
+        self.splitter: Any = None  # RTU/ASCII over TCP: the serial splitter of this connection
+        self.frames: deque[bytes] = deque()  # RTU/ASCII over TCP: whole requests not yet answered
 
 
 class TcpServer:
@@ -304,8 +309,15 @@ class TcpServer:
         max_connections: int = 32,
         request_timeout: float = 5.0,
         logger: logging.Logger | None = None,
+        framing: str = "tcp",
     ) -> None:
         self.slaves = normalize_slaves(slaves)
+        if framing not in FRAMINGS:
+            raise ConfigError(
+                f"framing must be one of {', '.join(FRAMINGS)} (tcp: MBAP; rtu/ascii: serial frames over "
+                f"TCP, as a serial device server speaks them), got {framing!r}"
+            )
+        self.framing = framing
         _check_host(host, "listen on", "\"127.0.0.1\" (this computer only) or \"0.0.0.0\" (every interface)")
         if not _is_int(port) or not 0 <= port <= 65535:
             raise ConfigError(
@@ -643,7 +655,7 @@ class TcpServer:
             self._set_events(conn, selectors.EVENT_WRITE)
         else:
             self._set_events(conn, selectors.EVENT_WRITE | selectors.EVENT_READ)
-        if len(conn.outbuf) < _MAX_PENDING_OUTPUT and self._complete(conn.inbuf):
+        if len(conn.outbuf) < _MAX_PENDING_OUTPUT and self._has_request(conn):
             self._backlog[conn.sock.fileno()] = conn
 
     @staticmethod
@@ -655,11 +667,19 @@ class TcpServer:
         bad = buf[2:4] != b"\0\0" or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH
         return bad or len(buf) >= 6 + length
 
+    def _has_request(self, conn: _Connection) -> bool:
+        """Whether a whole request is waiting on ``conn``."""
+        if self.framing == "tcp":
+            return self._complete(conn.inbuf)
+        return bool(conn.frames)
+
     def _process(self, conn: _Connection) -> bool:
         """Answer the first complete frame in the input buffer, if there is one and the backlog allows.
 
         Returns False if the connection was closed because its bytes are not Modbus/TCP.
         """
+        if self.framing != "tcp":
+            return self._process_serial(conn)
         buf = conn.inbuf
         if len(buf) >= MBAP_HEADER_SIZE and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
             tid, protocol, length, unit = _MBAP.unpack_from(buf, 0)
@@ -687,6 +707,48 @@ class TcpServer:
         else:
             conn.partial_since = None
         return True
+
+    def _process_serial(self, conn: _Connection) -> bool:
+        """RTU or ASCII over TCP: the framing.py splitter cuts requests (RTU by length and CRC: a socket
+        has no silence); each is answered by the slave of its unit, or by nobody, as on a serial line."""
+        if conn.splitter is None:
+            conn.splitter = splitter_for(self.framing, "request")
+        if conn.inbuf:
+            conn.frames.extend(conn.splitter.feed(bytes(conn.inbuf)))
+            conn.inbuf.clear()
+        if conn.frames and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
+            reply = self._dispatch_serial(conn.frames.popleft())
+            if reply:
+                conn.outbuf += reply
+        if conn.splitter.pending and not conn.frames:
+            if conn.partial_since is None:
+                conn.partial_since = time.monotonic()
+        else:
+            conn.partial_since = None
+        return True
+
+    def _dispatch_serial(self, frame: bytes) -> bytes | None:
+        """One RTU/ASCII request to the slave(s) it is for: a broadcast (unit 0) reaches all and is not
+        answered; a unit nobody serves gets silence, as on a serial line (no 0x0B: no gateway here)."""
+        self.counters.requests += 1
+        unit = frame[0] if self.framing == "rtu" else int(frame[1:3], 16)
+        owner = self.slaves.get(unit) or self.slaves.get(None)
+        targets = list(self.slaves.values()) if unit == 0 else [owner]
+        reply = None
+        for slave in targets:
+            if slave is None:
+                self.counters.unknown_unit += 1
+                continue
+            try:
+                with self.lock:
+                    reply = slave.handle(frame, self.framing) or reply
+            except Exception:
+                self.log.exception("slave for unit %d failed on request %s", unit, frame.hex(" "))
+        if unit == 0:
+            return None
+        if reply:
+            self.counters.responses += 1
+        return reply
 
     def _dispatch(self, frame: bytes, unit: int, tid: int) -> bytes | None:
         """Hand one complete frame to the slave it is for; return the bytes to send back (or None)."""
@@ -785,8 +847,17 @@ class TcpLink(Link):
     mode = "tcp"
 
     def __init__(
-        self, host: str, port: int = 502, *, timeout: float = 3.0, clock: Clock | None = None
+        self,
+        host: str,
+        port: int = 502,
+        *,
+        timeout: float = 3.0,
+        clock: Clock | None = None,
+        framing: str = "tcp",
     ) -> None:
+        if framing not in FRAMINGS:
+            raise ConfigError(f"framing must be one of {', '.join(FRAMINGS)}, got {framing!r}")
+        self.mode = framing
         _check_host(host, "connect to", "\"192.168.1.50\" (a device's IP address) or \"localhost\"")
         if not _is_int(port) or not 1 <= port <= 65535:
             raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got {port!r}")
@@ -798,12 +869,14 @@ class TcpLink(Link):
         self.reconnects = 0
         self.closed = False
         self._sock: socket.socket | None = None
-        self._splitter = TcpSplitter()
+        self._splitter = splitter_for(framing, "response")
         self._frames: deque[bytes] = deque()
         self._connect()
 
     @property
     def description(self) -> str:
+        if self.mode != "tcp":
+            return f"{self.mode.upper()} over TCP to {self.host}:{self.port}"
         return f"Modbus/TCP to {self.host}:{self.port}"
 
     @property
@@ -911,7 +984,7 @@ class TcpLink(Link):
 
 
 @guard_numbers
-def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> TcpLink:
+def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str = "tcp") -> TcpLink:
     """Connect to a Modbus/TCP server and return a :class:`TcpLink` (mode ``"tcp"``, real clock).
 
     ``timeout`` bounds the connection attempt; each request's own timeout is the master's.
@@ -926,4 +999,4 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> TcpLink:
     On TCP the IP address chooses the device: a device reached directly usually answers unit 0xFF (the
     recommended value), 0, or its own number; behind a gateway the unit is the serial slave's address.
     """
-    return TcpLink(host, port, timeout=timeout)
+    return TcpLink(host, port, timeout=timeout, framing=framing)

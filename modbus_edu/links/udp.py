@@ -1,0 +1,224 @@
+"""Modbus/UDP: the MBAP framing of Modbus/TCP, one datagram per ADU.
+
+UDP keeps datagram boundaries, so there is no stream to cut; each datagram is still checked by the same
+:class:`~modbus_edu.framing.TcpSplitter` as a TCP stream (reset before every datagram), so a datagram
+that is not exactly one valid MBAP frame is dropped and counted, never half-used. UDP does not resend:
+a lost request or response is simply never answered, and the master's timeout and retries
+(``Master(link, retries=...)``) take care of it.
+
+* :class:`UdpServer` serves slaves on a UDP port (a context manager with ``.address``);
+* :func:`udp_link` is a :class:`~modbus_edu.links.base.Link` to a Modbus/UDP server.
+"""
+
+from __future__ import annotations
+
+import logging
+import socket
+import threading
+import time
+from collections import deque
+from typing import Any
+
+from ..clock import Clock, RealClock
+from ..errors import ConfigError, LinkError
+from ..framing import TcpSplitter
+from .base import Link
+from .tcp import (
+    GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND,
+    SERVER_DEVICE_FAILURE,
+    _check_host,
+    _is_int,
+    _positive_seconds,
+    exception_reply,
+    normalize_slaves,
+    route_unit,
+)
+
+__all__ = ["UdpLink", "UdpServer", "udp_link"]
+
+#: The largest datagram read: an MBAP ADU is at most 260 bytes, so anything longer is not Modbus.
+_DATAGRAM = 2048
+
+
+def _one_frame(splitter: TcpSplitter, data: bytes) -> bytes | None:
+    """The single MBAP frame a datagram must be, or None (nothing valid, or bytes left over)."""
+    splitter.reset()
+    frames = splitter.feed(data)
+    if len(frames) != 1 or len(frames[0]) != len(data):
+        return None
+    return frames[0]
+
+
+class UdpServer:
+    """A Modbus/UDP server for the course's slaves, in a background thread.
+
+    Routing by unit id is :class:`~modbus_edu.links.tcp.TcpServer`'s (:func:`route_unit`): a unit
+    nobody serves is answered 0x0B. ``bad_datagrams`` counts datagrams that were not one MBAP frame.
+    """
+
+    def __init__(self, slaves: Any, host: str = "127.0.0.1", port: int = 0) -> None:
+        _check_host(host, "listen on", '"127.0.0.1"')
+        if not _is_int(port) or not 0 <= port <= 65535:
+            raise ConfigError(f"UDP port must be an integer 0..65535 (0 = any free port), got {port!r}")
+        self.slaves = normalize_slaves(slaves)
+        self.log = logging.getLogger("modbus_edu.udp")
+        self.lock = threading.Lock()
+        self.requests = 0
+        self.responses = 0
+        self.bad_datagrams = 0
+        self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        try:
+            self._sock.bind((host, port))
+        except OSError as exc:
+            self._sock.close()
+            raise LinkError(f"cannot listen on UDP {host}:{port}: {exc.strerror or exc}") from exc
+        self._sock.settimeout(0.1)
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    @property
+    def address(self) -> tuple[str, int]:
+        """The (host, port) the server listens on."""
+        return self._sock.getsockname()[:2]
+
+    def start(self) -> UdpServer:
+        """Start serving in a background thread (idempotent)."""
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._serve, name="modbus-udp", daemon=True)
+            self._thread.start()
+        return self
+
+    def close(self) -> None:
+        """Stop serving and release the port (waits at most 2 s for the thread)."""
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=2.0)
+            self._thread = None
+        self._sock.close()
+
+    def __enter__(self) -> UdpServer:
+        return self.start()
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+    def _serve(self) -> None:
+        splitter = TcpSplitter()
+        while not self._stop.is_set():
+            try:
+                data, peer = self._sock.recvfrom(_DATAGRAM)
+            except (TimeoutError, BlockingIOError, InterruptedError):
+                continue
+            except OSError:
+                return  # socket closed
+            frame = _one_frame(splitter, data)
+            if frame is None:
+                self.bad_datagrams += 1
+                continue
+            reply = self._dispatch(frame)
+            if reply:
+                try:
+                    self._sock.sendto(reply, peer)
+                except OSError as exc:  # pragma: no cover - peer vanished
+                    self.log.warning("reply to %s failed: %s", peer, exc)
+
+    def _dispatch(self, frame: bytes) -> bytes | None:
+        self.requests += 1
+        unit = frame[6]
+        slave, direct = route_unit(self.slaves, unit)
+        try:
+            if slave is None:
+                reply = exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
+            elif direct and hasattr(slave, "handle_direct"):
+                with self.lock:
+                    reply = slave.handle_direct(frame)
+            else:
+                with self.lock:
+                    reply = slave.handle(frame, "tcp")
+        except Exception:
+            self.log.exception("slave for unit %d failed on request %s", unit, frame.hex(" "))
+            reply = exception_reply(frame, SERVER_DEVICE_FAILURE)
+        if reply:
+            self.responses += 1
+        return reply
+
+
+class UdpLink(Link):
+    """A Link to a Modbus/UDP server: each frame one datagram, each datagram received one frame."""
+
+    mode = "tcp"
+
+    def __init__(self, host: str, port: int = 502, *, clock: Clock | None = None) -> None:
+        _check_host(host, "send to", '"192.168.1.50" or "localhost"')
+        if not _is_int(port) or not 1 <= port <= 65535:
+            raise ConfigError(f"UDP port must be an integer 1..65535 (Modbus's own is 502), got {port!r}")
+        self.host = host
+        self.port = port
+        self.clock = clock if clock is not None else RealClock()
+        self.closed = False
+        self.discarded = 0
+        self._splitter = TcpSplitter()
+        self._frames: deque[bytes] = deque()
+        self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        try:
+            self._sock.connect((host, port))
+        except OSError as exc:
+            self._sock.close()
+            raise LinkError(f"cannot address UDP {host}:{port}: {exc.strerror or exc}") from exc
+
+    @property
+    def description(self) -> str:
+        return f"Modbus/UDP to {self.host}:{self.port}"
+
+    def send(self, frame: bytes) -> None:
+        """Send one frame as one datagram."""
+        self._check_open()
+        try:
+            self._sock.send(frame)
+        except OSError as exc:
+            raise LinkError(f"sending to UDP {self.host}:{self.port} failed: {exc.strerror or exc}") from exc
+
+    def receive(self, timeout: float) -> bytes | None:
+        """The next datagram that is one valid MBAP frame, or None within ``timeout`` seconds."""
+        self._check_open()
+        deadline = time.monotonic() + max(0.0, timeout)
+        while True:
+            remaining = deadline - time.monotonic()
+            try:
+                self._sock.settimeout(max(remaining, 1e-4))
+                data = self._sock.recv(_DATAGRAM)
+            except (TimeoutError, BlockingIOError, InterruptedError):
+                return None
+            except ConnectionRefusedError:
+                # ICMP port unreachable from an earlier datagram: nobody listens; the request is lost
+                if remaining <= 0:
+                    return None
+                continue
+            except OSError as exc:
+                raise LinkError(f"receiving from UDP {self.host}:{self.port} failed: {exc}") from exc
+            frame = _one_frame(self._splitter, data)
+            if frame is not None:
+                return frame
+            self.discarded += len(data)
+            if remaining <= 0:
+                return None
+
+    def close(self) -> None:
+        """Close the socket. Closing twice is harmless."""
+        if not self.closed:
+            self._sock.close()
+        self.closed = True
+
+
+def udp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> UdpLink:
+    """A :class:`UdpLink` to a Modbus/UDP server (mode ``"tcp"``: MBAP frames; real clock).
+
+    ``timeout`` is accepted for symmetry with :func:`~modbus_edu.links.tcp.tcp_link` (UDP has no
+    connection to wait for); each request's timeout is the master's, and its retries resend lost
+    datagrams::
+
+        with mb.udp_link("127.0.0.1", port) as link:
+            mb.Master(link, retries=2).read_holding_registers(unit=1, address=0, count=2)
+    """
+    _positive_seconds("timeout", timeout, "(seconds)")
+    return UdpLink(host, port)

@@ -1,0 +1,121 @@
+"""Scanning: who answers on a bus, at which unit ids and with which line settings.
+
+:func:`scan` asks every unit id (1..247 by default) one harmless question - read holding register 0 -
+under each line setting to try (baud rate, parity). Any answer, a normal response **or an exception
+response** (02 illegal data address is common: the device has no register 0), proves a device is
+there; silence (a timeout) or 0x0A/0x0B from a gateway means nobody. The scan is bounded in time:
+``budget`` seconds on the link's clock, after which it stops and says how far it got.
+
+The progress bar is tqdm's (the course uses tqdm: one small pure-Python dependency that works in a
+terminal and in Jupyter alike).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError
+from .links.base import Link
+from .master import Master
+
+__all__ = ["ScanHit", "ScanReport", "scan"]
+
+
+@dataclass(frozen=True)
+class ScanHit:
+    """A device that answered: its ``unit``, the line ``settings`` it answered with, and what it said."""
+
+    unit: int
+    settings: dict[str, Any]
+    answer: str
+
+
+@dataclass
+class ScanReport:
+    """What a scan found (``hits``), how many questions it asked, and whether it ran out of time."""
+
+    hits: list[ScanHit] = field(default_factory=list)
+    asked: int = 0
+    complete: bool = True
+    elapsed: float = 0.0
+
+    def __iter__(self):
+        return iter(self.hits)
+
+    def __len__(self) -> int:
+        return len(self.hits)
+
+
+def _probe(master: Master, unit: int) -> str | None:
+    try:
+        regs = master.read_holding_registers(unit=unit, address=0, count=1)
+    except ModbusExceptionError as exc:
+        if exc.code in (0x0A, 0x0B):  # a gateway saying: nobody there
+            return None
+        return f"exception {exc.code:02X} ({exc.meaning})"
+    except (ModbusTimeoutError, LinkError):
+        return None
+    except ModbusError as exc:  # a garbled answer: something is there, maybe at other settings
+        return f"garbled answer: {exc}"
+    return f"register 0 = {regs[0]}"
+
+
+def scan(
+    link: Link | Callable[..., Link],
+    units: Iterable[int] = range(1, 248),
+    *,
+    settings: Sequence[dict[str, Any]] | None = None,
+    timeout: float = 0.1,
+    budget: float = 60.0,
+    progress: bool = False,
+) -> ScanReport:
+    """Ask every unit in ``units`` under every line setting; return who answered.
+
+    ``link`` is a Link, or, to try line settings, a function called as ``link(**setting)`` for each
+    dict in ``settings`` (e.g. ``lambda **s: mb.serial_link("/dev/ttyUSB0", **s)`` with
+    ``settings=[{"baudrate": 9600, "parity": "N"}, {"baudrate": 19200, "parity": "E"}]``).
+    ``timeout`` is each question's wait; ``budget`` bounds the whole scan (seconds on the link's clock).
+    """
+    units = list(units)
+    for u in units:
+        if isinstance(u, bool) or not isinstance(u, int) or not 1 <= u <= 247:
+            raise ConfigError(f"scan units must be 1..247 (0 is broadcast, nobody answers it), got {u!r}")
+    if settings is None:
+        settings = [{}]
+    if isinstance(link, Link) and settings != [{}]:
+        raise ConfigError("to try line settings, pass a function that opens a link for each setting")
+    if budget <= 0 or timeout <= 0:
+        raise ConfigError(f"timeout and budget must be > 0 seconds, got {timeout!r} and {budget!r}")
+    from tqdm.auto import tqdm
+
+    report = ScanReport()
+    bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")
+    try:
+        for setting in settings:
+            current = link if isinstance(link, Link) else link(**setting)
+            try:
+                master = Master(current, timeout=timeout)
+                clock = current.clock
+                start = clock.now
+                for unit in units:
+                    if report.elapsed + (clock.now - start) >= budget:
+                        report.complete = False
+                        break
+                    answer = _probe(master, unit)
+                    report.asked += 1
+                    bar.update(1)
+                    if answer is not None:
+                        report.hits.append(ScanHit(unit, dict(setting), answer))
+                        bar.set_postfix(found=len(report.hits))
+                report.elapsed += clock.now - start
+            finally:
+                if current is not link:
+                    current.close()
+            if not report.complete:
+                break
+    finally:
+        bar.close()
+    return report
