@@ -95,6 +95,9 @@ _KIND_OF_FUNCTION = {
     6: "holding_registers",
     15: "coils",
     16: "holding_registers",
+    22: "holding_registers",
+    23: "holding_registers",
+    24: "holding_registers",
 }
 
 
@@ -106,8 +109,8 @@ def table_kind(kind_or_function: str | int) -> str:
     >>> table_kind("coils")
     'coils'
 
-    Function codes 1/5/15 reach the coils, 2 the discrete inputs, 3/6/16 the holding registers and
-    4 the input registers.  Anything else raises :class:`~modbus_edu.errors.DataModelError`.
+    Function codes 1/5/15 reach the coils, 2 the discrete inputs, 3/6/16/22/23/24 the holding registers
+    and 4 the input registers.  Anything else raises :class:`~modbus_edu.errors.DataModelError`.
     """
     if isinstance(kind_or_function, str):
         name = kind_or_function.strip().lower().replace(" ", "_").replace("-", "_")

@@ -279,3 +279,31 @@ def test_file_records_through_the_master_and_pymodbus_both_ways_and_live():
 def test_the_rules_of_fc_8_12_20_21(make, words):
     with pytest.raises(mb.ModbusError, match=words):
         make()
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 0xFFFF), st.integers(0, 9990), st.lists(REGS, min_size=1, max_size=8))
+def test_fc20_and_fc21_both_ways_with_pymodbus(file, record, values):
+    from pymodbus.pdu import file_message as pf
+
+    data = b"".join(v.to_bytes(2, "big") for v in values)
+    theirs = pf.WriteFileRecordRequest(records=[pf.FileRecord(file_number=file, record_number=record,
+                                                              record_data=data)])
+    ours = P.WriteFileRecordRequest(((file, record, tuple(values)),))
+    assert bytes([0x15]) + theirs.encode() == ours.encode()
+    assert P.decode_pdu(bytes([0x15]) + theirs.encode(), "request") == ours
+    read = P.ReadFileRecordRequest(((file, record, len(values)),))
+    # pymodbus's FileRecord counts record_length in bytes
+    asked = pf.ReadFileRecordRequest(records=[pf.FileRecord(file_number=file, record_number=record,
+                                                            record_length=2 * len(values))])
+    assert bytes([0x14]) + asked.encode() == read.encode()
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.sampled_from([0x0B, 0x0C, 0x0D, 0x0E, 0x0F, 0x10, 0x11, 0x12]), REGS, st.integers(1, 247))
+def test_fc8_counters_both_ways_with_pymodbus(sub, count, unit):
+    ours = P.DiagnosticsResponse(sub, count.to_bytes(2, "big"))
+    theirs = DecodePDU(is_server=False).decode(ours.encode())
+    assert theirs.sub_function_code == sub and theirs.message == count
+    frame = FramerRTU(DecodePDU(is_server=False)).buildFrame(theirs)
+    assert mb.RtuFrame.decode(frame[:0] + bytes([1]) + frame[1:], "response").pdu == ours

@@ -932,7 +932,23 @@ def test_the_test_tool_offers_only_functions_whose_table_its_grid_shows():
 
     tool = TestTool("rtu_master")
     offered = [value for _label, value in tool.function.options]
-    assert offered == [1, 2, 3, 4, 5, 6, 15, 16]
+    assert offered == [1, 2, 3, 4, 5, 6, 15, 16, 22, 23, 24]
     for fc in offered:
         table_kind(fc)  # each reaches a table
     assert tool.apply_config({"function": 7}) is False and tool.message.kind == "error"
+
+
+def test_the_test_tools_master_offers_mask_write_read_write_and_fifo():
+    slave = TestTool("rtu_slave", unit=1, address=0, length=4)
+    slave.set_cell(0, 0x12)
+    master = TestTool("rtu_master", partner=slave, unit=1, address=0, length=4, function=22)
+    master.set_cell(0, 0xF2)                       # the AND mask
+    master.set_cell(1, 0x25)                       # the OR mask
+    assert master.poll_once() == [0xF2, 0x25] and slave.values[0] == 0x17
+    master.function.value = 23
+    master.set_cell(2, 7)
+    assert master.poll_once() == [0xF2, 0x25, 7, 0] == slave.values[:4]
+    slave.slave.bank.holding_registers.write(10, [2, 11, 12])
+    master.function.value = 24
+    master.address.value = 10
+    assert master.poll_once() == [11, 12] and master.values[1:3] == [11, 12]

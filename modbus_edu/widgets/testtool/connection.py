@@ -283,6 +283,19 @@ class ConnectionMixin:
             value = table[address]
             master.write_single_register(unit, address, value)
             return [value]
+        if fc == 22:  # the register at the start address, with the grid's first two cells as AND, OR masks
+            and_mask, or_mask = table.read(address, 2)
+            master.mask_write_register(unit, address, and_mask, or_mask)
+            return [and_mask, or_mask]
+        if fc == 23:  # write the grid's values, read the same registers back in the same transaction
+            values = master.read_write_multiple_registers(unit, address, length, address,
+                                                          table.read(address, length))
+            table.write(address, values)
+            return values
+        if fc == 24:  # the queue behind the pointer at the start address: its values follow it
+            values = master.read_fifo_queue(unit, address)
+            table.write(address + 1, values)
+            return values
         values = table.read(address, length)
         if fc == 15:
             master.write_multiple_coils(unit, address, values)
