@@ -450,7 +450,7 @@ class DataBank:
         bank.add("00308")        # coil address 307
     """
 
-    __slots__ = ("sparse", "coils", "discrete_inputs", "input_registers", "holding_registers")
+    __slots__ = ("sparse", "coils", "discrete_inputs", "input_registers", "holding_registers", "files")
 
     def __init__(self, sparse: bool = False) -> None:
         self.sparse: bool = bool(sparse)
@@ -458,6 +458,8 @@ class DataBank:
         self.discrete_inputs = Table("discrete_inputs", sparse)
         self.input_registers = Table("input_registers", sparse)
         self.holding_registers = Table("holding_registers", sparse)
+        self.files: dict[int, list[int]] = {}
+        """File records (FC 20/21): file number 1..65535 -> its registers, record 0 first (up to 10000)."""
 
     @classmethod
     def from_references(cls, values: Mapping[ReferenceLike, Any], sparse: bool = False) -> DataBank:

@@ -69,7 +69,7 @@ class PduError(ModbusError):
 
 
 class UnknownFunctionError(PduError):
-    """The function code is not one this library implements (1, 2, 3, 4, 5, 6, 15, 16)."""
+    """The function code (or FC 8's sub-function, FC 43's MEI type) is not one this library implements."""
 
     def __init__(self, message: str, *, function: int | None = None) -> None:
         super().__init__(message)

@@ -69,6 +69,9 @@ from .links.base import Link
 from .pdu import ExceptionResponse, Pdu
 from .traffic import TrafficLog, pdu_note
 
+_NO_BROADCAST = frozenset({1, 2, 3, 4, 0x07, 0x08, 0x0B, 0x0C, 0x11, 0x14, 0x17, 0x18, 0x2B})
+"""Functions that read something back: a broadcast of them makes no sense (no slave answers one)."""
+
 MAX_LOG = 10_000
 """The most frames ``Master.log`` keeps (the newest): a poll left running overnight stays bounded."""
 
@@ -325,6 +328,46 @@ class Master:
             object_id = response.next_object_id
         return objects
 
+    def diagnostics(self, unit: int, sub_function: int, data: bytes | int = 0) -> int | bytes:
+        """FC 8 (serial lines): a diagnostics sub-function (:class:`~modbus_edu.pdu.DiagnosticSubFunction`).
+
+        Returns the first data word of the answer (a counter, the diagnostic register) as an int, or, for
+        Return Query Data (0x00), the data echoed as bytes.  Force Listen Only Mode (0x04) gets no answer:
+        this returns None for it without waiting."""
+        request = _pdu.DiagnosticsRequest(sub_function, data)
+        if sub_function == 0x04:
+            return self.execute_no_answer(unit, request)
+        response = self._ask(unit, request)
+        return response.data if sub_function == 0x00 else response.value
+
+    def execute_no_answer(self, unit: int, request: Pdu) -> None:
+        """Send a request that, by the spec, gets no answer (FC 8/04); count it, wait for nothing."""
+        link, clock, mode = self.link, self.link.clock, self.link.mode
+        tid = self._next_tid() if mode == "tcp" else 0
+        frame = make_frame(mode, unit, request, tid).encode()
+        self.stats.requests += 1
+        self.stats.broadcasts += 1  # like a broadcast: nothing is expected back
+        self.log.record(clock.now, "tx", mode, frame, "master", f"unit {unit}", pdu_note(request), "request")
+        link.send(frame)
+        link.flush()
+        return None
+
+    def get_comm_event_counter(self, unit: int) -> int:
+        """FC 11 (serial lines): the count of messages the device completed normally."""
+        return self._ask(unit, _pdu.GetCommEventCounterRequest()).event_count
+
+    def get_comm_event_log(self, unit: int) -> _pdu.GetCommEventLogResponse:
+        """FC 12 (serial lines): the event and message counts and up to 64 events, newest first."""
+        return self._ask(unit, _pdu.GetCommEventLogRequest())
+
+    def read_file_record(self, unit: int, file: int, record: int, count: int) -> list[int]:
+        """FC 20: ``count`` registers of a file from record ``record`` (one sub-request)."""
+        return list(self._ask(unit, _pdu.ReadFileRecordRequest(((file, record, count),))).records[0])
+
+    def write_file_record(self, unit: int, file: int, record: int, values: Any) -> None:
+        """FC 21: write ``values`` into a file from record ``record`` (one sub-request)."""
+        self.execute(unit, _pdu.WriteFileRecordRequest(((file, record, tuple(values)),)))
+
     def _ask(self, unit: int, request: Pdu) -> Any:
         if self._is_broadcast(unit):
             raise ConfigError(f"{request.title} cannot be broadcast (unit 0): no slave answers a broadcast")
@@ -442,7 +485,7 @@ class Master:
         """
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
-        if self._is_broadcast(unit) and request.function_code in (1, 2, 3, 4, 0x07, 0x11, 0x17, 0x18, 0x2B):
+        if self._is_broadcast(unit) and request.function_code in _NO_BROADCAST:
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         error: ModbusError | None = None
         for attempt in range(self.retries + 1):
@@ -622,7 +665,7 @@ class Master:
         elif function == 0x17:
             if len(response.registers) != request.read_count:
                 return f"{len(response.registers)} registers, expected {request.read_count}"
-        elif function in (0x07, 0x11, 0x18, 0x2B):
+        elif function in (0x07, 0x08, 0x0B, 0x0C, 0x11, 0x14, 0x15, 0x18, 0x2B):
             pass
         elif (response.address, response.count) != (request.address, len(request.values)):
             return (f"the echo says address {response.address} count {response.count}, the request was "

@@ -70,9 +70,14 @@ class FunctionCode(IntEnum):
     WRITE_SINGLE_COIL = 0x05
     WRITE_SINGLE_REGISTER = 0x06
     READ_EXCEPTION_STATUS = 0x07
+    DIAGNOSTICS = 0x08
+    GET_COMM_EVENT_COUNTER = 0x0B
+    GET_COMM_EVENT_LOG = 0x0C
     WRITE_MULTIPLE_COILS = 0x0F
     WRITE_MULTIPLE_REGISTERS = 0x10
     REPORT_SERVER_ID = 0x11
+    READ_FILE_RECORD = 0x14
+    WRITE_FILE_RECORD = 0x15
     MASK_WRITE_REGISTER = 0x16
     READ_WRITE_MULTIPLE_REGISTERS = 0x17
     READ_FIFO_QUEUE = 0x18
@@ -1570,18 +1575,437 @@ class ReadDeviceIdentificationResponse(Pdu):
                 ("more_follows", self.more_follows)]
 
 
+class DiagnosticSubFunction(IntEnum):
+    """FC 8's sub-functions (serial lines): a line check, and the counters the serial-line spec defines."""
+
+    RETURN_QUERY_DATA = 0x00
+    RESTART_COMMUNICATIONS_OPTION = 0x01
+    RETURN_DIAGNOSTIC_REGISTER = 0x02
+    CHANGE_ASCII_INPUT_DELIMITER = 0x03
+    FORCE_LISTEN_ONLY_MODE = 0x04
+    CLEAR_COUNTERS_AND_DIAGNOSTIC_REGISTER = 0x0A
+    RETURN_BUS_MESSAGE_COUNT = 0x0B
+    RETURN_BUS_COMMUNICATION_ERROR_COUNT = 0x0C
+    RETURN_BUS_EXCEPTION_ERROR_COUNT = 0x0D
+    RETURN_SERVER_MESSAGE_COUNT = 0x0E
+    RETURN_SERVER_NO_RESPONSE_COUNT = 0x0F
+    RETURN_SERVER_NAK_COUNT = 0x10
+    RETURN_SERVER_BUSY_COUNT = 0x11
+    RETURN_BUS_CHARACTER_OVERRUN_COUNT = 0x12
+    CLEAR_OVERRUN_COUNTER_AND_FLAG = 0x14
+
+
+@dataclass(frozen=True, slots=True)
+class _Diagnostics(Pdu):
+    sub_function: int
+    data: bytes = b"\x00\x00"
+
+    function_code: ClassVar[int] = 0x08
+
+    def __post_init__(self) -> None:
+        try:
+            DiagnosticSubFunction(_check_int(self.sub_function, "sub_function"))
+        except ValueError:  # a slave answers an unsupported sub-function with exception 01, as the spec asks
+            raise UnknownFunctionError(f"diagnostics sub-function 0x{self.sub_function:04X} is not one this "
+                                       f"library implements (0x00-0x04, 0x0A-0x12, 0x14)", function=0x08
+                                       ) from None
+        data = self.data
+        if isinstance(data, int) and not isinstance(data, bool):
+            data = _check_register(data).to_bytes(2, "big")
+        if not isinstance(data, (bytes, bytearray)) or not 2 <= len(data) <= 250 or len(data) % 2:
+            raise ValueRangeError(f"diagnostics data is 2 to 250 bytes, an even number, got {shown(data)}")
+        object.__setattr__(self, "data", bytes(data))
+
+    @property
+    def value(self) -> int:
+        """The first data word (a counter, the diagnostic register, 0x0000 or 0xFF00)."""
+        return int.from_bytes(self.data[:2], "big")
+
+    def encode(self) -> bytes:
+        return struct.pack(">BH", 0x08, self.sub_function) + self.data
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_minimum(data, 5, f"Diagnostics {cls.role}", offset)
+        if len(data) % 2 == 0:
+            raise TruncatedError(f"Diagnostics {cls.role}: {len(data) - 3} data bytes from byte "
+                                 f"{offset + 3}, expected an even number (16-bit words)")
+        sub = int.from_bytes(data[1:3], "big")
+        try:
+            return cls(sub, bytes(data[3:]))
+        except UnknownFunctionError as exc:
+            raise UnknownFunctionError(f"at bytes {offset + 1}-{offset + 2}: {exc}", function=0x08) from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        name = DiagnosticSubFunction(self.sub_function).name.replace("_", " ").lower()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "sub-function", self.sub_function, name),
+                Field(3, raw[3:], "data", self.data.hex(" ").upper(), f"first word {self.value}")]
+
+    def _summary_items(self):
+        return [("sub_function", f"0x{self.sub_function:02X}"), ("data", self.data.hex(" ").upper())]
+
+
+@dataclass(frozen=True, slots=True)
+class DiagnosticsRequest(_Diagnostics):
+    """Diagnostics (FC 08) request, serial lines::
+
+        offset  size  field
+        0       1     function code 0x08
+        1       2     sub-function (see DiagnosticSubFunction)
+        3       2N    data: usually one word (0x0000; 0xFF00 asks Restart to clear the event log)
+
+    Return Query Data (0x0000) asks the device to echo the data: a line check.
+    """
+
+    role: ClassVar[str] = "request"
+
+
+@dataclass(frozen=True, slots=True)
+class DiagnosticsResponse(_Diagnostics):
+    """Diagnostics (FC 08) response: the sub-function, then its answer (an echo, or a counter)."""
+
+    role: ClassVar[str] = "response"
+
+
+@dataclass(frozen=True, slots=True)
+class GetCommEventCounterRequest(_NoDataRequest):
+    """Get Comm Event Counter (FC 11, 0x0B) request, serial lines: the function code alone."""
+
+    function_code: ClassVar[int] = 0x0B
+
+
+@dataclass(frozen=True, slots=True)
+class GetCommEventCounterResponse(Pdu):
+    """Get Comm Event Counter (FC 11, 0x0B) response::
+
+        offset  size  field
+        0       1     function code 0x0B
+        1       2     status: 0xFFFF while a previous command is still being processed, else 0x0000
+        3       2     event count: messages completed normally since the last restart
+    """
+
+    status: int
+    event_count: int
+
+    function_code: ClassVar[int] = 0x0B
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        _check_register(self.status)
+        _check_register(self.event_count)
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", 0x0B, self.status, self.event_count)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, "Get Comm Event Counter response", offset)
+        return cls(*struct.unpack(">HH", data[1:]))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "status", self.status, "0xFFFF: busy" if self.status else "0x0000: ready"),
+                Field(3, raw[3:5], "event count", self.event_count, "messages completed normally")]
+
+    def _summary_items(self):
+        return [("status", f"0x{self.status:04X}"), ("event_count", self.event_count)]
+
+
+@dataclass(frozen=True, slots=True)
+class GetCommEventLogRequest(_NoDataRequest):
+    """Get Comm Event Log (FC 12, 0x0C) request, serial lines: the function code alone."""
+
+    function_code: ClassVar[int] = 0x0C
+
+
+@dataclass(frozen=True, slots=True)
+class GetCommEventLogResponse(Pdu):
+    """Get Comm Event Log (FC 12, 0x0C) response::
+
+        offset  size  field
+        0       1     function code 0x0C
+        1       1     byte count 6 + N
+        2       2     status (0xFFFF busy, 0x0000 ready)
+        4       2     event count (as FC 11)
+        6       2     message count (the bus message count of FC 8)
+        8       N     events, newest first, at most 64: 0x80+ a message received, 0x40+ a response sent,
+                      0x04 listen-only mode entered, 0x00 communications restarted
+    """
+
+    status: int
+    event_count: int
+    message_count: int
+    events: bytes = b""
+
+    function_code: ClassVar[int] = 0x0C
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        for name in ("status", "event_count", "message_count"):
+            _check_register(getattr(self, name))
+        if not isinstance(self.events, (bytes, bytearray)) or len(self.events) > 64:
+            raise ValueRangeError(f"events are at most 64 bytes, got {shown(self.events)}")
+        object.__setattr__(self, "events", bytes(self.events))
+
+    def encode(self) -> bytes:
+        return struct.pack(">BBHHH", 0x0C, 6 + len(self.events), self.status, self.event_count,
+                           self.message_count) + self.events
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Get Comm Event Log response"
+        _expect_minimum(data, 8, name, offset)
+        if not 6 <= data[1] <= 70:
+            raise ByteCountError(f"at byte {offset + 1}: byte count {data[1]}, expected 6 to 70")
+        _expect_byte_count(data, 2, data[1], name, offset)
+        status, events, messages = struct.unpack(">HHH", data[2:8])
+        return cls(status, events, messages, bytes(data[8:]))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:2], "byte count", raw[1], "6 + number of events"),
+                Field(2, raw[2:4], "status", self.status, "0xFFFF: busy" if self.status else "ready"),
+                Field(4, raw[4:6], "event count", self.event_count, "messages completed normally"),
+                Field(6, raw[6:8], "message count", self.message_count, "messages seen on the bus"),
+                Field(8, raw[8:], "events", self.events.hex(" ").upper(), "newest first")]
+
+    def _summary_items(self):
+        return [("event_count", self.event_count), ("message_count", self.message_count),
+                ("events", self.events.hex(" ").upper())]
+
+
+MAX_RECORD_NUMBER = 9999
+"""File records are numbered 0 to 9999 (0x270F) within a file; files are numbered 1 to 65535."""
+
+
+def _check_file_reference(file: Any, record: Any) -> None:
+    if not 1 <= _check_int(file, "file number") <= 0xFFFF:
+        raise AddressRangeError(f"file number {file}: expected 1 to 65535")
+    if not 0 <= _check_int(record, "record number") <= MAX_RECORD_NUMBER:
+        raise AddressRangeError(f"record number {record}: expected 0 to 9999 (0x270F)")
+
+
+@dataclass(frozen=True, slots=True)
+class ReadFileRecordRequest(Pdu):
+    """Read File Record (FC 20, 0x14) request: one or more sub-requests, each a run of records::
+
+        offset  size  field
+        0       1     function code 0x14
+        1       1     byte count 7 x N (0x07 to 0xF5)
+        then N sub-requests of 7 bytes:
+                1     reference type 6
+                2     file number (1-65535)
+                2     record number (0-9999)
+                2     record length (registers to read)
+    """
+
+    records: tuple[tuple[int, int, int], ...]
+
+    function_code: ClassVar[int] = 0x14
+    role: ClassVar[str] = "request"
+
+    def __post_init__(self) -> None:
+        records = tuple(tuple(item) for item in self.records)
+        if not 1 <= len(records) <= 35:
+            raise QuantityError(f"{len(records)} sub-requests: expected 1 to 35 (byte count 7 x N <= 0xF5)")
+        for file, record, length in records:
+            _check_file_reference(file, record)
+            if not 1 <= _check_int(length, "record length") or record + length - 1 > MAX_RECORD_NUMBER:
+                raise QuantityError(f"record length {length} from record {record}: runs past record 9999")
+        if 2 + sum(2 + 2 * length for _, _, length in records) > MAX_PDU_SIZE:
+            raise QuantityError("the records asked for do not fit one response (253 bytes)")
+        object.__setattr__(self, "records", records)
+
+    def encode(self) -> bytes:
+        body = b"".join(struct.pack(">BHHH", 6, f, r, n) for f, r, n in self.records)
+        return bytes([0x14, len(body)]) + body
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Read File Record request"
+        _expect_minimum(data, 2, name, offset)
+        count = data[1]
+        if not 7 <= count <= 0xF5 or count % 7:
+            raise ByteCountError(f"at byte {offset + 1}: byte count {count}, expected a multiple of 7 from 7 "
+                                 "to 245")
+        _expect_byte_count(data, 2, count, name, offset)
+        records = []
+        for at in range(2, 2 + count, 7):
+            if data[at] != 6:
+                raise ValueRangeError(f"at byte {offset + at}: reference type {data[at]}, expected 6")
+            records.append(struct.unpack(">HHH", data[at + 1:at + 7]))
+        return cls(tuple(records))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw), Field(1, raw[1:2], "byte count", raw[1], "7 per sub-request")]
+        for index, (file, record, length) in enumerate(self.records):
+            at = 2 + 7 * index
+            rows.append(Field(at, raw[at:at + 7], f"sub-request {index}", f"file {file}, record {record}",
+                              f"reference type 6, {length} registers"))
+        return rows
+
+    def _summary_items(self):
+        return [("records", list(self.records))]
+
+
+@dataclass(frozen=True, slots=True)
+class ReadFileRecordResponse(Pdu):
+    """Read File Record (FC 20, 0x14) response: one sub-response per sub-request::
+
+        offset  size  field
+        0       1     function code 0x14
+        1       1     response data length (the sub-responses' bytes)
+        then per sub-response:
+                1     sub-response length 1 + 2N
+                1     reference type 6
+                2N    the record data (registers, high byte first)
+    """
+
+    records: tuple[tuple[int, ...], ...]
+
+    function_code: ClassVar[int] = 0x14
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        records = tuple(_check_registers(values, "records") for values in self.records)
+        if not records or 2 + sum(2 + 2 * len(values) for values in records) > MAX_PDU_SIZE:
+            raise QuantityError("a Read File Record response holds 1 or more records, within 253 bytes")
+        object.__setattr__(self, "records", records)
+
+    def encode(self) -> bytes:
+        body = b"".join(bytes([1 + 2 * len(v), 6]) + struct.pack(f">{len(v)}H", *v) for v in self.records)
+        return bytes([0x14, len(body)]) + body
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Read File Record response"
+        _expect_minimum(data, 2, name, offset)
+        _expect_byte_count(data, 2, data[1], name, offset)
+        records, at = [], 2
+        while at < len(data):
+            size = data[at]
+            if size < 1 or size % 2 == 0 or at + 1 + size > len(data):
+                raise ByteCountError(f"at byte {offset + at}: sub-response length {size}, expected 1 + 2N "
+                                     "within the response")
+            if data[at + 1] != 6:
+                raise ValueRangeError(f"at byte {offset + at + 1}: reference type {data[at + 1]}, expected 6")
+            records.append(struct.unpack(f">{(size - 1) // 2}H", data[at + 2:at + 1 + size]))
+            at += 1 + size
+        return cls(tuple(records))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw), Field(1, raw[1:2], "response data length", raw[1], "")]
+        at = 2
+        for index, values in enumerate(self.records):
+            size = 2 + 2 * len(values)
+            rows.append(Field(at, raw[at:at + size], f"sub-response {index}", list(values),
+                              f"{len(values)} registers, reference type 6"))
+            at += size
+        return rows
+
+    def _summary_items(self):
+        return [("records", [list(v) for v in self.records])]
+
+
+@dataclass(frozen=True, slots=True)
+class _WriteFileRecord(Pdu):
+    records: tuple[tuple[int, int, tuple[int, ...]], ...]
+
+    function_code: ClassVar[int] = 0x15
+
+    def __post_init__(self) -> None:
+        records = []
+        for file, record, values in self.records:
+            _check_file_reference(file, record)
+            values = _check_registers(values, "record values")
+            if not values or record + len(values) - 1 > MAX_RECORD_NUMBER:
+                raise QuantityError(f"{len(values)} values from record {record}: 1 or more, up to record "
+                                    "9999")
+            records.append((file, record, values))
+        if not records or 2 + sum(7 + 2 * len(v) for _, _, v in records) > MAX_PDU_SIZE:
+            raise QuantityError("a Write File Record request holds 1 or more records, within 253 bytes")
+        object.__setattr__(self, "records", tuple(records))
+
+    def encode(self) -> bytes:
+        body = b"".join(struct.pack(f">BHHH{len(v)}H", 6, f, r, len(v), *v) for f, r, v in self.records)
+        return bytes([0x15, len(body)]) + body
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = f"Write File Record {cls.role}"
+        _expect_minimum(data, 2, name, offset)
+        _expect_byte_count(data, 2, data[1], name, offset)
+        records, at = [], 2
+        while at < len(data):
+            if at + 7 > len(data):
+                raise TruncatedError(f"{name} is truncated: a sub-request header from byte {offset + at}")
+            kind, file, record, length = struct.unpack(">BHHH", data[at:at + 7])
+            if kind != 6:
+                raise ValueRangeError(f"at byte {offset + at}: reference type {kind}, expected 6")
+            end = at + 7 + 2 * length
+            if end > len(data):
+                raise TruncatedError(f"{name} is truncated: record length {length} runs past byte "
+                                     f"{len(data)}")
+            records.append((file, record, struct.unpack(f">{length}H", data[at + 7:end])))
+            at = end
+        return cls(tuple(records))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw), Field(1, raw[1:2], "byte count", raw[1], "")]
+        at = 2
+        for index, (file, record, values) in enumerate(self.records):
+            size = 7 + 2 * len(values)
+            rows.append(Field(at, raw[at:at + size], f"sub-request {index}", f"file {file}, record {record}",
+                              f"reference type 6, values {list(values)}"))
+            at += size
+        return rows
+
+    def _summary_items(self):
+        return [("records", [(f, r, list(v)) for f, r, v in self.records])]
+
+
+@dataclass(frozen=True, slots=True)
+class WriteFileRecordRequest(_WriteFileRecord):
+    """Write File Record (FC 21, 0x15) request::
+
+        offset  size  field
+        0       1     function code 0x15
+        1       1     byte count
+        then per sub-request: reference type 6 (1), file number (2), record number (2),
+                record length N (2), record data (2N)
+    """
+
+    role: ClassVar[str] = "request"
+
+
+@dataclass(frozen=True, slots=True)
+class WriteFileRecordResponse(_WriteFileRecord):
+    """Write File Record (FC 21, 0x15) response: an echo of the request (same layout)."""
+
+    role: ClassVar[str] = "response"
+
+
 REQUEST_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadCoilsRequest, ReadDiscreteInputsRequest, ReadHoldingRegistersRequest, ReadInputRegistersRequest,
     WriteSingleCoilRequest, WriteSingleRegisterRequest, WriteMultipleCoilsRequest,
     WriteMultipleRegistersRequest, ReadExceptionStatusRequest, ReportServerIdRequest,
     MaskWriteRegisterRequest, ReadWriteMultipleRegistersRequest, ReadFifoQueueRequest,
-    ReadDeviceIdentificationRequest)}
+    ReadDeviceIdentificationRequest, DiagnosticsRequest, GetCommEventCounterRequest, GetCommEventLogRequest,
+    ReadFileRecordRequest, WriteFileRecordRequest)}
 RESPONSE_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadCoilsResponse, ReadDiscreteInputsResponse, ReadHoldingRegistersResponse, ReadInputRegistersResponse,
     WriteSingleCoilResponse, WriteSingleRegisterResponse, WriteMultipleCoilsResponse,
     WriteMultipleRegistersResponse, ReadExceptionStatusResponse, ReportServerIdResponse,
     MaskWriteRegisterResponse, ReadWriteMultipleRegistersResponse, ReadFifoQueueResponse,
-    ReadDeviceIdentificationResponse)}
+    ReadDeviceIdentificationResponse, DiagnosticsResponse, GetCommEventCounterResponse,
+    GetCommEventLogResponse, ReadFileRecordResponse, WriteFileRecordResponse)}
 
 ROLES = ("request", "response")
 
@@ -1666,6 +2090,12 @@ def pdu_length(data: bytes, role: str) -> int | None:
             return 3 + int.from_bytes(data[1:3], "big") if len(data) >= 3 else None
         if function == 0x2B:
             return _device_id_length(data)
+        if function == 0x08:
+            return 5
+        if function == 0x0B:
+            return 5
+        if function in (0x0C, 0x14, 0x15):
+            return 2 + data[1] if len(data) >= 2 else None
     else:
         if function in (1, 2, 3, 4, 5, 6):
             return 5
@@ -1681,6 +2111,12 @@ def pdu_length(data: bytes, role: str) -> int | None:
             return 3
         if function == 0x2B:
             return 4
+        if function == 0x08:
+            return 5  # one data word: what nearly every diagnostics request carries
+        if function in (0x0B, 0x0C):
+            return 1
+        if function in (0x14, 0x15):
+            return 2 + data[1] if len(data) >= 2 else None
     raise _unknown(function, 0, role)
 
 

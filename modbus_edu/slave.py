@@ -46,6 +46,8 @@ It never touches a socket, a port or a clock; the links do.
 
 from __future__ import annotations
 
+import dataclasses
+from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, fields
 from functools import lru_cache
@@ -73,6 +75,10 @@ __all__ = ["Slave", "SlaveCounters", "dispatch"]
 
 ReadHook = Callable[["Slave", str, int, int], Any]
 WriteHook = Callable[["Slave", str, int, list], Any]
+
+_SEND_EVENT = {1: 0x01, 2: 0x01, 3: 0x01, 4: 0x02, 5: 0x04, 6: 0x04, 7: 0x08}
+"""FC 12's send-event bits for an exception response: read exception (01-03), abort (04), busy (05, 06),
+program NAK (07)."""
 
 _WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 0x16})
 
@@ -212,6 +218,16 @@ class Slave:
         _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)  # checks both (a ValueRangeError)
         _pdu.ReadExceptionStatusResponse(self.exception_status)
         self.counters = SlaveCounters()
+        self.listen_only = False
+        """FC 8/04 put the slave in listen-only mode: it counts what it hears and answers nothing, until
+        FC 8/01 (restart communications)."""
+        self.diagnostic_register = 0
+        """FC 8/02's 16-bit register, which the device defines (0: nothing to report)."""
+        self.event_count = 0
+        """FC 11's count of messages completed normally."""
+        self.events: deque[int] = deque(maxlen=64)
+        """FC 12's event log, newest first: 0x80+ received, 0x40+ sent, 0x04 listen-only, 0x00 restart."""
+        self._diagnostics_base = SlaveCounters()
         self.log = TrafficLog(maxlen=1000)
         """The newest 1000 frames this slave received (``rx``) and sent (``tx``)."""
         self.clock: Any = None
@@ -345,6 +361,8 @@ class Slave:
         if direct:
             counters.requests += 1
             response = self.process(decoded.pdu)
+            if response is None:
+                return None, None, "no answer, as the request asks"
             note = "" if self.accepts(unit) else f"unit {unit} on Modbus/TCP: this device itself"
             return self._answer(mode, unit, response, data), response, note
         if unit == 0:
@@ -358,7 +376,13 @@ class Slave:
             counters.other_unit += 1  # a reserved serial address is answered only by a slave set to it
             return None, None, f"for unit {unit}: ignored"
         counters.requests += 1
+        restart = decoded.pdu.function_code == 0x08 and decoded.pdu.sub_function == 0x01
+        self.events.appendleft(0x80 | (0x20 if self.listen_only else 0))
+        if self.listen_only and not restart:
+            return None, None, "listen-only mode (FC 8/04): heard, not answered"
         response = self.process(decoded.pdu)
+        if response is None:
+            return None, None, "no answer, as the request asks"
         return self._answer(mode, unit, response, data), response, ""
 
     def _answer(self, mode: str, unit: int, response: Pdu, request: bytes) -> bytes:
@@ -366,6 +390,12 @@ class Slave:
         counters.responses += 1
         if isinstance(response, ExceptionResponse):
             counters.exceptions += 1
+            code = response.code
+            self.events.appendleft(0x40 | _SEND_EVENT.get(code, 0))
+        else:
+            self.events.appendleft(0x40)
+            if response.function_code not in (0x0B, 0x0C):
+                self.event_count = (self.event_count + 1) & 0xFFFF
         tid = int.from_bytes(request[0:2], "big") if mode == "tcp" else 0
         return make_frame(mode, unit, response, tid).encode()
 
@@ -418,6 +448,10 @@ class Slave:
             return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
         if function in (0x16, 0x17, 0x18):
             return self._execute_registers(request)
+        if function in (0x08, 0x0B, 0x0C):
+            return self._diagnose(request)
+        if function in (0x14, 0x15):
+            return self._file_records(request)
         if function == 0x2B:
             return self._identify(request)
         kind = table_kind(function)
@@ -438,6 +472,77 @@ class Slave:
         table.write(request.address, values)
         self.after_write(kind, request.address, values)
         return _pdu.RESPONSE_CLASSES[function](address=request.address, count=len(values))
+
+    def diagnostic_counters(self) -> dict[int, int]:
+        """FC 8's counters by sub-function, since the last restart or clear (16 bits each).
+
+        0x0B messages heard on the bus, 0x0C of them with a checksum error, 0x0D exception responses
+        sent, 0x0E messages for this slave, 0x0F of them not answered (broadcasts, listen-only), 0x10
+        NAKs, 0x11 busy answers, 0x12 character overruns (a simulated slave has none of the last three).
+        """
+        now, base = self.counters, self._diagnostics_base
+
+        def since(name: str) -> int:
+            return getattr(now, name) - getattr(base, name)
+
+        heard = since("requests") + since("checksum_errors") + since("bad_frames") + since("other_unit")
+        counts = {0x0B: heard, 0x0C: since("checksum_errors"), 0x0D: since("exceptions"),
+                  0x0E: since("requests"), 0x0F: since("requests") - since("responses"),
+                  0x10: 0, 0x11: 0, 0x12: 0}
+        return {key: value & 0xFFFF for key, value in counts.items()}
+
+    def _diagnose(self, request: Any) -> Pdu | None:
+        """FC 8 (a sub-function), FC 11 (the event counter) and FC 12 (the event log)."""
+        if request.function_code == 0x0B:
+            return _pdu.GetCommEventCounterResponse(0, self.event_count)
+        if request.function_code == 0x0C:
+            messages = self.diagnostic_counters()[0x0B]
+            return _pdu.GetCommEventLogResponse(0, self.event_count, messages, bytes(self.events))
+        sub, data = request.sub_function, request.data
+        echo = _pdu.DiagnosticsResponse(sub, data)
+        if sub == 0x00:  # return query data: the line check
+            return echo
+        if sub == 0x01:  # restart communications: counters cleared, listen-only ended
+            was_listening = self.listen_only
+            self.listen_only = False
+            self._diagnostics_base = dataclasses.replace(self.counters)
+            if request.value == 0xFF00:
+                self.events.clear()
+            self.events.appendleft(0x00)
+            return None if was_listening else echo
+        if sub == 0x04:  # force listen-only mode: no answer, now or later
+            self.listen_only = True
+            self.events.appendleft(0x04)
+            return None
+        if sub in (0x03, 0x14):  # change the ASCII delimiter / clear the overrun counter: accepted
+            return echo
+        if sub == 0x0A:
+            self._diagnostics_base = dataclasses.replace(self.counters)
+            self.diagnostic_register = 0
+            return echo
+        if request.value != 0:
+            raise ModbusExceptionError(0x08, int(ExceptionCode.ILLEGAL_DATA_VALUE))
+        value = self.diagnostic_register if sub == 0x02 else self.diagnostic_counters()[sub]
+        return _pdu.DiagnosticsResponse(sub, value.to_bytes(2, "big"))
+
+    def _file_records(self, request: Any) -> Pdu:
+        """FC 20 and 21 over :attr:`DataBank.files` (file number -> registers)."""
+        files = self.bank.files
+
+        def registers(file: int, record: int, count: int) -> list[int]:
+            stored = files.get(file)
+            if stored is None or record + count > len(stored):
+                raise ModbusExceptionError(request.function_code, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
+            return stored
+
+        if request.function_code == 0x14:
+            return _pdu.ReadFileRecordResponse(tuple(
+                tuple(registers(f, r, n)[r:r + n]) for f, r, n in request.records))
+        for file, record, values in request.records:  # all checked before any is written
+            registers(file, record, len(values))
+        for file, record, values in request.records:
+            files[file][record:record + len(values)] = list(values)
+        return _pdu.WriteFileRecordResponse(request.records)
 
     def _identify(self, request: Any) -> Pdu:
         """FC 43/14: the identity objects asked for; a stream that does not fit says 'more follows'."""

@@ -267,7 +267,7 @@ def test_decode_bad_crc_shows_the_table_and_fails():
     register((), [
         (["decode", "010300000001840"], 1, "odd number of hex digits"),
         (["decode", "01 03 zz"], 1, "not a hex digit"),
-        (["decode", "01 08 01 E6"], 1, "function code 0x08"),
+        (["decode", "01 09 C0 26"], 1, "function code 0x09"),
         (["decode", "--mode", "foo", "01"], 2, "invalid choice"),
         (["decode", "--role", "both", "01"], 2, "invalid choice"),
         (["decode", "-"], 1, "no frames"),
@@ -308,7 +308,7 @@ def test_build_writes_and_responses():
 @pytest.mark.parametrize(
     "args, code, message",
     register(("build",), [
-        (["--function", "8", "--address", "0", "--count", "1"], 1, "function 8"),
+        (["--function", "9", "--address", "0", "--count", "1"], 1, "function 9"),
         (["--function", "read_everything"], 1, "unknown function"),
         (["--function", "3", "--address", "0"], 1, "needs --count"),
         (["--function", "3", "--address", "0", "--count", "200"], 1, "quantity"),

@@ -210,7 +210,7 @@ def test_rtu_pdu_errors_propagate_with_frame_offsets() -> None:
         RtuFrame.decode(rtu("11 05 00 AC 12 34"))
     assert "0xFF00" in str(info.value)
     with pytest.raises(UnknownFunctionError, match="at byte 1"):
-        RtuFrame.decode(rtu("01 08"))
+        RtuFrame.decode(rtu("01 09"))
     with pytest.raises(ByteCountError, match="at byte 2"):
         RtuFrame.decode(rtu("01 03 03 00 01 02"), "response")
     with pytest.raises(TruncatedError):

@@ -142,7 +142,8 @@ def test_the_rtu_splitter_and_explain_know_the_new_lengths():
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.sampled_from([0x07, 0x11, 0x16, 0x17, 0x18, 0x2B]), st.binary(max_size=40),
+@given(st.sampled_from([0x07, 0x08, 0x0B, 0x0C, 0x11, 0x14, 0x15, 0x16, 0x17, 0x18, 0x2B]),
+       st.binary(max_size=40),
        st.sampled_from(["request", "response"]))
 def test_fuzzing_the_new_decoders_lets_only_modbus_errors_out(function, body, role):
     try:
@@ -183,3 +184,98 @@ def test_fc43_device_identification_splits_with_more_follows_and_pymodbus_reads_
     assert P.decode_pdu(response.encode(), "response") == response
     frame = mb.RtuFrame(1, response).encode()
     assert mb.framing.RtuSplitter("response").feed(frame) == [frame]
+
+
+# --- FC 8, 11, 12, 20, 21 -----------------------------------------------------------------------------------
+def _served_with_files():
+    slave = mb.Slave(unit=1)
+    slave.bank.files[4] = [0] * 20
+    slave.bank.files[4][1:3] = [0x0DFE, 0x0020]
+    slave.bank.files[3] = [0] * 20
+    slave.bank.files[3][9:11] = [0x33CD, 0x0040]
+    return slave
+
+
+def test_the_specifications_file_record_examples():
+    request = P.ReadFileRecordRequest(((4, 1, 2), (3, 9, 2)))
+    assert request.encode() == bytes.fromhex("14 0E 06 00 04 00 01 00 02 06 00 03 00 09 00 02")
+    response = P.decode_pdu(bytes.fromhex("14 0C 05 06 0D FE 00 20 05 06 33 CD 00 40"), "response")
+    assert response.records == ((0x0DFE, 0x0020), (0x33CD, 0x0040))
+    write = P.WriteFileRecordRequest(((4, 7, (0x06AF, 0x04BE, 0x100D)),))
+    assert write.encode() == bytes.fromhex("15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D")
+    assert P.DiagnosticsRequest(0x00, bytes.fromhex("A5 37")).encode() == bytes.fromhex("08 00 00 A5 37")
+
+
+def test_diagnostics_as_a_line_check_and_its_counters_after_injected_faults():
+    slave = _served_with_files()
+    link = mb.loopback_serial(slave)
+    master = mb.Master(link)
+    assert master.diagnostics(1, 0x00, bytes.fromhex("A5 37")) == bytes.fromhex("A5 37")
+    link.faults.flip_bits(1, target="request")
+    with pytest.raises(mb.ModbusTimeoutError):
+        master.read_holding_registers(1, 0, 1)
+    assert master.diagnostics(1, 0x0C) == 1          # one message with a bad checksum
+    assert master.diagnostics(1, 0x0B) == 4          # messages heard: 4 (the damaged one included)
+    with pytest.raises(mb.ModbusExceptionError):
+        master.read_file_record(1, 9, 0, 1)          # no file 9: exception 02
+    assert master.diagnostics(1, 0x0D) == 1          # one exception response sent
+    assert master.get_comm_event_counter(1) == 4     # normal completions (not the exception, not FC 11)
+    log = master.get_comm_event_log(1)
+    assert log.events[0] & 0x80 and len(log.events) <= 64
+    master.diagnostics(1, 0x04)                      # listen-only: no answer, now or after
+    with pytest.raises(mb.ModbusTimeoutError):
+        master.read_holding_registers(1, 0, 1)
+    master.execute_no_answer(1, P.DiagnosticsRequest(0x01, 0))   # restart: out of listen-only, quietly
+    assert master.read_holding_registers(1, 0, 1) == [0]
+    assert master.diagnostics(1, 0x0D) == 0          # the restart cleared the counters
+
+
+def test_file_records_through_the_master_and_pymodbus_both_ways_and_live():
+    from pymodbus.pdu import diag_message as pd
+    from pymodbus.pdu import file_message as pf
+
+    slave = _served_with_files()
+    master = mb.Master(mb.loopback_serial(slave))
+    assert master.read_file_record(1, 4, 1, 2) == [0x0DFE, 0x0020]
+    master.write_file_record(1, 4, 7, [0x06AF, 0x04BE, 0x100D])
+    assert slave.bank.files[4][7:10] == [0x06AF, 0x04BE, 0x100D]
+    with pytest.raises(mb.ModbusExceptionError) as caught:
+        master.read_file_record(1, 9, 0, 1)
+    assert caught.value.code == 2
+    # pymodbus's FileRecord counts record_length in bytes: 4 bytes are our 2 registers
+    record = pf.FileRecord(file_number=4, record_number=1, record_length=4)
+    theirs = pf.ReadFileRecordRequest(records=[record])
+    assert P.decode_pdu(bytes([0x14]) + theirs.encode(), "request") == P.ReadFileRecordRequest(((4, 1, 2),))
+    decoded = DecodePDU(is_server=False).decode(P.ReadFileRecordResponse(((0x0DFE, 0x0020),)).encode())
+    assert decoded.records[0].record_data == bytes.fromhex("0D FE 00 20")
+    diag = DecodePDU(is_server=False).decode(P.DiagnosticsResponse(0x0B, (7).to_bytes(2, "big")).encode())
+    assert isinstance(diag, pd.ReturnBusMessageCountResponse) and diag.message == 7
+    with mb.TcpServer(slave) as server:
+        client = ModbusTcpClient("127.0.0.1", port=server.address[1])
+        assert client.connect()
+        try:
+            assert client.diag_query_data(b"\xa5\x37", device_id=1).message == b"\xa5\x37"
+            assert client.diag_get_comm_event_counter(device_id=1).count >= 0
+            reply = client.read_file_record([pf.FileRecord(file_number=3, record_number=9, record_length=4)],
+                                            device_id=1)
+            assert reply.records[0].record_data == bytes.fromhex("33 CD 00 40")
+            written = client.write_file_record(
+                [pf.FileRecord(file_number=3, record_number=0, record_data=bytes.fromhex("00 01 00 02"))],
+                device_id=1)
+            assert not written.isError() and slave.bank.files[3][:2] == [1, 2]
+        finally:
+            client.close()
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda: P.DiagnosticsRequest(0x05), "not one this library implements"),
+    (lambda: P.DiagnosticsRequest(0x00, b"\x01"), "even number"),
+    (lambda: P.ReadFileRecordRequest(((0, 1, 1),)), "file number 0"),
+    (lambda: P.ReadFileRecordRequest(((1, 10000, 1),)), "record number 10000"),
+    (lambda: P.WriteFileRecordRequest(((1, 9999, (1, 2)),)), "up to record 9999"),
+    (lambda: P.GetCommEventLogResponse(0, 0, 0, bytes(65)), "at most 64"),
+    (lambda: P.decode_pdu(bytes.fromhex("14 08 06 00 01 00 00 00 01 00"), "request"), "multiple of 7"),
+])
+def test_the_rules_of_fc_8_12_20_21(make, words):
+    with pytest.raises(mb.ModbusError, match=words):
+        make()

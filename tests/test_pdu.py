@@ -646,7 +646,8 @@ def test_exception_codes_and_meanings() -> None:
 
 
 def test_function_codes_and_titles() -> None:
-    assert [int(c) for c in FunctionCode] == [1, 2, 3, 4, 5, 6, 7, 15, 16, 17, 22, 23, 24, 43]
+    assert [int(c) for c in FunctionCode] == [
+        1, 2, 3, 4, 5, 6, 7, 8, 11, 12, 15, 16, 17, 20, 21, 22, 23, 24, 43]
     assert FunctionCode.READ_HOLDING_REGISTERS.title == "Read Holding Registers"
     assert FunctionCode.WRITE_MULTIPLE_COILS.title == "Write Multiple Coils"
     assert FunctionCode(2).title == "Read Discrete Inputs"
@@ -655,11 +656,11 @@ def test_function_codes_and_titles() -> None:
 
 
 # --- unknown function codes and roles ------------------------------------------------------------------
-@pytest.mark.parametrize("function", [0x00, 0x08, 0x0B, 0x0C, 0x14, 0x15, 0x19, 0x2C, 0x41, 0x7F])
+@pytest.mark.parametrize("function", [0x00, 0x09, 0x0A, 0x0D, 0x0E, 0x13, 0x19, 0x2C, 0x41, 0x7F])
 @pytest.mark.parametrize("role", ["request", "response"])
 def test_unknown_function_codes(function: int, role: str) -> None:
     wire = bytes([function]) + h("00 00 00 01")
-    implemented = "1, 2, 3, 4, 5, 6, 7, 15, 16, 17, 22, 23, 24, 43"
+    implemented = "1, 2, 3, 4, 5, 6, 7, 8, 11, 12, 15, 16, 17, 20, 21, 22, 23, 24, 43"
     with raises(UnknownFunctionError, f"0x{function:02X}", "byte 0", implemented) as info:
         decode_pdu(wire, role)
     assert info.value.function == function

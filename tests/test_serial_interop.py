@@ -86,7 +86,7 @@ def test_pymodbus_serial_client_drives_our_serial_server(mode):
             bad = client.read_holding_registers(65535, count=2, device_id=3)  # runs past 65535
             assert isinstance(bad, PymodbusException) and bad.exception_code == 0x02
             assert client.read_exception_status(device_id=3).status == 0  # FC 7: nothing to report
-            bad = client.diag_read_diagnostic_register(device_id=3)  # FC 8: not implemented here
+            bad = client.diag_getclear_modbus_response(device_id=3)  # FC 8/0x15 (Modbus Plus): not here
             assert isinstance(bad, PymodbusException) and bad.exception_code == 0x01
         finally:
             client.close()

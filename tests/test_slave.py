@@ -139,7 +139,7 @@ def exception_of(answer: bytes, mode: str = "rtu") -> ExceptionResponse:
     return frame.pdu
 
 
-@pytest.mark.parametrize("function", [8, 0x0B, 0x14, 0x41, 0x2C, 0x7F])
+@pytest.mark.parametrize("function", [9, 0x0D, 0x13, 0x41, 0x2C, 0x7F])
 def test_unknown_function_is_exception_01(slave, function):
     answer = slave.handle(rtu(f"11 {function:02X} 00 00 00 01"), "rtu")
     assert exception_of(answer) == ExceptionResponse(function=function, code=1)
@@ -148,7 +148,7 @@ def test_unknown_function_is_exception_01(slave, function):
 
 def test_exception_01_in_ascii_and_tcp(slave):
     assert exception_of(slave.handle(ascii_frame("11 2C 0E 01 00"), "ascii"), "ascii").code == 1
-    assert exception_of(slave.handle(bytes.fromhex("00 07 00 00 00 02 11 08"), "tcp"), "tcp").code == 1
+    assert exception_of(slave.handle(bytes.fromhex("00 07 00 00 00 02 11 09"), "tcp"), "tcp").code == 1
 
 
 def test_function_codes_that_cannot_be_requests_get_no_answer(slave):

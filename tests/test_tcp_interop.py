@@ -84,7 +84,7 @@ def test_pymodbus_client_gets_illegal_data_address(served):
 
 def test_pymodbus_client_gets_illegal_function(served):
     slave, server, client = served
-    r = client.diag_read_diagnostic_register(device_id=1)  # FC 8: a function this library lacks
+    r = client.diag_getclear_modbus_response(device_id=1)  # FC 8/0x15 (Modbus Plus): not implemented
     assert isinstance(r, PymodbusException)
     assert r.function_code == 0x88 and r.exception_code == 0x01
 

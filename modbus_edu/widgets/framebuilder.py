@@ -73,7 +73,14 @@ FIELDS: dict[str, FieldSpec] = {
     "read_address": FieldSpec("read address", tooltip="FC 23: first register read (after the write)"),
     "read_count": FieldSpec("read quantity", tooltip="FC 23: 1..125 registers read"),
     "write_address": FieldSpec("write address", tooltip="FC 23: first register written"),
-    "status": FieldSpec("exception status", tooltip="FC 7: eight status bits, 0..255"),
+    "status": FieldSpec("status", tooltip="FC 7: eight status bits 0..255; FC 11/12: 0 ready, 0xFFFF busy"),
+    "sub_function": FieldSpec("sub-function", tooltip="FC 8: 0 return query data, 0x0B-0x12 counters, ..."),
+    "data": FieldSpec("data", "hex", "FC 8: bytes in hex, e.g. 00 00", width="420px"),
+    "event_count": FieldSpec("event count", tooltip="FC 11/12: messages completed normally"),
+    "message_count": FieldSpec("message count", tooltip="FC 12: messages seen on the bus"),
+    "events": FieldSpec("events", "hex", "FC 12: event bytes in hex, newest first", width="420px"),
+    "records": FieldSpec("records", "records", "FC 20: file, record, length; FC 20 response: values; "
+                         "FC 21: file, record, values (groups split by ;)", width="420px"),
     "server_id": FieldSpec("server ID", "hex", "bytes in hex, e.g. 4D 45 54 45 52", width="420px"),
     "run_indicator": FieldSpec("run indicator", "run", "FF: the device runs, 00: it does not"),
     "read_code": FieldSpec("read device ID code",
@@ -107,6 +114,23 @@ def _parse_objects(text: str, label: str) -> tuple[tuple[int, bytes], ...]:
             raise ValueFormatError(f"{label}: {part!r} is not id=text (e.g. 0=ACME)")
         objects.append((parse_int(key.strip(), label), value.strip().encode()))
     return tuple(objects)
+
+
+def _parse_records(text: str, label: str, cls: type) -> tuple:
+    """File records (FC 20/21) from groups of numbers split by ';': ``"4, 1, 2; 3, 9, 1"``.
+
+    FC 20 request: (file, record, length) per group; FC 20 response: the registers of each record;
+    FC 21: (file, record, values...) per group."""
+    groups = [parse_int_list(part, label) for part in text.split(";") if part.strip()]
+    if cls.function_code == 0x14 and cls.role == "response":
+        return tuple(tuple(group) for group in groups)
+    read = cls.function_code == 0x14
+    if not groups or not all(len(group) == 3 if read else len(group) >= 3 for group in groups):
+        rest = "the length" if read else "one or more values"
+        raise ValueFormatError(f"{label}: each group is file, record, then {rest}")
+    if read:
+        return tuple(tuple(group) for group in groups)
+    return tuple((group[0], group[1], tuple(group[2:])) for group in groups)
 
 
 def _text(value: Any) -> str:
@@ -187,7 +211,8 @@ class FrameBuilder(StaticText, W.VBox):
                                          tooltip="MBAP transaction identifier (TCP only), 0..65535")
         initial = {"address": address, "count": count, "value": value, "coil": bool(coil), "bits": bits,
                    "registers": registers, "exception_code": int(exception_code), "values": "",
-                   "read_count": 1, "read_code": 1, "conformity": 0x81, "objects": "0=ACME; 1=PM-9; 2=1.0"}
+                   "read_count": 1, "read_code": 1, "conformity": 0x81, "objects": "0=ACME; 1=PM-9; 2=1.0",
+                   "data": "00 00", "events": "", "records": "4, 1, 2"}
         self._field_inputs: list[W.DOMWidget] = []
         self._error_labels: dict[str, W.HTML] = {}
         self._rows: dict[str, W.HBox] = {}
@@ -391,6 +416,8 @@ class FrameBuilder(StaticText, W.VBox):
                     kwargs[name] = parse_hex(box.value)
                 elif FIELDS.get(key, FieldSpec("")).kind == "objects":
                     kwargs[name] = _parse_objects(box.value, label)
+                elif FIELDS.get(key, FieldSpec("")).kind == "records":
+                    kwargs[name] = _parse_records(box.value, label, self.pdu_class())
                 elif name in ("values", "bits") or FIELDS.get(key, FieldSpec("")).kind in ("bits", "ints"):
                     kwargs[name] = (parse_bit_list(box.value, label) if self._is_bits(name)
                                     else parse_int_list(box.value, label))
