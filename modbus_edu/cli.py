@@ -303,8 +303,16 @@ def cmd_decode(args: argparse.Namespace) -> int:
 
 def _request_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
     cls = _pdu.REQUEST_CLASSES[fc]
-    if fc in (0x07, 0x11):  # the function code alone
+    if fc in (0x07, 0x0B, 0x0C, 0x11):  # the function code alone
         return cls()
+    if fc == 0x08:  # Diagnostics: --value SUB_FUNCTION [--values DATA_WORDS]
+        return cls(_int(_need(args, "value", fc, raw=True), "--value"), _words(args))
+    if fc in (0x14, 0x15):  # file records: --file, --address (the record), --count or --values
+        file, record = _int(_need(args, "file", fc, raw=True), "--file", 1, 65535), _need(args, "address", fc)
+        if fc == 0x14:
+            return cls(((file, record, _need(args, "count", fc)),))
+        values = [_int(v, "each of --values") for v in _split_values(_need(args, "values", fc, raw=True))]
+        return cls(((file, record, tuple(values)),))
     address = _need(args, "address", fc)
     if fc == 0x16:  # Mask Write Register: --values AND_MASK,OR_MASK
         masks = [_int(v, "each of --values") for v in _split_values(_need(args, "values", fc, raw=True))]
@@ -330,6 +338,14 @@ def _response_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
     if args.exception is not None:
         return _pdu.ExceptionResponse(function=fc, code=_int(args.exception, "--exception", 1, 255))
     cls = _pdu.RESPONSE_CLASSES[fc]
+    if fc in (0x08, 0x15):
+        request = _request_pdu(fc, args)  # the echo (FC 8: with --values as the answer's data)
+        return cls(request.sub_function, request.data) if fc == 0x08 else cls(request.records)
+    if fc == 0x0B:
+        return cls(0, _int(_need(args, "value", fc, raw=True), "--value"))
+    if fc == 0x14:
+        items = _split_values(_need(args, "values", fc, True))
+        return cls((tuple(_int(v, "each of --values") for v in items),))
     if fc == 0x07:
         return cls(_int(_need(args, "value", fc, raw=True), "--value", 0, 255))
     if fc == 0x11:
@@ -349,6 +365,13 @@ def _response_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
     if fc == 6:
         return cls(address=address, value=_int(_need(args, "value", fc, raw=True), "--value"))
     return cls(address=address, count=_need(args, "count", fc))
+
+
+def _words(args: argparse.Namespace) -> bytes:
+    """FC 8's data: --values as 16-bit words (default one word 0x0000)."""
+    if args.values is None:
+        return b"\x00\x00"
+    return b"".join(_int(v, "each of --values").to_bytes(2, "big") for v in _split_values(args.values))
 
 
 def _need(args: argparse.Namespace, name: str, fc: int, raw: bool = False) -> Any:
@@ -841,6 +864,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--count", help="quantity of coils or registers")
     p.add_argument("--value", help="FC 5: on/off; FC 6: a register value 0..65535")
     p.add_argument("--values", help="FC 15: bits such as 1,0,1; FC 16 (and read responses): 10,20,0x30")
+    p.add_argument("--file", help="FC 20/21: the file number (1-65535); --address is then the record")
     p.add_argument("--exception", metavar="CODE",
                    help="with --role response: an exception response, code 1..255")
     p.add_argument("--transaction-id", default="1", help="TCP transaction identifier (default 1)")

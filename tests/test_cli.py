@@ -611,3 +611,16 @@ def test_identify_asks_device_identification_and_falls_back_to_report_server_id(
     with TcpServer(Old(unit=1, server_id=b"OLD-7")) as server:
         out = ok("identify", "--tcp", f"127.0.0.1:{server.address[1]}")
     assert "FC 17" in out and "OLD-7" in out and "run indicator: ON" in out
+
+
+@pytest.mark.parametrize(("args", "expected"), [
+    (("build", "--function", "8", "--value", "0", "--values", "0xA537"), "01 08 00 00 A5 37 DA 8D"),
+    (("build", "--function", "20", "--file", "4", "--address", "1", "--count", "2"),
+     "01 14 07 06 00 04 00 01 00 02 D8 E5"),
+    (("build", "--function", "21", "--file", "4", "--address", "7", "--values", "0x06AF,0x04BE,0x100D"),
+     "01 15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D D6 0B"),
+    (("build", "--function", "11"), "01 0B 41 E7"),
+    (("build", "--function", "12"), "01 0C 00 25"),
+])
+def test_build_knows_diagnostics_events_and_file_records(args, expected):
+    assert ok(*args).splitlines()[0] == expected
