@@ -337,6 +337,17 @@ def reflected(value: int, width: int) -> int:
     return int(f"{value:0{width}b}"[::-1], 2)
 
 
+def crc16_reflected(data: bytes, initial: int = 0xFFFF) -> int:
+    """The reflected CRC-16 (polynomial 0xA001) bit by bit, from any starting register: 0xFFFF is
+    CRC-16/MODBUS, 0 is CRC-16/ARC (the slip checkers name)."""
+    register = initial
+    for byte in data:
+        register ^= byte
+        for _ in range(8):
+            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+    return register
+
+
 def crc_diagnosis(data: bytes, got: Any) -> str | None:
     """Name the CRC slips: a result in bytes, the bytes swapped, CRC-16/ARC (register started at 0),
     or the unreflected (MSB-first) variant."""
@@ -354,12 +365,7 @@ def crc_diagnosis(data: bytes, got: Any) -> str | None:
     if got == ((expected & 0xFF) << 8 | expected >> 8) and got != expected:
         return ("your result has its two bytes swapped: return the register value itself; only on the wire "
                 "does the low byte go first.")
-    register = 0
-    for byte in data:
-        register ^= byte
-        for _ in range(8):
-            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
-    if got == register and got != expected:
+    if got == crc16_reflected(data, initial=0) and got != expected:
         return ("that is CRC-16/ARC: the same polynomial, but its register starts at 0x0000. Modbus starts "
                 "the register at 0xFFFF.")
     register = 0xFFFF

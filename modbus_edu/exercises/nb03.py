@@ -7,7 +7,15 @@ from typing import Any
 from ..crc import crc16
 from ..errors import ModbusError
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, compare_rtu_frame, crc_diagnosis, exercise, int_answer
+from .core import (
+    as_bytes,
+    compare_bytes,
+    compare_rtu_frame,
+    crc16_reflected,
+    crc_diagnosis,
+    exercise,
+    int_answer,
+)
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -84,12 +92,7 @@ def _check_03_4(answer: Any) -> str | None:
 
 def _crc_without_final_step(data: bytes) -> int:
     """A plausible wrong CRC: the right loop, but the register starts at 0 (CRC-16/ARC)."""
-    register = 0
-    for byte in data:
-        register ^= byte
-        for _ in range(8):
-            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
-    return register
+    return crc16_reflected(data, initial=0)
 
 
 build_exercise(
