@@ -307,3 +307,51 @@ def test_fc8_counters_both_ways_with_pymodbus(sub, count, unit):
     assert theirs.sub_function_code == sub and theirs.message == count
     frame = FramerRTU(DecodePDU(is_server=False)).buildFrame(theirs)
     assert mb.RtuFrame.decode(frame[:0] + bytes([1]) + frame[1:], "response").pdu == ours
+
+
+def _new_pdus():
+    """Every new function, request and response, with its fields drawn by hypothesis."""
+    small = st.lists(REGS, min_size=1, max_size=8).map(tuple)
+    return st.one_of(
+        st.just(P.ReadExceptionStatusRequest()), st.integers(0, 255).map(P.ReadExceptionStatusResponse),
+        st.just(P.ReportServerIdRequest()),
+        st.builds(P.ReportServerIdResponse, st.binary(min_size=1, max_size=20), st.booleans()),
+        st.builds(P.MaskWriteRegisterRequest, REGS, REGS, REGS),
+        st.builds(P.MaskWriteRegisterResponse, REGS, REGS, REGS),
+        st.builds(P.ReadWriteMultipleRegistersRequest, st.integers(0, 1000), st.integers(1, 125),
+                  st.integers(0, 1000), small),
+        small.map(lambda r: P.ReadWriteMultipleRegistersResponse(registers=r)),
+        st.integers(0, 0xFFFF).map(P.ReadFifoQueueRequest),
+        st.lists(REGS, min_size=1, max_size=31).map(lambda v: P.ReadFifoQueueResponse(tuple(v))),
+        st.builds(P.ReadDeviceIdentificationRequest, st.integers(1, 4), st.integers(0, 255)),
+        st.builds(P.DiagnosticsRequest, st.sampled_from([0, 0x0A, 0x0B, 0x0C, 0x0D, 0x0E]),
+                  REGS.map(lambda v: v.to_bytes(2, "big"))),
+        st.builds(P.DiagnosticsResponse, st.sampled_from([0x0B, 0x0C, 0x0D, 0x0E, 0x0F]),
+                  REGS.map(lambda v: v.to_bytes(2, "big"))),
+        st.just(P.GetCommEventCounterRequest()),
+        st.builds(P.GetCommEventCounterResponse, st.sampled_from([0, 0xFFFF]), REGS),
+        st.just(P.GetCommEventLogRequest()),
+        st.builds(P.ReadFileRecordRequest, st.lists(  # even lengths: pymodbus refuses odd ones
+            st.tuples(st.integers(1, 0xFFFF), st.integers(0, 9000), st.integers(1, 5).map(lambda n: 2 * n)),
+            min_size=1, max_size=3).map(tuple)),
+        st.builds(P.WriteFileRecordRequest, st.lists(
+            st.tuples(st.integers(1, 0xFFFF), st.integers(0, 9000), small), min_size=1,
+            max_size=2).map(tuple)),
+    )
+
+
+@settings(max_examples=300, deadline=None)
+@given(_new_pdus(), st.sampled_from(["rtu", "ascii", "tcp"]), st.integers(1, 247), st.integers(0, 0xFFFF))
+def test_every_new_function_in_every_mode_is_read_by_pymodbus_as_we_wrote_it(pdu, mode, unit, tid):
+    from hypothesis import assume
+    from pymodbus.framer import FramerAscii
+
+    # pymodbus's RTU framer cannot size an FC 24 response (its two-byte byte count): ours can, theirs not
+    assume(not (mode == "rtu" and isinstance(pdu, P.ReadFifoQueueResponse)))
+    frame = mb.framing.make_frame(mode, unit, pdu, tid).encode()
+    framer = {"rtu": FramerRTU, "ascii": FramerAscii, "tcp": FramerSocket}[mode]
+    used, theirs = framer(DecodePDU(is_server=pdu.role == "request")).handleFrame(frame, 0, 0)
+    assert theirs is not None, (mode, pdu)
+    assert theirs.function_code == pdu.function_code and theirs.dev_id == unit
+    assert used == len(frame)
+    assert mb.framing.decode_frame(frame, mode, pdu.role).pdu == pdu
