@@ -8,8 +8,6 @@ architecture section)::
     mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
 """
 
-from __future__ import annotations
-
 from .clock import RealClock, VirtualClock  # noqa: F401
 from .crc import (  # noqa: F401
     CRC_TABLE,

@@ -30,11 +30,26 @@ from collections.abc import Callable, Iterator, Sequence
 from datetime import datetime
 from typing import Any, NoReturn, TextIO
 
+from . import __version__
 from . import pdu as _pdu
+from .clock import RealClock
+from .codes import _hex
 from .crc import crc16, crc16_table_trace, crc_bytes, lrc
+from .datamodel import DataBank
+from .devices.arduino import ArduinoSlave
+from .devices.generators import increment_fill, random_fill
+from .devices.meter import PowerMeter
 from .errors import ConfigError, FrameError, ModbusError, ModbusExceptionError, ModbusTimeoutError
+from .explain import explain
 from .framing import encode_frame, parse_hex
+from .gateway import TcpGateway
+from .links.serial import SerialServer, serial_link
+from .links.tcp import TcpServer, tcp_link
+from .master import Master
+from .scan import scan
+from .slave import Slave
 from .traffic import Traffic, TrafficLog
+from .values import FORMATS, TYPES, format_registers
 
 PROG = "modbus-edu"
 DEFAULT_HOST = "127.0.0.1"
@@ -52,10 +67,6 @@ class CliError(Exception):
 # --------------------------------------------------------------------------------------------------
 def _one_line(text: str) -> str:
     return " ".join(str(text).split())
-
-
-def _hex(data: bytes) -> str:
-    return data.hex(" ").upper()
 
 
 def _hex_arg(parts: Sequence[str]) -> bytes:
@@ -185,7 +196,7 @@ def _ascii_arg(text: str) -> bytes:
     """The bytes of ASCII ``text``; other characters are refused, never replaced by '?'."""
     for index, char in enumerate(text):
         if ord(char) > 127:
-            utf8 = char.encode().hex(" ").upper()
+            utf8 = _hex(char.encode())
             raise ConfigError(f"--text takes ASCII text: {char!r} (character {index + 1}) is not ASCII; give "
                               f"the bytes in hex instead (its UTF-8 bytes are {utf8})")
     return text.encode("ascii")
@@ -248,8 +259,6 @@ def _mode_or_none(mode: str) -> str | None:
 
 
 def _dissect(data: bytes, mode: str | None, role: str | None) -> Any:
-    from .explain import explain
-
     return explain(data, mode=mode, role=role)
 
 
@@ -408,23 +417,13 @@ def cmd_build(args: argparse.Namespace) -> int:
 # serve
 # --------------------------------------------------------------------------------------------------
 def _make_device(args: argparse.Namespace) -> Any:
-    from .clock import RealClock
-
     unit = _int(args.unit, "--unit", 1, 247)
     if args.device == "meter":
-        from .devices.meter import PowerMeter
-
         device = PowerMeter(unit=unit, trial=args.trial, live=args.live, seed=args.seed)
     elif args.device == "arduino":
-        from .devices.arduino import ArduinoSlave
-
         device = ArduinoSlave(unit=unit, baudrate=args.baud or 9600, parity=args.parity,
                               stopbits=args.stopbits, seed=args.seed)
     else:
-        from .datamodel import DataBank
-        from .devices.generators import increment_fill, random_fill
-        from .slave import Slave
-
         device = Slave(unit=unit, bank=DataBank(), name=f"bank {unit}")
         if args.fill == "random":
             random_fill(device.bank.holding_registers, 0, 1000, seed=args.seed)
@@ -496,16 +495,12 @@ def cmd_serve(args: argparse.Namespace) -> int:
         device.log = _EchoLog(sys.stderr)
     _install_stop_signals()
     if args.serial is not None:
-        from .links.serial import SerialServer
-
         server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=args.parity,
                                    stopbits=args.stopbits, mode=args.mode)
         bits = 7 if args.mode == "ascii" else 8  # what SerialServer opens: ASCII carries 7 data bits
         where = (f"serial {args.serial}, {_default_baud(args)} baud {bits}{args.parity}{args.stopbits}, "
                  f"{args.mode.upper()}")
     else:
-        from .links.tcp import TcpServer
-
         host, port = parse_endpoint(args.tcp or f"{DEFAULT_HOST}:{DEFAULT_PORT}")
         server = TcpServer(device, host=host, port=port)
         where = None
@@ -548,22 +543,16 @@ def _open_link(args: argparse.Namespace) -> Any:
     if args.tcp is not None and args.serial is not None:
         raise ConfigError("choose one wire: --tcp HOST:PORT or --serial URL, not both")
     if args.serial is not None:
-        from .links.serial import serial_link
-
         return serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
                            stopbits=args.stopbits, mode=args.mode)
     if args.tcp is None:
         raise ConfigError("which device? give --tcp HOST:PORT or --serial URL")
-    from .links.tcp import tcp_link
 
     host, port = parse_endpoint(args.tcp)
     return tcp_link(host, port, timeout=args.timeout)
 
 
 def cmd_identify(args: argparse.Namespace) -> int:
-    from .errors import ModbusExceptionError
-    from .master import Master
-
     unit = _int(args.unit, "--unit", 0 if args.tcp is not None else 1, 255 if args.tcp is not None else 247)
     _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
     link = _open_link(args)
@@ -606,24 +595,17 @@ def _stats_line(stats: Any) -> str:
 
 def _format_width(fmt: str) -> int:
     """Registers per value of a display format: 1, or 2/4 for the wide types (``float64_ABCD``: 4)."""
-    from .values import TYPES
-
     kind = fmt.lower().rpartition("_")[0]
     return TYPES[kind].registers if kind in TYPES else 1
 
 
 def _format_values(fc: int, values: list, fmt: str) -> list[str]:
-    from .values import format_registers
-
     if fc in (1, 2):
         return ["1" if v else "0" for v in values]
     return format_registers(values, fmt)
 
 
 def cmd_poll(args: argparse.Namespace) -> int:
-    from .master import Master
-    from .values import FORMATS
-
     fc = _function(args.function)
     if fc not in _READERS:
         raise ConfigError(f"poll reads: use --function 1, 2, 3 or 4 (got {fc}); writes are for 'build'")
@@ -716,8 +698,6 @@ class _Parser(argparse.ArgumentParser):
 def cmd_gateway(args: argparse.Namespace) -> int:
     if args.serial is None or args.tcp is None:
         raise ConfigError("a gateway needs both sides: --tcp HOST:PORT to listen on and --serial URL behind")
-    from .gateway import TcpGateway
-    from .links.serial import serial_link
 
     host, port = parse_endpoint(args.tcp)
     link = serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
@@ -743,13 +723,9 @@ def cmd_gateway(args: argparse.Namespace) -> int:
 
 
 def cmd_scan(args: argparse.Namespace) -> int:
-    from .scan import scan
-
     first, _, last = args.units.partition("-")
     units = range(_int(first, "first unit", 1, 247), _int(last or first, "last unit", 1, 247) + 1)
     if args.serial is not None and args.tcp is None:
-        from .links.serial import serial_link
-
         bauds = [_baud(b) for b in _split_values(args.bauds)] if args.bauds else [args.baud or 9600]
         parities = [p.upper() for p in _split_values(args.parities)] if args.parities else [args.parity]
         settings = [{"baudrate": b, "parity": p} for b in bauds for p in parities]
@@ -946,8 +922,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _version() -> str:
-    from . import __version__
-
     return __version__
 
 

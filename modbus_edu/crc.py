@@ -29,6 +29,8 @@ import sys
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+from .errors import ValueRangeError, shown
+
 POLYNOMIAL = 0xA001
 """The CRC-16/MODBUS polynomial 0x8005, bit-reflected."""
 
@@ -55,8 +57,6 @@ CRC_TABLE: tuple[int, ...] = build_crc_table()
 
 
 def _as_bytes(data: bytes | bytearray | memoryview | list[int]) -> bytes:
-    from .errors import ValueRangeError, shown
-
     if isinstance(data, (bytes, bytearray, memoryview)):
         return bytes(data)
     if isinstance(data, (int, str)):  # bytes(5) would be five zero bytes, and a str has no byte values

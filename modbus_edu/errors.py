@@ -11,6 +11,41 @@ import functools
 from collections.abc import Callable
 from typing import Any, TypeVar
 
+from .codes import exception_meaning
+
+__all__ = [
+    "ModbusError",
+    "FrameError",
+    "ChecksumError",
+    "CrcError",
+    "LrcError",
+    "AsciiFormatError",
+    "MbapError",
+    "UnitError",
+    "ReservedUnitWarning",
+    "FrameLengthError",
+    "PduError",
+    "UnknownFunctionError",
+    "QuantityError",
+    "AddressRangeError",
+    "ByteCountError",
+    "ValueRangeError",
+    "TruncatedError",
+    "TrailingBytesError",
+    "DataModelError",
+    "IllegalAddressError",
+    "ReferenceNumberError",
+    "ValueFormatError",
+    "ModbusExceptionError",
+    "ModbusTimeoutError",
+    "TransactionMismatchError",
+    "LinkError",
+    "ConfigError",
+    "NumberError",
+    "shown",
+    "guard_numbers",
+]
+
 T = TypeVar("T")
 
 
@@ -128,8 +163,6 @@ class ModbusExceptionError(ModbusError):
 
     def __init__(self, function: int, code: int, meaning: str | None = None) -> None:
         if meaning is None:
-            from .pdu import exception_meaning
-
             meaning = exception_meaning(code)
         self.function = function
         self.code = code

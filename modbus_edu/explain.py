@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from . import pdu as _pdu
+from .codes import _hex
 from .crc import crc16, lrc
 from .errors import ConfigError, FrameError, ModbusError
 from .framing import (
@@ -52,7 +53,6 @@ from .framing import (
     TcpFrame,
     _as_bytes,
     _check_mode,
-    _check_role,
     decode_frame,
     detect_mode,
     parse_hex,
@@ -221,10 +221,6 @@ class Dissection:
 
 
 # --- formatting helpers ----------------------------------------------------------------------------
-def _hex(data: bytes) -> str:
-    return " ".join(f"{b:02X}" for b in data)
-
-
 def _ascii_text(raw: bytes) -> str:
     """ASCII characters as a learner should see them: ``05``, ``:``, ``CR LF``, ``<0x80>``."""
     parts: list[str] = []
@@ -620,7 +616,7 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
     if mode is not None:
         mode = _check_mode(mode)
     if role is not None:
-        role = _check_role(role)
+        role = _pdu._check_role(role)
     if isinstance(data, str):
         try:
             raw = parse_hex(data)
@@ -677,7 +673,7 @@ def explain_pdu(pdu: _pdu.Pdu | bytes | str, role: str | None = None, *, strict:
     :class:`~modbus_edu.errors.ConfigError`.
     """
     if role is not None:
-        role = _check_role(role)
+        role = _pdu._check_role(role)
     if isinstance(pdu, _pdu.Pdu):
         if role is not None and role != pdu.role:
             raise ConfigError(f"{type(pdu).__name__} is a {pdu.role}, not a {role}: leave role out for a "

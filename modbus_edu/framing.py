@@ -30,13 +30,13 @@ identifier*.  In this module the field is called ``unit`` in all three modes.
 from __future__ import annotations
 
 import re
-import struct
 import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, ClassVar
 
 from . import pdu as _pdu
+from .codes import MAX_MBAP_LENGTH, MBAP, MBAP_HEADER_SIZE, MIN_MBAP_LENGTH, ROLES, _hex
 from .crc import CRC_TABLE, crc16, lrc
 from .errors import (
     AsciiFormatError,
@@ -81,9 +81,6 @@ __all__ = [
 MODES: tuple[str, ...] = ("rtu", "ascii", "tcp")
 """The three transmission modes, by the names used everywhere in the library."""
 
-ROLES: tuple[str, ...] = ("request", "response")
-"""Which way a frame travels: master to slave (request) or slave to master (response)."""
-
 RTU_MAX_FRAME = 256
 """Largest RTU frame: unit (1) + PDU (at most 253) + CRC (2)."""
 
@@ -94,9 +91,6 @@ ASCII_MAX_FRAME = 513
 TCP_MAX_FRAME = 260
 """Largest Modbus/TCP frame: MBAP header (7) + PDU (at most 253)."""
 
-MBAP_HEADER_SIZE = 7
-"""The MBAP header: transaction id (2) + protocol id (2) + length (2) + unit id (1)."""
-
 BROADCAST = 0
 """Serial unit address 0: every slave acts on the request (writes only) and none answers."""
 
@@ -104,18 +98,9 @@ MAX_SERIAL_UNIT = 247
 """Highest slave address on a serial line; 248..255 are reserved."""
 
 _UNIT_BYTES = tuple(bytes([unit]) for unit in range(256))  # one-byte unit fields, built once
-_MBAP = struct.Struct(">HHHB")  # transaction id, protocol id, length, unit id: all big-endian
-
-_MIN_LENGTH_FIELD = 2  # unit id + function code
-_MAX_LENGTH_FIELD = 1 + _pdu.MAX_PDU_SIZE  # 254
 
 
 # --- small helpers ---------------------------------------------------------------------------------
-def _hex(data: bytes) -> str:
-    """``01 03 00`` style hex of some bytes."""
-    return " ".join(f"{b:02X}" for b in data)
-
-
 def _span(first: int, last: int) -> str:
     """'byte 3' or 'bytes 3-5'."""
     return f"byte {first}" if first == last else f"bytes {first}-{last}"
@@ -142,12 +127,6 @@ def _as_bytes(data: object, what: str) -> bytes:
         return bytes(data)  # type: ignore[call-overload]
     except (TypeError, ValueError):
         raise FrameError(f"{what} expects bytes (values 0..255), got {type(data).__name__}") from None
-
-
-def _check_role(role: object) -> str:
-    if role not in ROLES:
-        raise ConfigError(f"role must be 'request' or 'response', got {role!r}")
-    return role  # type: ignore[return-value]
 
 
 def _check_mode(mode: object) -> str:
@@ -249,7 +228,7 @@ class RtuFrame:
         :class:`CrcError`, :class:`UnitError` or a :class:`PduError` subclass.
         """
         data = _as_bytes(data, "RtuFrame.decode")
-        role = _check_role(role)
+        role = _pdu._check_role(role)
         n = len(data)
         if n < 4:
             raise FrameLengthError(
@@ -364,7 +343,7 @@ class AsciiFrame:
                     f"expected ':' then hex digits 0-9 A-F then CR LF"
                 ) from None
         data = _as_bytes(data, "AsciiFrame.decode")
-        role = _check_role(role)
+        role = _pdu._check_role(role)
         n = len(data)
         if n == 0:
             raise FrameLengthError("ASCII frame is empty; expected ':' + hex digits + CR LF (9..513 chars)")
@@ -455,7 +434,7 @@ class TcpFrame:
     def encode(self) -> bytes:
         """MBAP header (big-endian fields) followed by the PDU."""
         body = self.pdu.encode()
-        return _MBAP.pack(self.transaction_id, self.protocol_id, 1 + len(body), self.unit) + body
+        return MBAP.pack(self.transaction_id, self.protocol_id, 1 + len(body), self.unit) + body
 
     @classmethod
     def decode(cls, data: bytes, role: str = "request") -> TcpFrame:
@@ -466,7 +445,7 @@ class TcpFrame:
         :class:`MbapError` or a :class:`PduError` subclass.
         """
         data = _as_bytes(data, "TcpFrame.decode")
-        role = _check_role(role)
+        role = _pdu._check_role(role)
         n = len(data)
         if n < MBAP_HEADER_SIZE + 1:
             raise FrameLengthError(
@@ -485,7 +464,7 @@ class TcpFrame:
                 f"expected 0 (00 00) for Modbus"
             )
         length = int.from_bytes(data[4:6], "big")
-        if not _MIN_LENGTH_FIELD <= length <= _MAX_LENGTH_FIELD:
+        if not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
             raise MbapError(
                 f"MBAP length at bytes 4-5 is {length} ({_hex(data[4:6])}); expected 2..254 "
                 f"(unit identifier + a PDU of 1..{_pdu.MAX_PDU_SIZE} bytes)"
@@ -543,7 +522,7 @@ def _looks_like_mbap(data: bytes) -> bool:
     if len(data) < MBAP_HEADER_SIZE + 1 or data[2:4] != b"\x00\x00":
         return False
     length = int.from_bytes(data[4:6], "big")
-    return _MIN_LENGTH_FIELD <= length <= _MAX_LENGTH_FIELD and length == len(data) - 6
+    return MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH and length == len(data) - 6
 
 
 def detect_mode(data: bytes) -> str:
@@ -754,7 +733,7 @@ class RtuSplitter(_Splitter):
 
     def __init__(self, role: str = "request") -> None:
         super().__init__()
-        self.role = _check_role(role)
+        self.role = _pdu._check_role(role)
         self._starts = _function_codes(self.role)
         self._next_start = _start_pattern(self.role)
         self._scan: _Scan | None = None
@@ -973,7 +952,7 @@ class TcpSplitter(_Splitter):
             if len(buf) < 6:
                 break
             length = int.from_bytes(buf[4:6], "big")
-            if not _MIN_LENGTH_FIELD <= length <= _MAX_LENGTH_FIELD:
+            if not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
                 self._drop(1)
                 continue
             if len(buf) < 6 + length:
@@ -991,5 +970,5 @@ def splitter_for(mode: str, role: str = "request") -> RtuSplitter | AsciiSplitte
     mode = _check_mode(mode)
     if mode == "rtu":
         return RtuSplitter(role)
-    _check_role(role)
+    _pdu._check_role(role)
     return _SPLITTERS[mode]()

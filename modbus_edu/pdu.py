@@ -30,6 +30,16 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import Any, ClassVar
 
+from .codes import (
+    MAX_PDU_SIZE,
+    ROLES,
+    SERIAL_LINE_ONLY,
+    ExceptionCode,  # noqa: F401 (modbus_edu.pdu re-exports it)
+    FunctionCode,
+    _hex,
+    exception_meaning,
+    function_title,
+)
 from .errors import (
     AddressRangeError,
     ByteCountError,
@@ -53,108 +63,8 @@ MAX_WRITE_REGISTERS = 123
 """Write Multiple Registers: 1 to 123 registers (0x7B) per request (246 data bytes)."""
 MAX_READ_WRITE_REGISTERS = 121
 """Read/Write Multiple Registers (FC 23): 1 to 121 registers written per request (0x79)."""
-MAX_PDU_SIZE = 253
-"""A serial ADU is at most 256 bytes: 1 address + 253 PDU + 2 CRC."""
-
 COIL_ON = 0xFF00
 COIL_OFF = 0x0000
-
-
-class FunctionCode(IntEnum):
-    """The public function codes this library implements: the eight everyday ones, 7, 17, 22, 23, 24, 43."""
-
-    READ_COILS = 0x01
-    READ_DISCRETE_INPUTS = 0x02
-    READ_HOLDING_REGISTERS = 0x03
-    READ_INPUT_REGISTERS = 0x04
-    WRITE_SINGLE_COIL = 0x05
-    WRITE_SINGLE_REGISTER = 0x06
-    READ_EXCEPTION_STATUS = 0x07
-    DIAGNOSTICS = 0x08
-    GET_COMM_EVENT_COUNTER = 0x0B
-    GET_COMM_EVENT_LOG = 0x0C
-    WRITE_MULTIPLE_COILS = 0x0F
-    WRITE_MULTIPLE_REGISTERS = 0x10
-    REPORT_SERVER_ID = 0x11
-    READ_FILE_RECORD = 0x14
-    WRITE_FILE_RECORD = 0x15
-    MASK_WRITE_REGISTER = 0x16
-    READ_WRITE_MULTIPLE_REGISTERS = 0x17
-    READ_FIFO_QUEUE = 0x18
-    READ_DEVICE_IDENTIFICATION = 0x2B
-
-    @property
-    def title(self) -> str:
-        """The specification's name, e.g. ``"Read Holding Registers"``."""
-        return _TITLES.get(self.value) or self.name.replace("_", " ").title()
-
-
-SERIAL_LINE_ONLY = frozenset({0x07, 0x08, 0x0B, 0x0C, 0x11})
-"""Functions the specification defines for serial lines only (a gateway may still pass them on)."""
-
-_TITLES = {0x11: "Report Server ID", 0x17: "Read/Write Multiple Registers", 0x18: "Read FIFO Queue"}
-
-
-class ExceptionCode(IntEnum):
-    """Exception codes a server puts in an exception response."""
-
-    ILLEGAL_FUNCTION = 0x01
-    ILLEGAL_DATA_ADDRESS = 0x02
-    ILLEGAL_DATA_VALUE = 0x03
-    SERVER_DEVICE_FAILURE = 0x04
-    ACKNOWLEDGE = 0x05
-    SERVER_DEVICE_BUSY = 0x06
-    NEGATIVE_ACKNOWLEDGE = 0x07
-    MEMORY_PARITY_ERROR = 0x08
-    GATEWAY_PATH_UNAVAILABLE = 0x0A
-    GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
-
-    @property
-    def meaning(self) -> str:
-        """The specification's explanation, in one sentence."""
-        return _EXCEPTION_MEANINGS[self]
-
-    @property
-    def title(self) -> str:
-        return self.name.replace("_", " ").lower()
-
-
-_EXCEPTION_MEANINGS = {
-    ExceptionCode.ILLEGAL_FUNCTION: "illegal function: the server does not support this function code",
-    ExceptionCode.ILLEGAL_DATA_ADDRESS: (
-        "illegal data address: the address, or address plus quantity, is not in the server's data"),
-    ExceptionCode.ILLEGAL_DATA_VALUE: (
-        "illegal data value: a value in the request (a quantity, a coil value) is not allowed"),
-    ExceptionCode.SERVER_DEVICE_FAILURE: (
-        "server device failure: an unrecoverable error occurred while the server performed the action"),
-    ExceptionCode.ACKNOWLEDGE: "acknowledge: the request was accepted but will take a long time",
-    ExceptionCode.SERVER_DEVICE_BUSY: (
-        "server device busy: the server is busy with a long command, retry later"),
-    ExceptionCode.NEGATIVE_ACKNOWLEDGE: (
-        "negative acknowledge: the server cannot perform the program function (from the older Modicon "
-        "guide; the current specification no longer lists code 07)"),
-    ExceptionCode.MEMORY_PARITY_ERROR: "memory parity error: the server found a parity error in its memory",
-    ExceptionCode.GATEWAY_PATH_UNAVAILABLE: (
-        "gateway path unavailable: the gateway could not set up a path to the target"),
-    ExceptionCode.GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND: (
-        "gateway target device failed to respond: no response came from the target device"),
-}
-
-
-def exception_meaning(code: int) -> str:
-    """The meaning of an exception code, also for codes the specification does not define."""
-    try:
-        return ExceptionCode(code).meaning
-    except ValueError:
-        return f"code 0x{code:02X} is not defined by the specification (vendor specific?)"
-
-
-def function_title(function: int) -> str:
-    """``"Read Holding Registers"`` for 3; a neutral name for codes this library does not implement."""
-    try:
-        return FunctionCode(function).title
-    except ValueError:
-        return f"function 0x{function:02X}"
 
 
 @dataclass(frozen=True)
@@ -278,10 +188,6 @@ def _pdu_bytes(data: Any, offset: int) -> bytes:
     if not data:
         raise TruncatedError(f"empty PDU at byte {offset}: expected at least a function code")
     return data
-
-
-def _hex(data: bytes) -> str:
-    return data.hex(" ").upper()
 
 
 # --- the classes -----------------------------------------------------------------------------------
@@ -1163,7 +1069,7 @@ class ReportServerIdResponse(Pdu):
         text = self.server_id.decode("ascii", "replace")
         return [self._function_field(raw),
                 Field(1, raw[1:2], "byte count", raw[1], "server ID + run indicator"),
-                Field(2, raw[2:end], "server ID", self.server_id.hex(" ").upper(), f"as text: {text!r}"),
+                Field(2, raw[2:end], "server ID", _hex(self.server_id), f"as text: {text!r}"),
                 Field(end, raw[end:], "run indicator", self.run_indicator,
                       "0xFF: ON, the device runs" if self.run_indicator else "0x00: OFF")]
 
@@ -1641,10 +1547,10 @@ class _Diagnostics(Pdu):
         name = DiagnosticSubFunction(self.sub_function).name.replace("_", " ").lower()
         return [self._function_field(raw),
                 Field(1, raw[1:3], "sub-function", self.sub_function, name),
-                Field(3, raw[3:], "data", self.data.hex(" ").upper(), f"first word {self.value}")]
+                Field(3, raw[3:], "data", _hex(self.data), f"first word {self.value}")]
 
     def _summary_items(self):
-        return [("sub_function", f"0x{self.sub_function:02X}"), ("data", self.data.hex(" ").upper())]
+        return [("sub_function", f"0x{self.sub_function:02X}"), ("data", _hex(self.data))]
 
 
 @dataclass(frozen=True, slots=True)
@@ -1771,11 +1677,11 @@ class GetCommEventLogResponse(Pdu):
                 Field(2, raw[2:4], "status", self.status, "0xFFFF: busy" if self.status else "ready"),
                 Field(4, raw[4:6], "event count", self.event_count, "messages completed normally"),
                 Field(6, raw[6:8], "message count", self.message_count, "messages seen on the bus"),
-                Field(8, raw[8:], "events", self.events.hex(" ").upper(), "newest first")]
+                Field(8, raw[8:], "events", _hex(self.events), "newest first")]
 
     def _summary_items(self):
         return [("event_count", self.event_count), ("message_count", self.message_count),
-                ("events", self.events.hex(" ").upper())]
+                ("events", _hex(self.events))]
 
 
 MAX_RECORD_NUMBER = 9999
@@ -2007,13 +1913,11 @@ RESPONSE_CLASSES: dict[int, type[Pdu]] = {cls.function_code: cls for cls in (
     ReadDeviceIdentificationResponse, DiagnosticsResponse, GetCommEventCounterResponse,
     GetCommEventLogResponse, ReadFileRecordResponse, WriteFileRecordResponse)}
 
-ROLES = ("request", "response")
-
-
-def _check_role(role: str) -> str:
+def _check_role(role: object) -> str:
+    """The role, checked: ``"request"`` or ``"response"``."""
     if role not in ROLES:
         raise ConfigError(f"role must be 'request' or 'response', got {role!r}")
-    return role
+    return role  # type: ignore[return-value]
 
 
 def _unknown(function: int, offset: int, role: str) -> UnknownFunctionError:

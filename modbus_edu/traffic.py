@@ -27,7 +27,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from typing import Any
 
+from .codes import _hex
 from .errors import ConfigError, ModbusError
+from .explain import explain
 
 __all__ = ["Traffic", "TrafficLog", "pdu_note"]
 
@@ -83,7 +85,7 @@ class Traffic:
     @property
     def hex(self) -> str:
         """The bytes as spaced uppercase hex (an ASCII frame too: its characters' codes)."""
-        return self.data.hex(" ").upper()
+        return _hex(self.data)
 
     @property
     def text(self) -> str:
@@ -327,8 +329,6 @@ class TrafficLog:
 
     def explain(self, index: int) -> Any:
         """The field-by-field dissection of entry ``index`` (see :func:`modbus_edu.explain.explain`)."""
-        from .explain import explain
-
         entry = self[index]
         return explain(entry.data, entry.mode, entry.guessed_role)
 

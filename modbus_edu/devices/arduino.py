@@ -64,6 +64,8 @@ from typing import Any
 
 from ..datamodel import DataBank, Reference, ReferenceLike, parse_reference
 from ..errors import ConfigError, ModbusTimeoutError
+from ..links.loopback import loopback_serial
+from ..master import Master
 from ..pdu import Pdu
 from ..slave import Slave
 from .generators import Noise, Sine, Uniform
@@ -443,9 +445,6 @@ def loop_time_trial(
     predicted).  The extra is drawn from ``random.Random(f"arduino-poll:{seed}")``: the same ``seed``
     gives the same polls.  Everything runs on the wire's virtual clock: no real waiting.
     """
-    from ..links.loopback import loopback_serial
-    from ..master import Master
-
     if isinstance(requests, bool) or not isinstance(requests, int) or requests < 1:
         raise ConfigError(f"requests must be a whole number >= 1, got {requests!r}")
     timeout = _check_number("timeout", timeout)

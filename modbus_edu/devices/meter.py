@@ -51,6 +51,7 @@ from typing import Any
 from ..datamodel import DataBank, format_reference
 from ..errors import ConfigError
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu
+from ..registermap import load_map
 from ..slave import Slave
 from ..values import decode_value, encode_value, scale, unscale
 from .generators import Noise, Sine
@@ -171,8 +172,6 @@ def power_meter_map() -> Any:
     :class:`~modbus_edu.registermap.RegisterMap` (uint32 ABCD points, scale = 1 / the meter's factor):
     ``power_meter_map().read(master, unit=1)`` gives what :func:`read_meter` gives."""
     from importlib import resources
-
-    from ..registermap import load_map
 
     return load_map(resources.files("modbus_edu.devices") / "maps" / "power_meter.csv")
 

@@ -15,13 +15,17 @@ never raises.
 
 from __future__ import annotations
 
+import dis
 import math
 import reprlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from ..codes import _hex
+from ..crc import crc16
 from ..errors import ModbusError
+from ..framing import parse_hex
 
 PLACEHOLDER = ...
 """What an unanswered exercise cell holds: the Ellipsis, ``...``."""
@@ -139,8 +143,6 @@ def check(key: str, answer: Any) -> Result:
 
 def is_unwritten(function: Callable) -> bool:
     """True if ``function``'s body is only ``...`` or ``pass`` (and maybe a docstring): a template."""
-    import dis
-
     code = getattr(function, "__code__", None)
     if code is None:
         return False
@@ -189,7 +191,7 @@ def show(value: Any) -> str:
     """A short, readable form of ``value`` for a message: bytes in hex, ints also in hex, long things cut."""
     try:
         if isinstance(value, (bytes, bytearray)):
-            text = bytes(value[:24]).hex(" ").upper()
+            text = _hex(bytes(value[:24]))
             more = f" … ({len(value)} bytes)" if len(value) > 24 else ""
             return f'bytes.fromhex("{text}"){more}'
         if isinstance(value, int) and not isinstance(value, bool):
@@ -214,8 +216,6 @@ def as_bytes(answer: Any) -> bytes:
     if isinstance(answer, (bytes, bytearray, memoryview)):
         data = bytes(answer)
     elif isinstance(answer, str):
-        from ..framing import parse_hex
-
         if len(answer) > 3 * MAX_ANSWER_BYTES:
             raise AnswerError(f"your hex text is {len(answer)} characters long; the answer is much shorter.")
         data = parse_hex(answer)
@@ -351,8 +351,6 @@ def crc16_reflected(data: bytes, initial: int = 0xFFFF) -> int:
 def crc_diagnosis(data: bytes, got: Any) -> str | None:
     """Name the CRC slips: a result in bytes, the bytes swapped, CRC-16/ARC (register started at 0),
     or the unreflected (MSB-first) variant."""
-    from ..crc import crc16
-
     expected = crc16(data)
     if isinstance(got, (bytes, bytearray)):
         return ("your function returns bytes; return the CRC register as an int (e.g. 0x4B37), the library "

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..framing import RtuFrame, TcpFrame, parse_hex
+from ..pdu import ReadHoldingRegistersRequest
 from .core import as_bytes, compare_bytes, compare_rtu_frame, exercise, int_answer
 
 
@@ -11,8 +13,6 @@ from .core import as_bytes, compare_bytes, compare_rtu_frame, exercise, int_answ
           hint="the first byte of an RTU frame is the slave address; the bytes are written in hexadecimal.",
           wrong=11)
 def _check_00_1(answer: Any) -> str | None:
-    from ..framing import RtuFrame, parse_hex
-
     text = "11 03 00 6B 00 03 76 87"
     expected = RtuFrame.decode(parse_hex(text)).unit
     got = int_answer(answer, "a slave address")
@@ -32,8 +32,6 @@ def _check_00_1(answer: Any) -> str | None:
                "the PDU; the PDU starts with the function code.",
           wrong="01 03 00 00 00 01")
 def _check_00_2(answer: Any) -> str | None:
-    from ..framing import TcpFrame, parse_hex
-
     frame = parse_hex("01 18 00 00 00 06 01 03 00 00 00 01")
     expected = TcpFrame.decode(frame).pdu.encode()
     got = as_bytes(answer)
@@ -46,9 +44,6 @@ def _check_00_2(answer: Any) -> str | None:
           hint="mb.RtuFrame(unit=..., pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode()",
           wrong="02 03 00 00 00 02 38 C4")
 def _check_00_3(answer: Any) -> str | None:
-    from ..framing import RtuFrame
-    from ..pdu import ReadHoldingRegistersRequest
-
     expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
     return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
                              "the low byte goes first.")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..datamodel import DataBank, format_reference, parse_reference, table_kind
 from ..errors import ModbusError
 from .build import build_exercise
 from .core import address_diagnosis, exercise, int_answer
@@ -13,8 +14,6 @@ from .core import address_diagnosis, exercise, int_answer
           hint="a reference number is the table prefix (4 = holding registers) followed by address + 1.",
           wrong=108)
 def _check_01_1(answer: Any) -> str | None:
-    from ..datamodel import parse_reference
-
     ref = "40108"
     expected = parse_reference(ref).address
     got = int_answer(answer, "an address")
@@ -35,8 +34,6 @@ def _check_01_1(answer: Any) -> str | None:
                "four digits.",
           wrong="30009")
 def _check_01_2(answer: Any) -> str | None:
-    from ..datamodel import format_reference
-
     expected = format_reference("input_registers", 9)
     got = str(answer).strip()
     if got == expected:
@@ -53,8 +50,6 @@ def _check_01_2(answer: Any) -> str | None:
                "mb.table_kind(code) names the table.",
           wrong=("holding_registers", True))
 def _check_01_3(answer: Any) -> str | None:
-    from ..datamodel import DataBank, table_kind
-
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
         return "answer with a pair: (table name, True or False)."
     kind, writable = answer
@@ -78,8 +73,6 @@ def _check_01_3(answer: Any) -> str | None:
                "Or declare them in DataBank(sparse=True) and ask len(bank.holding_registers).",
           wrong=50)
 def _check_01_4(answer: Any) -> str | None:
-    from ..datamodel import DataBank
-
     bank = DataBank(sparse=True)
     for first, last in ((150, 175), (200, 225)):
         bank.holding_registers.declare(first - 1, last - first + 1)
@@ -95,8 +88,6 @@ def _check_01_4(answer: Any) -> str | None:
 
 
 def _parse_reference(text: str) -> tuple:
-    from ..datamodel import parse_reference
-
     reference = parse_reference(text)
     return reference.kind, reference.address
 

@@ -4,6 +4,14 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..pdu import (
+    MAX_READ_REGISTERS,
+    ExceptionCode,
+    ExceptionResponse,
+    ReadCoilsResponse,
+    ReadHoldingRegistersRequest,
+    WriteMultipleRegistersRequest,
+)
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer
 
@@ -13,8 +21,6 @@ from .core import as_bytes, compare_bytes, exercise, int_answer
                "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
           wrong="10 00 01 00 02 00 0A 01 02")
 def _check_02_1(answer: Any) -> str | None:
-    from ..pdu import WriteMultipleRegistersRequest
-
     expected = WriteMultipleRegistersRequest(address=1, values=(10, 258)).encode()
     got = as_bytes(answer)
     if len(got) == len(expected) - 1 and got[:5] == expected[:5] and got[5:] == expected[6:]:
@@ -29,8 +35,6 @@ def _check_02_1(answer: Any) -> str | None:
           hint="one Read Holding Registers request reads at most mb.MAX_READ_REGISTERS registers.",
           wrong=2)
 def _check_02_2(answer: Any) -> str | None:
-    from ..pdu import MAX_READ_REGISTERS
-
     expected = -(-300 // MAX_READ_REGISTERS)
     got = int_answer(answer, "a number of requests")
     if isinstance(got, str):
@@ -47,8 +51,6 @@ def _check_02_2(answer: Any) -> str | None:
                "then the exception code; mb.ExceptionCode lists the codes.",
           wrong="03 02")
 def _check_02_3(answer: Any) -> str | None:
-    from ..pdu import ExceptionCode, ExceptionResponse
-
     expected = ExceptionResponse(function=3, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
     got = as_bytes(answer)
     if len(got) == 2 and got[0] == expected[0] & 0x7F:
@@ -64,8 +66,6 @@ def _check_02_3(answer: Any) -> str | None:
                "the first data byte; 0x05 = 0000 0101 in binary.",
           wrong=[5, 7])
 def _check_02_4(answer: Any) -> str | None:
-    from ..pdu import ReadCoilsResponse
-
     bits = ReadCoilsResponse.decode(bytes([0x01, 0x01, 0x05])).bits
     expected = [address for address, bit in enumerate(bits) if bit]
     try:
@@ -80,8 +80,6 @@ def _check_02_4(answer: Any) -> str | None:
 
 
 def _fc3_pdu(address: int, count: int) -> bytes:
-    from ..pdu import ReadHoldingRegistersRequest
-
     return ReadHoldingRegistersRequest(address=address, count=count).encode()
 
 

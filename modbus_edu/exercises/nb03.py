@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import crc16
+from ..crc import crc16, crc_bytes
 from ..errors import ModbusError
+from ..framing import RtuFrame, parse_hex
+from ..pdu import ReadHoldingRegistersResponse, WriteSingleRegisterRequest
 from .build import build_exercise
 from .core import (
     as_bytes,
@@ -23,9 +25,6 @@ from .core import (
                "(mb.crc_bytes(data) gives both bytes in wire order).",
           wrong="87 76")
 def _check_03_1(answer: Any) -> str | None:
-    from ..crc import crc_bytes
-    from ..framing import parse_hex
-
     expected = crc_bytes(parse_hex("11 03 00 6B 00 03"))
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
@@ -41,9 +40,6 @@ def _check_03_1(answer: Any) -> str | None:
                "the address goes in the frame as it is: 2 is sent as 00 02.",
           wrong="01 06 00 02 12 34 7D 25")
 def _check_03_2(answer: Any) -> str | None:
-    from ..framing import RtuFrame
-    from ..pdu import WriteSingleRegisterRequest
-
     expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
     return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
                              "the low byte goes first.")
@@ -54,8 +50,6 @@ def _check_03_2(answer: Any) -> str | None:
                "mb.explain. Answer True or False.",
           wrong=True)
 def _check_03_3(answer: Any) -> str | None:
-    from ..framing import RtuFrame, parse_hex
-
     try:
         RtuFrame.decode(parse_hex("11 03 00 6B 00 03 76 86"))
         expected = True
@@ -74,9 +68,6 @@ def _check_03_3(answer: Any) -> str | None:
                "+ 2 bytes per register + CRC (2).",
           wrong=23)
 def _check_03_4(answer: Any) -> str | None:
-    from ..framing import RtuFrame
-    from ..pdu import ReadHoldingRegistersResponse
-
     expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode())
     got = int_answer(answer, "a number of bytes")
     if isinstance(got, str):

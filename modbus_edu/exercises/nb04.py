@@ -4,7 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..crc import lrc
 from ..crc import lrc as _library_lrc
+from ..datamodel import parse_reference
+from ..framing import AsciiFrame, parse_hex
+from ..pdu import ReadHoldingRegistersRequest
+from ..values import decode_value
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer
 
@@ -14,9 +19,6 @@ from .core import as_bytes, compare_bytes, exercise, int_answer
                "mb.lrc(data) does it all.",
           wrong=0x82)
 def _check_04_1(answer: Any) -> str | None:
-    from ..crc import lrc
-    from ..framing import parse_hex
-
     data = parse_hex("11 03 00 6B 00 03")
     expected = lrc(data)
     got = int_answer(answer, "an LRC")
@@ -36,10 +38,6 @@ def _check_04_1(answer: Any) -> str | None:
                "pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode().",
           wrong=":050310010002E5\r\n")
 def _check_04_2(answer: Any) -> str | None:
-    from ..datamodel import parse_reference
-    from ..framing import AsciiFrame
-    from ..pdu import ReadHoldingRegistersRequest
-
     address = parse_reference("44097").address
     expected = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address, count=2)).encode()
     got = as_bytes(answer)
@@ -58,8 +56,6 @@ def _check_04_2(answer: Any) -> str | None:
                "mb.decode_value(registers, 'uint32', 'ABCD').",
           wrong=57920)
 def _check_04_3(answer: Any) -> str | None:
-    from ..values import decode_value
-
     registers = [0x0001, 0xE240]
     expected = decode_value(registers, "uint32", "ABCD")
     got = int_answer(answer, "the value")
@@ -79,8 +75,6 @@ def _check_04_3(answer: Any) -> str | None:
                "the PDU starts with the function code, after the address.",
           wrong="05 03 04 FF 06 00 64")
 def _check_04_4(answer: Any) -> str | None:
-    from ..framing import AsciiFrame, parse_hex
-
     frame = AsciiFrame.decode(parse_hex(":050304FF0600648B"), role="response")
     expected = frame.pdu.encode()
     got = as_bytes(answer)

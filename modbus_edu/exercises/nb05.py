@@ -4,6 +4,15 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..explain import explain
+from ..framing import TcpFrame, parse_hex
+from ..pdu import (
+    ReadHoldingRegistersRequest,
+    ReadHoldingRegistersResponse,
+    WriteMultipleRegistersRequest,
+    WriteSingleRegisterRequest,
+    decode_pdu,
+)
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer
 
@@ -12,8 +21,6 @@ from .core import as_bytes, compare_bytes, exercise, int_answer
           hint="the transaction identifier is bytes 0-1 of the MBAP header, big-endian (high byte first).",
           wrong=10752)
 def _check_05_1(answer: Any) -> str | None:
-    from ..framing import TcpFrame, parse_hex
-
     frame = parse_hex("00 2A 00 00 00 06 11 03 00 6B 00 03")
     expected = TcpFrame.decode(frame).transaction_id
     got = int_answer(answer, "a transaction id")
@@ -31,9 +38,6 @@ def _check_05_1(answer: Any) -> str | None:
                "value=...)).encode(); the length field counts the unit identifier and the PDU.",
           wrong="07 00 00 00 00 06 01 06 00 00 04 D2")
 def _check_05_2(answer: Any) -> str | None:
-    from ..framing import TcpFrame
-    from ..pdu import WriteSingleRegisterRequest
-
     pdu = WriteSingleRegisterRequest(address=0, value=1234)
     expected = TcpFrame(transaction_id=7, unit=1, pdu=pdu).encode()
     got = as_bytes(answer)
@@ -52,9 +56,6 @@ def _check_05_2(answer: Any) -> str | None:
                "+ byte count (1) + 2 bytes per register.",
           wrong=22)
 def _check_05_3(answer: Any) -> str | None:
-    from ..framing import TcpFrame
-    from ..pdu import ReadHoldingRegistersResponse
-
     frame = TcpFrame(transaction_id=1, unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode()
     expected = int.from_bytes(frame[4:6], "big")
     got = int_answer(answer, "a length")
@@ -74,8 +75,6 @@ def _check_05_3(answer: Any) -> str | None:
                "Answer with the field's name, e.g. 'protocol identifier'.",
           wrong="transaction identifier")
 def _check_05_4(answer: Any) -> str | None:
-    from ..explain import explain
-
     dissection = explain("01 18 00 00 06 00 01 03 00 00 00 01", mode="tcp")
     expected = next(row.field for row in dissection.rows if not row.ok)
     if not isinstance(answer, str):
@@ -90,15 +89,10 @@ def _check_05_4(answer: Any) -> str | None:
 
 
 def _mbap_header(tid: int, unit: int, pdu: bytes) -> bytes:
-    from ..framing import TcpFrame
-    from ..pdu import decode_pdu
-
     return TcpFrame(transaction_id=tid, unit=unit, pdu=decode_pdu(pdu, "request")).encode()[:7]
 
 
 def _mbap_inputs(rng) -> tuple:
-    from ..pdu import ReadHoldingRegistersRequest, WriteMultipleRegistersRequest
-
     if rng.random() < 0.5:
         pdu = ReadHoldingRegistersRequest(address=rng.randrange(65000), count=rng.randrange(1, 126))
     else:

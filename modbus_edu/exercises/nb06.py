@@ -4,17 +4,19 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import ModbusError
+from ..crc import crc_bytes
+from ..datamodel import DataBank
+from ..errors import ModbusError, ModbusExceptionError
+from ..framing import RtuFrame
+from ..links.loopback import loopback_serial
+from ..master import Master
+from ..slave import Slave
 from .build import build_exercise
 from .core import exercise, int_answer, number_answer, real_answer
 
 
 def _one_read_time(baudrate: int, count: int) -> float:
     """Seconds of virtual time one FC3 read of ``count`` registers takes on a loopback line (8N1)."""
-    from ..links.loopback import loopback_serial
-    from ..master import Master
-    from ..slave import Slave
-
     link = loopback_serial(Slave(unit=1), baudrate=baudrate)
     Master(link).read_holding_registers(unit=1, address=0, count=count)
     return link.clock.now
@@ -39,12 +41,6 @@ def _check_06_1(answer: Any) -> str | None:
                "mb.ModbusExceptionError as error, and look at error.code.",
           wrong=1)
 def _check_06_2(answer: Any) -> str | None:
-    from ..datamodel import DataBank
-    from ..errors import ModbusExceptionError
-    from ..links.loopback import loopback_serial
-    from ..master import Master
-    from ..slave import Slave
-
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 20)
     master = Master(loopback_serial(Slave(unit=1, bank=bank)))
@@ -85,10 +81,6 @@ def _check_06_3(answer: Any) -> str | None:
                "mb.ModbusError as error, and give type(error).",
           wrong=ModbusError)
 def _check_06_4(answer: Any) -> str | None:
-    from ..links.loopback import loopback_serial
-    from ..master import Master
-    from ..slave import Slave
-
     master = Master(loopback_serial(Slave(unit=1)), timeout=0.5)
     try:
         master.read_holding_registers(unit=2, address=0, count=1)
@@ -106,11 +98,6 @@ def _check_06_4(answer: Any) -> str | None:
 
 def _slave_answer(registers: list, pdu: bytes) -> bytes:
     """What the library's Slave answers to ``pdu`` over a bank of ``len(registers)`` holding registers."""
-    from ..crc import crc_bytes
-    from ..datamodel import DataBank
-    from ..framing import RtuFrame
-    from ..slave import Slave
-
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, len(registers))
     for address, value in enumerate(registers):

@@ -4,6 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..datamodel import DataBank
+from ..errors import ChecksumError, ModbusExceptionError, ModbusTimeoutError, TransactionMismatchError
+from ..framing import RtuFrame, parse_hex
+from ..links.loopback import loopback_serial
+from ..master import Master
+from ..pdu import ExceptionCode, ExceptionResponse
+from ..slave import Slave
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise
 
@@ -14,8 +21,6 @@ from .core import as_bytes, compare_bytes, exercise
                "role='response').pdu reads it for you.",
           wrong=(0x83, 2))
 def _check_07_1(answer: Any) -> str | None:
-    from ..framing import RtuFrame, parse_hex
-
     pdu = RtuFrame.decode(parse_hex("11 83 02 C1 34"), role="response").pdu
     expected = (pdu.function, pdu.code)
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
@@ -38,9 +43,6 @@ def _check_07_1(answer: Any) -> str | None:
                "mb.RtuFrame(unit=17, pdu=mb.ExceptionResponse(function=..., code=...)).encode()",
           wrong="11 01 02 C1 34")
 def _check_07_2(answer: Any) -> str | None:
-    from ..framing import RtuFrame
-    from ..pdu import ExceptionCode, ExceptionResponse
-
     code = int(ExceptionCode.ILLEGAL_DATA_ADDRESS)
     expected = RtuFrame(unit=17, pdu=ExceptionResponse(function=1, code=code)).encode()
     got = as_bytes(answer)
@@ -65,12 +67,6 @@ _SITUATIONS = (
 
 def _outcome_of(situation: str) -> str:
     """Run one situation of exercise 07.3 on a loopback wire and name what the master saw."""
-    from ..datamodel import DataBank
-    from ..errors import ChecksumError, ModbusExceptionError, ModbusTimeoutError, TransactionMismatchError
-    from ..links.loopback import loopback_serial
-    from ..master import Master
-    from ..slave import Slave
-
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 10)
     link = loopback_serial(Slave(unit=1, bank=bank), seed=0)
@@ -124,8 +120,6 @@ def _check_07_3(answer: Any) -> str | None:
 
 
 def _exception_pdu(function: int, code: int) -> bytes:
-    from ..pdu import ExceptionResponse
-
     return ExceptionResponse(function=function, code=code).encode()
 
 

@@ -4,6 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..errors import ModbusError as _Error
+from ..links.loopback import loopback_serial
+from ..links.wire import SerialTiming
+from ..master import Master
+from ..slave import Slave
 from .build import build_exercise
 from .core import close, exercise, number_answer, real_answer
 
@@ -13,8 +18,6 @@ from .core import close, exercise, number_answer, real_answer
                "parity, stop). mb.SerialTiming(baudrate=..., parity=...).t35 gives it in seconds.",
           wrong=3.5 * 10 / 4800)
 def _check_08_1(answer: Any) -> str | None:
-    from ..links.wire import SerialTiming
-
     timing = SerialTiming(baudrate=4800, parity="E", stopbits=1)
     expected = timing.t35
     got = real_answer(answer, "a silence in seconds")
@@ -32,8 +35,6 @@ def _check_08_1(answer: Any) -> str | None:
                "1 / mb.SerialTiming(19200).transaction_time(request_bytes, response_bytes).",
           wrong=19200 / 10 / (8 + 25))
 def _check_08_2(answer: Any) -> str | None:
-    from ..links.wire import SerialTiming
-
     timing = SerialTiming(baudrate=19200)
     expected = 1 / timing.transaction_time(8, 5 + 2 * 10)
     got = real_answer(answer, "a number of transactions per second")
@@ -53,11 +54,6 @@ def _check_08_2(answer: Any) -> str | None:
                "it in two; either way the slave gets no valid request.",
           wrong=[5.0])
 def _check_08_3(answer: Any) -> str | None:
-    from ..errors import ModbusError as _Error
-    from ..links.loopback import loopback_serial
-    from ..master import Master
-    from ..slave import Slave
-
     pauses = [1.0, 1.4, 2.0, 3.0, 5.0]
     expected = []
     for chars in pauses:
@@ -86,8 +82,6 @@ def _check_08_3(answer: Any) -> str | None:
 
 def _transaction_time(baudrate: int, parity: str, stopbits: int, request_bytes: int,
                       response_bytes: int) -> float:
-    from ..links.wire import SerialTiming
-
     return SerialTiming(baudrate=baudrate, parity=parity, stopbits=stopbits).transaction_time(
         request_bytes, response_bytes)
 

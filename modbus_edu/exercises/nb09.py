@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..datamodel import DataBank, parse_reference, table_kind
+from ..devices.arduino import SLOW_LOOP, expected_answered_fraction, loop_time_experiment
 from .build import build_exercise
 from .core import exercise, real_answer
 
@@ -13,8 +15,6 @@ from .core import exercise, real_answer
                "after the prefix minus one. mb.parse_reference('30010') does it.",
           wrong=(4, 10))
 def _check_09_1(answer: Any) -> str | None:
-    from ..datamodel import parse_reference, table_kind
-
     ref = parse_reference("30010")
     function = next(fc for fc in (1, 2, 3, 4) if table_kind(fc) == ref.kind)
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
@@ -34,8 +34,6 @@ def _check_09_1(answer: Any) -> str | None:
 
 
 def _registers_150_175_and_200_225_off_by_one() -> Any:
-    from ..datamodel import DataBank
-
     bank = DataBank(sparse=True)
     for first in (150, 200):
         bank.holding_registers.declare(first, 26)
@@ -47,8 +45,6 @@ def _registers_150_175_and_200_225_off_by_one() -> Any:
                "board.add(40000 + number); the same for 200-225.",
           wrong=_registers_150_175_and_200_225_off_by_one())
 def _check_09_2(answer: Any) -> str | None:
-    from ..datamodel import DataBank, parse_reference
-
     bank = getattr(answer, "bank", answer)
     if not isinstance(bank, DataBank):
         return "give the board (an ArduinoSlave) or its DataBank."
@@ -75,8 +71,6 @@ def _check_09_2(answer: Any) -> str | None:
                "try loop_time_experiment([SLOW_LOOP], timeout=...) with a few values.",
           wrong=1.5)
 def _check_09_3(answer: Any) -> str | None:
-    from ..devices.arduino import SLOW_LOOP, loop_time_experiment
-
     got = real_answer(answer, "a timeout in seconds")
     if isinstance(got, str):
         return got
@@ -92,8 +86,6 @@ def _check_09_3(answer: Any) -> str | None:
 
 
 def _answered(loop_time: float, timeout: float, reply: float) -> float:
-    from ..devices.arduino import expected_answered_fraction
-
     return expected_answered_fraction(loop_time, timeout, reply)
 
 

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import struct
 from typing import Any
 
+from ..devices.meter import METER_BY_NAME, TRIALS, meter_blocks
+from ..framing import RtuFrame, parse_hex
+from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
 from .core import close, exercise, number_answer, real_answer
 
@@ -13,10 +17,6 @@ from .core import close, exercise, number_answer, real_answer
                "tenths of a volt. METER_BY_NAME['VL2'].value(registers) does both steps.",
           wrong=4105)
 def _check_10_1(answer: Any) -> str | None:
-    from ..devices.meter import METER_BY_NAME
-    from ..framing import RtuFrame, parse_hex
-    from ..values import decode_value
-
     registers = RtuFrame.decode(parse_hex("01 03 04 00 00 10 09 37 F5"), role="response").pdu.registers
     expected = METER_BY_NAME["VL2"].value(registers)
     got = real_answer(answer, "a voltage in volts")
@@ -35,8 +35,6 @@ def _check_10_1(answer: Any) -> str | None:
                "mb.encode_value(288900, 'uint32', 'ABCD'), or METER_BY_NAME['AL1'].registers(288.9).",
           wrong=[0x6884, 0x0004])
 def _check_10_2(answer: Any) -> str | None:
-    from ..devices.meter import METER_BY_NAME
-
     expected = METER_BY_NAME["AL1"].registers(_al1_of_trial_2())
     if not isinstance(answer, (list, tuple)) or any(
             isinstance(x, bool) or not isinstance(x, int) for x in answer):
@@ -55,8 +53,6 @@ def _check_10_2(answer: Any) -> str | None:
 
 def _al1_of_trial_2() -> float:
     """AL1 of trial 2 in 003's Table 6, from the library's copy of the table."""
-    from ..devices.meter import TRIALS
-
     return TRIALS[2]["AL1"]
 
 
@@ -65,8 +61,6 @@ def _al1_of_trial_2() -> float:
                "one FC3 request from the first address, two registers each.",
           wrong=(3, 0x12, 3))
 def _check_10_3(answer: Any) -> str | None:
-    from ..devices.meter import METER_BY_NAME, meter_blocks
-
     members = [METER_BY_NAME[name] for name in ("PF2", "VL3", "AL3")]
     [(address, count, _)] = meter_blocks(members)
     expected = (3, address, count)
@@ -87,16 +81,10 @@ def _check_10_3(answer: Any) -> str | None:
 
 
 def _float32(registers: list, order: str) -> float:
-    from ..values import decode_value
-
     return decode_value(registers, "float32", order)
 
 
 def _float_inputs(rng) -> tuple:
-    import struct
-
-    from ..values import ORDERS, encode_value
-
     order = rng.choice(ORDERS)
     if rng.random() < 0.8:
         value = struct.unpack(">f", struct.pack(">f", rng.uniform(-1e4, 1e4)))[0]
@@ -105,8 +93,6 @@ def _float_inputs(rng) -> tuple:
 
 
 def _diagnose_float(args, expected, got) -> str | None:
-    from ..values import ORDERS, decode_value
-
     registers, order = args
     for other in ORDERS:
         if other != order and isinstance(got, float) and decode_value(registers, "float32", other) == got:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..framing import RtuFrame, TcpFrame, parse_hex
+from ..pdu import ReadHoldingRegistersRequest
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise
 
@@ -13,8 +15,6 @@ from .core import as_bytes, compare_bytes, exercise
                "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
           wrong=(0x0200, 6, 5, 0x63))
 def _check_11_1(answer: Any) -> str | None:
-    from ..framing import TcpFrame, parse_hex
-
     frame = TcpFrame.decode(parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
     expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
     if not isinstance(answer, (tuple, list)) or len(answer) != 4:
@@ -41,8 +41,6 @@ def _check_11_1(answer: Any) -> str | None:
                "frame.",
           wrong="00 07 00 00 00 08 03 03 00 00 00 03 04 29")
 def _check_11_2(answer: Any) -> str | None:
-    from ..framing import RtuFrame, TcpFrame, parse_hex
-
     rtu = RtuFrame.decode(parse_hex("03 03 00 00 00 03 04 29"), role="request")
     expected = TcpFrame(transaction_id=7, unit=rtu.unit, pdu=rtu.pdu).encode()
     got = as_bytes(answer)
@@ -84,17 +82,12 @@ def _check_11_3(answer: Any) -> str | None:
 
 
 def _split_mbap(frame: bytes) -> tuple:
-    from ..framing import TcpFrame
-
     decoded = TcpFrame.decode(frame, "request")
     pdu = decoded.pdu.encode()
     return decoded.transaction_id, 0, len(pdu) + 1, decoded.unit, pdu
 
 
 def _mbap_frames(rng) -> tuple:
-    from ..framing import TcpFrame
-    from ..pdu import ReadHoldingRegistersRequest
-
     pdu = ReadHoldingRegistersRequest(address=rng.randrange(65000), count=rng.randrange(1, 126))
     frame = TcpFrame(transaction_id=rng.randrange(65536), unit=rng.randrange(256), pdu=pdu).encode()
     if rng.random() < 0.2:  # a length field that does not match: not a valid frame

@@ -4,6 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..datamodel import DataBank
+from ..devices.generators import increment_fill
+from ..framing import TcpFrame, parse_hex
+from ..pdu import ReadHoldingRegistersRequest
+from ..values import format_registers
+from ..widgets.testtool import TestTool
 from .build import build_exercise
 from .core import exercise
 
@@ -13,10 +19,6 @@ from .core import exercise
                "mb.format_registers([...], 'hex') shows a register as the test tool's grid does.",
           wrong="0x008C")
 def _check_12_1(answer: Any) -> str | None:
-    from ..datamodel import DataBank
-    from ..devices.generators import increment_fill
-    from ..values import format_registers
-
     bank = DataBank(sparse=False)
     increment_fill(bank.holding_registers, 0, 10, 100, 10)
     expected = format_registers(bank.holding_registers.read(5, 1), "hex")[0]
@@ -41,8 +43,6 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
                "input registers are read with function 4.",
           wrong={"role": "rtu_master", "unit": 7, "function": 3, "address": 10, "length": 4, "interval": 0.5})
 def _check_12_2(answer: Any) -> str | None:
-    from ..widgets.testtool import TestTool
-
     config = answer.config() if isinstance(answer, TestTool) else answer
     if not isinstance(config, dict):
         return "give the TestTool or its config() dict."
@@ -66,9 +66,6 @@ def _check_12_2(answer: Any) -> str | None:
                "writes it high byte first.",
           wrong=(283, "1B 01"))
 def _check_12_3(answer: Any) -> str | None:
-    from ..framing import parse_hex
-    from ..widgets.testtool import TestTool
-
     server = TestTool("tcp_server", unit=1, length=1)
     client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
     client.run_polls(3)
@@ -91,9 +88,6 @@ def _check_12_3(answer: Any) -> str | None:
 
 
 def _read_request(tid: int, unit: int, address: int, count: int) -> bytes:
-    from ..framing import TcpFrame
-    from ..pdu import ReadHoldingRegistersRequest
-
     return TcpFrame(transaction_id=tid, unit=unit,
                     pdu=ReadHoldingRegistersRequest(address=address, count=count)).encode()
 

@@ -2,8 +2,18 @@
 
 from __future__ import annotations
 
+import math
+import random
 from typing import Any
 
+from ..datamodel import DataBank, parse_reference
+from ..devices.arduino import ArduinoSlave
+from ..errors import ConfigError
+from ..framing import RtuFrame, TcpFrame, parse_hex
+from ..links.loopback import loopback_serial
+from ..pdu import ReadHoldingRegistersRequest
+from ..slave import Slave
+from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
 from .core import close, compare_rtu_frame, exercise, real_answer
 
@@ -13,11 +23,6 @@ _LAB_SEED = 13
 
 def _silent_wires(seed: int = _LAB_SEED) -> tuple[dict[str, Any], dict[str, str]]:
     """Three wires whose master only gets timeouts, each for another reason; and the reasons."""
-    import random
-
-    from ..links.loopback import loopback_serial
-    from ..slave import Slave
-
     causes = list(_SILENT_CAUSES)
     random.Random(seed).shuffle(causes)
     wires: dict[str, Any] = {}
@@ -42,12 +47,6 @@ def _silent_wires(seed: int = _LAB_SEED) -> tuple[dict[str, Any], dict[str, str]
 
 def _word_order_device(seed: int = _LAB_SEED) -> tuple[Any, str, float]:
     """A current sensor sending milliamperes as uint32 in an undisclosed word order."""
-    import random
-
-    from ..datamodel import DataBank
-    from ..slave import Slave
-    from ..values import encode_value
-
     rng = random.Random(seed)
     order = "CDAB"
     amperes = round(rng.uniform(120.0, 180.0), 3)
@@ -58,8 +57,6 @@ def _word_order_device(seed: int = _LAB_SEED) -> tuple[Any, str, float]:
 
 def _slow_board(seed: int = _LAB_SEED) -> Any:
     """An Arduino-style slave whose main loop is slower than the master's 1 s timeout."""
-    from ..devices.arduino import ArduinoSlave
-
     return ArduinoSlave(unit=1, loop_time=2.2, jitter=0.1, seed=seed)
 
 
@@ -75,9 +72,6 @@ def lab(puzzle: str) -> Any:
 
     Every call builds a fresh, seeded setup: the same every run.
     """
-    from ..errors import ConfigError
-    from ..links.loopback import loopback_serial
-
     if puzzle == "silent":
         return _silent_wires()[0]
     if puzzle == "word order":
@@ -133,8 +127,6 @@ def _check_13_2(answer: Any) -> str | None:
                "mb.parse_reference('40021') gives the address.",
           wrong=21)
 def _check_13_3(answer: Any) -> str | None:
-    from ..datamodel import parse_reference
-
     expected = parse_reference("40021").address
     if isinstance(answer, bool) or not isinstance(answer, int):
         return "answer with the address, an int."
@@ -152,9 +144,6 @@ def _check_13_3(answer: Any) -> str | None:
                "mb.TcpFrame.decode(...).transaction_id; a correct client sends 3 as 00 03.",
           wrong=(3, "03 00"))
 def _check_13_4(answer: Any) -> str | None:
-    from ..framing import TcpFrame, parse_hex
-    from ..pdu import ReadHoldingRegistersRequest
-
     captured = TcpFrame.decode(parse_hex("03 00 00 00 00 06 01 03 00 00 00 01"), role="request")
     correct = TcpFrame(transaction_id=3, unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
@@ -175,9 +164,6 @@ def _check_13_4(answer: Any) -> str | None:
                "carries. The CRC goes low byte first.",
           wrong="01 03 00 00 00 01 0A 84")
 def _check_13_5(answer: Any) -> str | None:
-    from ..framing import RtuFrame
-    from ..pdu import ReadHoldingRegistersRequest
-
     expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
     return compare_rtu_frame(answer, expected, "your corrected frame", "that is the frame as the faulty "
                              "tool sent it: the CRC bytes are still swapped.")
@@ -202,17 +188,11 @@ def _check_13_6(answer: Any) -> str | None:
 
 def _orders_giving(registers: list, expected: float) -> frozenset:
     """Every word order in which ``registers`` decode to ``expected`` (to float32 precision)."""
-    import math
-
-    from ..values import ORDERS, decode_value
-
     return frozenset(order for order in ORDERS
                      if math.isclose(decode_value(registers, "float32", order), expected, rel_tol=1e-6))
 
 
 def _order_inputs(rng) -> tuple:
-    from ..values import ORDERS, encode_value
-
     value = round(rng.uniform(-500.0, 500.0), 1)
     registers = list(encode_value(value, "float32", rng.choice(ORDERS)))
     if rng.random() < 0.15:
@@ -225,8 +205,6 @@ def _order_accepted(expected: frozenset, got) -> bool:
 
 
 def _diagnose_order(args, expected, got) -> str | None:
-    from ..values import ORDERS, decode_value
-
     registers, value = args
     if not expected:
         return f"no order gives {value:g} from these registers: return None."

@@ -28,6 +28,7 @@ from collections.abc import Iterable
 from functools import partial
 
 from ..clock import VirtualClock
+from ..crc import crc16, lrc
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpSplitter
 from ..slave import Slave
@@ -69,8 +70,6 @@ def _check_timeout(timeout: float) -> float:
 
 def _rewrite_unit(frame: bytes, mode: str, unit: int) -> bytes:
     """The same response with another unit id (checksum recomputed): the ``answer_as`` fault."""
-    from ..crc import crc16, lrc
-
     if mode == "tcp":
         return frame[:6] + bytes([unit]) + frame[7:]
     if mode == "ascii":

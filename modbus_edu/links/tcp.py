@@ -37,7 +37,6 @@ import logging
 import select
 import selectors
 import socket
-import struct
 import threading
 import time
 from collections import deque
@@ -46,6 +45,7 @@ from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 from ..clock import Clock, RealClock
+from ..codes import MAX_MBAP_LENGTH, MBAP, MBAP_HEADER_SIZE, MIN_MBAP_LENGTH
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpFrame, splitter_for
 from ..pdu import ExceptionResponse
@@ -65,12 +65,6 @@ __all__ = [
     "is_loopback_host",
 ]
 
-#: Bytes in an MBAP header: transaction id, protocol id, length, unit id.
-MBAP_HEADER_SIZE = 7
-#: Smallest legal MBAP length field: the unit id and a function code.
-MIN_MBAP_LENGTH = 2
-#: Largest legal MBAP length field: the unit id and the largest PDU (253 bytes).
-MAX_MBAP_LENGTH = 254
 #: Exception code a gateway returns when the addressed device does not answer (spec section 7).
 GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
 #: The framings a TCP socket can carry: Modbus/TCP's MBAP, or RTU/ASCII frames (a serial device server).
@@ -81,7 +75,6 @@ SERVER_DEVICE_FAILURE = 0x04
 #: 0xFF is the recommended one, 0 is accepted too.
 DIRECT_UNITS = (0x00, 0xFF)
 
-_MBAP = struct.Struct(">HHHB")
 _RECV_SIZE = 65536
 #: Stop reading from a client whose unsent responses pile up beyond this (it does not read its socket).
 _MAX_PENDING_OUTPUT = 64 * 1024
@@ -682,7 +675,7 @@ class TcpServer:
             return self._process_serial(conn)
         buf = conn.inbuf
         if len(buf) >= MBAP_HEADER_SIZE and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-            tid, protocol, length, unit = _MBAP.unpack_from(buf, 0)
+            tid, protocol, length, unit = MBAP.unpack_from(buf, 0)
             if protocol != 0 or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
                 self.counters.bad_frames += 1
                 if protocol != 0:
@@ -790,7 +783,7 @@ class TcpServer:
 def exception_reply(frame: bytes, code: int) -> bytes | None:
     """The exception response a Modbus/TCP server sends itself for request ``frame`` (same transaction id
     and unit), e.g. 0x0B when no slave is at that unit; None for a frame without a function code."""
-    tid, _, _, unit = _MBAP.unpack_from(frame, 0)
+    tid, _, _, unit = MBAP.unpack_from(frame, 0)
     function = frame[7] & 0x7F if len(frame) > 7 else 0
     if function == 0:
         return None

@@ -19,6 +19,7 @@ from ..crc import (
 )
 from ..errors import ModbusError
 from ..framing import parse_hex
+from ..plotstyle import figure
 from .common import MONO, MessageLine, StaticText, esc, guarded, hex_text, mark_invalid, stale_html
 
 __all__ = ["CrcExplorer"]
@@ -331,8 +332,6 @@ class CrcExplorer(StaticText, W.VBox):
     def plot(self, ax: Any = None) -> Any:
         """Plot the register after every step (matplotlib, the course's :mod:`~modbus_edu.plotstyle`);
         returns the Axes."""
-        from ..plotstyle import figure
-
         if ax is None:
             _fig, ax = figure()
         values = [self.initial] + [s.after for s in self.steps]

@@ -10,10 +10,11 @@ from typing import Any
 import ipywidgets as W
 
 from ..clock import VirtualClock
-from ..devices.meter import METER_MAP, MeterRegister, read_meter
+from ..devices.meter import METER_MAP, MeterRegister, PowerMeter, read_meter
 from ..errors import ConfigError, ModbusError, ModbusTimeoutError
 from ..links.loopback import loopback_serial
 from ..master import Master
+from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
 from ..slave import Slave
 from .common import MONO, MessageLine, StaticText, esc, guarded
 
@@ -82,8 +83,6 @@ class MeterDashboard(StaticText, W.VBox):
         self.master: Master | None = None
 
         if source is None:
-            from ..devices.meter import PowerMeter
-
             source = PowerMeter(unit=1, trial=1, live=True)
         if entries is None:
             entries = getattr(source, "register_map", None) or METER_MAP
@@ -314,8 +313,6 @@ class MeterDashboard(StaticText, W.VBox):
         the course's plot style (:mod:`modbus_edu.plotstyle`: size, fonts, the legend beside the data)."""
         import matplotlib as mpl
         from matplotlib.figure import Figure
-
-        from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
 
         group = self.plot_group.value
         members = [e for e in self.entries if e.unit == group]

@@ -10,6 +10,8 @@ from ...clock import VirtualClock
 from ...datamodel import Table
 from ...errors import ConfigError, ModbusError, ModbusTimeoutError
 from ...links.loopback import loopback_serial, loopback_tcp
+from ...links.serial import SerialServer, serial_link
+from ...links.tcp import TcpServer, tcp_link
 from ...master import Master
 from ...pdu import FunctionCode
 from ...slave import Slave
@@ -125,8 +127,6 @@ class ConnectionMixin:
         self.message.show(text, "ok")
 
     def _connect_serial(self) -> None:
-        from ...links.serial import SerialServer, serial_link
-
         url = self.url.value.strip()
         settings = (self.baudrate.value, self.parity.value, self.stopbits.value)
         if self.is_master:
@@ -138,8 +138,6 @@ class ConnectionMixin:
             self._serving(f"serving unit {slave.unit} on {url}")
 
     def _connect_tcp(self) -> None:
-        from ...links.tcp import TcpServer, tcp_link
-
         host = self.host.value.strip()
         if self.is_master:
             link = tcp_link(host, self.port.value, timeout=float(self.timeout.value))
