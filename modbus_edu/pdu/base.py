@@ -1,0 +1,492 @@
+"""The shared machinery of every PDU: the :class:`Pdu` base class, the field checks, the registry of
+classes by function code, :func:`decode_pdu` and :func:`pdu_length`."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import struct
+from collections.abc import Iterable, Mapping
+from collections.abc import Set as AbstractSet
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from ..codes import (
+    MAX_PDU_SIZE,
+    ROLES,
+    SERIAL_LINE_ONLY,
+    FunctionCode,
+    function_title,
+)
+from ..errors import (
+    AddressRangeError,
+    ConfigError,
+    PduError,
+    QuantityError,
+    TrailingBytesError,
+    TruncatedError,
+    UnknownFunctionError,
+    ValueRangeError,
+    shown,
+)
+
+MAX_READ_BITS = 2000
+"""Read Coils / Read Discrete Inputs: 1 to 2000 bits per request (250 data bytes in the response)."""
+
+
+MAX_READ_REGISTERS = 125
+"""Read Holding / Input Registers: 1 to 125 registers per request (250 data bytes in the response)."""
+
+
+MAX_WRITE_COILS = 1968
+"""Write Multiple Coils: 1 to 1968 coils (0x7B0) per request (246 data bytes)."""
+
+
+MAX_WRITE_REGISTERS = 123
+"""Write Multiple Registers: 1 to 123 registers (0x7B) per request (246 data bytes)."""
+
+
+MAX_READ_WRITE_REGISTERS = 121
+"""Read/Write Multiple Registers (FC 23): 1 to 121 registers written per request (0x79)."""
+
+
+@dataclass(frozen=True)
+class Field:
+    """One field of a PDU, for dissection tables: where it is, its bytes, its name, value and meaning."""
+
+    offset: int
+    raw: bytes
+    name: str
+    value: Any
+    meaning: str
+
+
+def _check_int(value: Any, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueRangeError(f"{name} must be an integer, got {shown(value)}")
+    if value.bit_length() > 64:
+        raise ValueRangeError(f"{name} is {shown(value)}: far outside any Modbus field")
+    return value
+
+
+def _check_address(address: Any) -> int:
+    address = _check_int(address, "address")
+    if not 0 <= address <= 0xFFFF:
+        raise ValueRangeError(f"address {address} is outside 0..65535 (a 16-bit field)")
+    return address
+
+
+def _check_quantity(count: Any, limit: int, what: str, name: str = "count") -> int:
+    count = _check_int(count, name)
+    if not 1 <= count <= limit:
+        raise QuantityError(f"quantity of {what} is {count}, expected 1 to {limit}")
+    return count
+
+
+def _check_span(address: int, count: int, what: str) -> None:
+    if address + count > 0x10000:
+        raise AddressRangeError(
+            f"address {address} + quantity {count} = {address + count} runs past the last {what} address "
+            f"65535 (address + quantity must be <= 65536)")
+
+
+def _check_register(value: Any, index: int | None = None) -> int:
+    label = "register value" if index is None else f"register value #{index}"
+    value = _check_int(value, label)
+    if not 0 <= value <= 0xFFFF:
+        raise ValueRangeError(f"{label} {value} is outside 0..65535 (registers are unsigned 16-bit)")
+    return value
+
+
+def _check_sequence(values: Any, name: str, what: str) -> None:
+    """A mapping or a set is iterable but has no order of values: refuse it, as a plain value."""
+    if isinstance(values, (Mapping, AbstractSet, str, bytes)) or not isinstance(values, Iterable):
+        raise ValueRangeError(f"{name} must be a sequence (list or tuple) of {what}, "
+                              f"got {type(values).__name__} {values!r}")
+
+
+def _check_bits(values: Any, name: str) -> tuple[bool, ...]:
+    _check_sequence(values, name, "booleans")
+    try:
+        items = tuple(values)
+    except TypeError:
+        raise ValueRangeError(f"{name} must be a sequence of booleans, got {values!r}") from None
+    for index, item in enumerate(items):
+        if item not in (0, 1) or not isinstance(item, (bool, int)):
+            raise ValueRangeError(f"{name}[{index}] is {item!r}, expected True/False (or 1/0)")
+    return tuple(bool(item) for item in items)
+
+
+def _check_registers(values: Any, name: str) -> tuple[int, ...]:
+    if type(values) not in (list, tuple):
+        _check_sequence(values, name, "integers")
+    try:
+        items = tuple(values)
+    except TypeError:
+        raise ValueRangeError(f"{name} must be a sequence of integers, got {values!r}") from None
+    if all(type(item) is int and 0 <= item <= 0xFFFF for item in items):
+        return items
+    return tuple(_check_register(item, index) for index, item in enumerate(items))
+
+
+def pack_bits(bits: tuple[bool, ...]) -> bytes:
+    """Pack bits eight to a byte, the first bit in the least significant position; pad with zeros."""
+    out = bytearray((len(bits) + 7) // 8)
+    for index, bit in enumerate(bits):
+        if bit:
+            out[index >> 3] |= 1 << (index & 7)
+    return bytes(out)
+
+
+def unpack_bits(data: bytes) -> tuple[bool, ...]:
+    """Every bit of ``data``, least significant bit of the first byte first (8 per byte)."""
+    return tuple(bool(byte >> bit & 1) for byte in data for bit in range(8))
+
+
+def _expect_length(data: bytes, length: int, name: str, base: int) -> None:
+    if len(data) < length:
+        where = f"byte {base}" if len(data) == 1 else f"bytes {base}-{base + len(data) - 1}"
+        raise TruncatedError(
+            f"{name} is truncated: {len(data)} byte{'s' if len(data) != 1 else ''} at {where}, "
+            f"expected {length} bytes (the PDU ends at byte {base + length - 1})")
+    if len(data) > length:
+        raise TrailingBytesError(
+            f"{name} has {len(data) - length} trailing byte(s) from byte {base + length}: "
+            f"expected exactly {length} bytes")
+
+
+def _pdu_bytes(data: Any, offset: int) -> bytes:
+    """The PDU as bytes; text or an empty PDU is a teaching error, not a TypeError."""
+    if isinstance(data, str):
+        raise PduError(f"a PDU is bytes, got the text {data[:30]!r}: turn hex text into bytes first, "
+                       f"e.g. bytes.fromhex('03 00 00 00 01')")
+    if isinstance(data, int):  # bytes(5) would be five zero bytes, not the byte 5
+        raise PduError(f"a PDU is bytes, got the number {data!r}: write bytes([{data}]) for one byte")
+    try:
+        data = bytes(data)
+    except (TypeError, ValueError):
+        raise PduError(f"a PDU is bytes (values 0..255), got {type(data).__name__}") from None
+    if not data:
+        raise TruncatedError(f"empty PDU at byte {offset}: expected at least a function code")
+    return data
+
+
+REQUEST_CLASSES: dict[int, type[Pdu]] = {}
+"""The request class of each function code; every class with a ``function_code`` registers itself."""
+RESPONSE_CLASSES: dict[int, type[Pdu]] = {}
+"""The (normal) response class of each function code."""
+_EXCEPTION_RESPONSE: list[type[Pdu]] = []
+"""The exception response class (one), registered by :mod:`modbus_edu.pdu.exceptions`."""
+
+
+@functools.cache
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(item.name for item in dataclasses.fields(cls))
+
+
+class Pdu:
+    """Base of every PDU class.
+
+    ``function_code`` is the first byte, ``role`` says whether the class is a request or a response.
+    ``encode()`` gives the bytes (function code first); ``decode(data)`` is the inverse and is strict.
+    """
+
+    function_code: ClassVar[int]
+    role: ClassVar[str]
+    is_exception: ClassVar[bool] = False
+    __slots__ = ()
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """A class that names its own ``function_code`` (an int) is the class of that code in its role."""
+        super().__init_subclass__(**kwargs)
+        if cls.__dict__.get("is_exception"):
+            _EXCEPTION_RESPONSE[:] = [cls]
+            return
+        code = getattr(cls, "function_code", None)  # a private base class shares its code: not registered
+        if isinstance(code, int) and not cls.__name__.startswith("_"):
+            (REQUEST_CLASSES if cls.role == "request" else RESPONSE_CLASSES)[code] = cls
+
+    @property
+    def title(self) -> str:
+        return function_title(self.function_code)
+
+    def encode(self) -> bytes:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    @classmethod
+    def decode(cls, data: bytes, offset: int = 0) -> Pdu:
+        """Decode this class's PDU from ``data`` (function code first); strict about every byte.
+
+        ``offset`` is added to byte positions in error messages.  :func:`decode_pdu` picks the class
+        from the function code; calling a class's ``decode`` directly checks that the code is its own.
+        """
+        data = _pdu_bytes(data, offset)
+        if data[0] != cls.function_code:
+            raise UnknownFunctionError(
+                f"at byte {offset}: function code 0x{data[0]:02X}, but {cls.__name__} has function code "
+                f"0x{cls.function_code:02X}; use decode_pdu(data, role) to pick the class from the code",
+                function=data[0])
+        return cls._decode(data, offset)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int) -> Pdu:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
+    def fields(self) -> list[Field]:  # pragma: no cover
+        raise NotImplementedError
+
+    def _function_field(self, raw: bytes) -> Field:
+        note = "; the spec defines it for serial lines only" if self.function_code in SERIAL_LINE_ONLY else ""
+        return Field(0, raw[:1], "function code", self.function_code,
+                     f"{function_title(self.function_code)} ({self.role}){note}")
+
+    @classmethod
+    def _from_wire(cls, *values: Any) -> Pdu:
+        """Build an instance from fields that ``decode`` has already checked, skipping the checks again."""
+        obj = object.__new__(cls)
+        for name, value in zip(_field_names(cls), values):
+            object.__setattr__(obj, name, value)
+        return obj
+
+    def _repr_html_(self) -> str:
+        """In a notebook a PDU shows as its dissection table (:func:`modbus_edu.explain.explain_pdu`)."""
+        from ..explain import explain_pdu
+
+        return explain_pdu(self)._repr_html_()
+
+    def summary(self) -> str:
+        """One line such as ``Read Holding Registers request: address 0, count 1``."""
+        parts = [f"{name} {value}" for name, value in self._summary_items()]
+        return f"{self.title} {self.role}" + (": " + ", ".join(parts) if parts else "")
+
+    def _summary_items(self) -> list[tuple[str, Any]]:  # pragma: no cover
+        return []
+
+
+@dataclass(frozen=True, slots=True)
+class _ReadRequest(Pdu):
+    address: int
+    count: int
+
+    role: ClassVar[str] = "request"
+    limit: ClassVar[int]
+    what: ClassVar[str]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        object.__setattr__(self, "count", _check_quantity(self.count, self.limit, self.what))
+        _check_span(self.address, self.count, self.what[:-1] if self.what.endswith("s") else self.what)
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", self.function_code, self.address, self.count)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, f"{function_title(cls.function_code)} request", offset)
+        _fc, address, count = struct.unpack(">BHH", data)
+        try:
+            return cls(address, count)
+        except QuantityError as exc:
+            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: {exc}") from None
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [
+            self._function_field(raw),
+            Field(1, raw[1:3], "starting address", self.address,
+                  f"0-based {self.what[:-1] if self.what.endswith('s') else self.what} address"),
+            Field(3, raw[3:5], "quantity", self.count, f"number of {self.what} to read (1-{self.limit})"),
+        ]
+
+    def _summary_items(self):
+        return [("address", self.address), ("count", self.count)]
+
+
+def _label(name: str | type[Pdu]) -> str:
+    """A PDU's name for a message: the string itself, or "<Function Title> <role>" of a class."""
+    return name if isinstance(name, str) else f"{function_title(name.function_code)} {name.role}"
+
+
+def _expect_minimum(data: bytes, length: int, name: str | type[Pdu], base: int) -> None:
+    if len(data) < length:
+        raise TruncatedError(
+            f"{_label(name)} is truncated: {len(data)} byte(s), expected at least {length} "
+            f"(bytes {base}-{base + length - 1})")
+
+
+def _expect_byte_count(data: bytes, header: int, byte_count: int, name: str | type[Pdu],
+                       base: int) -> None:
+    present = len(data) - header
+    if present < byte_count:
+        raise TruncatedError(
+            f"{_label(name)} is truncated: byte count at byte {base + header - 1} announces "
+            f"{byte_count} data bytes, only {present} follow")
+    if present > byte_count:
+        raise TrailingBytesError(
+            f"{_label(name)} has {present - byte_count} trailing byte(s) from byte "
+            f"{base + header + byte_count}: the byte count announces {byte_count} data bytes")
+
+
+@dataclass(frozen=True, slots=True)
+class _WriteMultipleResponse(Pdu):
+    address: int
+    count: int
+
+    role: ClassVar[str] = "response"
+    limit: ClassVar[int]
+    what: ClassVar[str]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "address", _check_address(self.address))
+        object.__setattr__(self, "count", _check_quantity(self.count, self.limit, self.what))
+        _check_span(self.address, self.count, self.what[:-1])
+
+    def encode(self) -> bytes:
+        return struct.pack(">BHH", self.function_code, self.address, self.count)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 5, f"{function_title(cls.function_code)} response", offset)
+        _fc, address, count = struct.unpack(">BHH", data)
+        try:
+            return cls(address, count)
+        except QuantityError as exc:
+            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: {exc}") from None
+        except AddressRangeError as exc:
+            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:3], "starting address", self.address, f"0-based {self.what[:-1]} address"),
+                Field(3, raw[3:5], "quantity", self.count, f"number of {self.what} written")]
+
+    def _summary_items(self):
+        return [("address", self.address), ("count", self.count)]
+
+
+def _check_role(role: object) -> str:
+    """The role, checked: ``"request"`` or ``"response"``."""
+    if role not in ROLES:
+        raise ConfigError(f"role must be 'request' or 'response', got {role!r}")
+    return role  # type: ignore[return-value]
+
+
+def _unknown(function: int, offset: int, role: str) -> UnknownFunctionError:
+    known = ", ".join(str(int(code)) for code in FunctionCode)
+    hint = ""
+    if function >= 0x80:
+        hint = " (codes 128-255 are exception responses, never requests)" if role == "request" else ""
+    elif function == 0:
+        hint = " (0 is not a valid function code)"
+    return UnknownFunctionError(
+        f"at byte {offset}: function code 0x{function:02X} ({function}) is not supported; "
+        f"this library implements {known}{hint}", function=function)
+
+
+def request_class(function: int) -> type[Pdu]:
+    """The request class of a function code; UnknownFunctionError for codes not implemented."""
+    try:
+        return REQUEST_CLASSES[function]
+    except (KeyError, TypeError):
+        raise _unknown(int(function) if isinstance(function, int) else -1, 0, "request") from None
+
+
+def response_class(function: int) -> type[Pdu]:
+    """The (normal) response class of a function code."""
+    try:
+        return RESPONSE_CLASSES[function]
+    except (KeyError, TypeError):
+        raise _unknown(int(function) if isinstance(function, int) else -1, 0, "response") from None
+
+
+def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
+    """Decode PDU bytes (function code first) as a request or a response.
+
+    In a response, a function code with its top bit set is an :class:`ExceptionResponse`.  ``offset`` is
+    added to the byte positions in error messages (the PDU's place in the frame).
+    """
+    _check_role(role)
+    data = _pdu_bytes(data, offset)
+    function = data[0]
+    if role == "response" and function & 0x80:
+        return _EXCEPTION_RESPONSE[0].decode(data, offset)
+    table = REQUEST_CLASSES if role == "request" else RESPONSE_CLASSES
+    cls = table.get(function)
+    if cls is None:
+        raise _unknown(function, offset, role)
+    return cls._decode(data, offset)
+
+
+def pdu_length(data: bytes, role: str) -> int | None:
+    """The total length of the PDU that starts ``data``, or None if more bytes are needed to know.
+
+    Requests of functions 1-6 are 5 bytes; FC 15 and 16 requests are 6 + byte count, FC 23 10 + byte
+    count, FC 22 seven bytes, FC 7 and 17 one.  Responses of functions 1-4, 17 and 23 are 2 + byte
+    count; of 5, 6, 15, 16 five bytes; FC 22 seven, FC 7 two; exception responses two.  This is how
+    a receiver finds the end of an RTU frame without relying on silence on the line.
+    """
+    _check_role(role)
+    if isinstance(data, (bytes, bytearray, memoryview)) and not len(data):
+        return None
+    data = _pdu_bytes(data, 0)
+    function = data[0]
+    if role == "response":
+        if function & 0x80:
+            return 2
+        if function in (1, 2, 3, 4, 0x11, 0x17):
+            return 2 + data[1] if len(data) >= 2 else None
+        if function in (5, 6, 15, 16):
+            return 5
+        if function == 0x07:
+            return 2
+        if function == 0x16:
+            return 7
+        if function == 0x18:
+            return 3 + int.from_bytes(data[1:3], "big") if len(data) >= 3 else None
+        if function == 0x2B:
+            return _device_id_length(data)
+        if function == 0x08:
+            return 5
+        if function == 0x0B:
+            return 5
+        if function in (0x0C, 0x14, 0x15):
+            return 2 + data[1] if len(data) >= 2 else None
+    else:
+        if function in (1, 2, 3, 4, 5, 6):
+            return 5
+        if function in (15, 16):
+            return 6 + data[5] if len(data) >= 6 else None
+        if function in (0x07, 0x11):
+            return 1
+        if function == 0x16:
+            return 7
+        if function == 0x17:
+            return 10 + data[9] if len(data) >= 10 else None
+        if function == 0x18:
+            return 3
+        if function == 0x2B:
+            return 4
+        if function == 0x08:
+            return 5  # one data word: what nearly every diagnostics request carries
+        if function in (0x0B, 0x0C):
+            return 1
+        if function in (0x14, 0x15):
+            return 2 + data[1] if len(data) >= 2 else None
+    raise _unknown(function, 0, role)
+
+
+def _device_id_length(data: bytes) -> int | None:
+    """The length of a Read Device Identification response: its objects say (None: need more bytes)."""
+    if len(data) < 7:
+        return None
+    at = 7
+    for _ in range(data[6]):
+        if at + 2 > len(data):  # the next object's header has not come yet (or cannot, past a PDU)
+            return None if len(data) < MAX_PDU_SIZE else MAX_PDU_SIZE + 1
+        at += 2 + data[at + 1]
+        if at > MAX_PDU_SIZE:
+            return at  # longer than a PDU: the caller refuses it
+    return at

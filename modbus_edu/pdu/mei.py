@@ -1,0 +1,182 @@
+"""The encapsulated interface transport (specification sections 6.19, 6.21): Read Device Identification
+(FC 43, MEI type 14)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from ..codes import (
+    MAX_PDU_SIZE,
+)
+from ..errors import (
+    TrailingBytesError,
+    TruncatedError,
+    UnknownFunctionError,
+    ValueRangeError,
+    shown,
+)
+from .base import (
+    Field,
+    Pdu,
+    _check_int,
+    _expect_length,
+    _expect_minimum,
+)
+
+MEI_READ_DEVICE_ID = 0x0E
+"""FC 43's MEI type for Read Device Identification (the only MEI type this library speaks)."""
+
+
+DEVICE_ID_OBJECTS = {0x00: "VendorName", 0x01: "ProductCode", 0x02: "MajorMinorRevision",
+                     0x03: "VendorUrl", 0x04: "ProductName", 0x05: "ModelName", 0x06: "UserApplicationName"}
+"""The specification's standard objects: 0-2 basic (mandatory), 3-6 regular; 0x80-0xFF are extended."""
+
+
+READ_DEVICE_ID_CODES = {1: "basic (stream)", 2: "regular (stream)", 3: "extended (stream)", 4: "one object"}
+
+
+@dataclass(frozen=True, slots=True)
+class ReadDeviceIdentificationRequest(Pdu):
+    """Read Device Identification (FC 43, 0x2B, MEI type 0x0E) request::
+
+        offset  size  field
+        0       1     function code 0x2B
+        1       1     MEI type 0x0E
+        2       1     read device ID code: 1 basic, 2 regular, 3 extended (stream access), 4 one object
+        3       1     object id: where the stream starts, or the one object wanted
+    """
+
+    read_code: int = 1
+    object_id: int = 0
+
+    function_code: ClassVar[int] = 0x2B
+    role: ClassVar[str] = "request"
+
+    def __post_init__(self) -> None:
+        if _check_int(self.read_code, "read_code") not in READ_DEVICE_ID_CODES:
+            raise ValueRangeError(f"read device ID code {self.read_code}: expected 1 (basic), 2 (regular), "
+                                  "3 (extended) or 4 (one object)")
+        if not 0 <= _check_int(self.object_id, "object_id") <= 0xFF:
+            raise ValueRangeError(f"object id {self.object_id} does not fit its one byte: expected 0..255")
+
+    def encode(self) -> bytes:
+        return bytes([0x2B, MEI_READ_DEVICE_ID, self.read_code, self.object_id])
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        _expect_length(data, 4, "Read Device Identification request", offset)
+        if data[1] != MEI_READ_DEVICE_ID:
+            raise UnknownFunctionError(f"at byte {offset + 1}: MEI type 0x{data[1]:02X}; this library reads "
+                                       "device identification only (MEI type 0x0E)", function=0x2B)
+        if data[2] not in READ_DEVICE_ID_CODES:
+            raise ValueRangeError(f"at byte {offset + 2}: read device ID code {data[2]}, expected 1 to 4")
+        return cls(data[2], data[3])
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        return [self._function_field(raw),
+                Field(1, raw[1:2], "MEI type", 0x0E, "Read Device Identification"),
+                Field(2, raw[2:3], "read device ID code", self.read_code,
+                      READ_DEVICE_ID_CODES[self.read_code]),
+                Field(3, raw[3:4], "object id", self.object_id,
+                      DEVICE_ID_OBJECTS.get(self.object_id, "extended object" if self.object_id >= 0x80
+                                            else "reserved object id"))]
+
+    def _summary_items(self):
+        return [("read_code", self.read_code), ("object_id", self.object_id)]
+
+
+@dataclass(frozen=True, slots=True)
+class ReadDeviceIdentificationResponse(Pdu):
+    """Read Device Identification (FC 43, 0x2B, MEI type 0x0E) response::
+
+        offset  size  field
+        0       1     function code 0x2B
+        1       1     MEI type 0x0E
+        2       1     read device ID code (as in the request)
+        3       1     conformity level (0x01-0x03, +0x80 if objects can be read one by one)
+        4       1     more follows: 0xFF if the objects go on in another response, else 0x00
+        5       1     next object id (where the next request starts when more follows)
+        6       1     number of objects N
+        7...          N objects, each: object id (1), length L (1), value (L bytes)
+    """
+
+    read_code: int
+    conformity: int
+    more_follows: bool
+    next_object_id: int
+    objects: tuple[tuple[int, bytes], ...]
+
+    function_code: ClassVar[int] = 0x2B
+    role: ClassVar[str] = "response"
+
+    def __post_init__(self) -> None:
+        objects = []
+        for item in self.objects:
+            object_id, value = item
+            value = value.encode() if isinstance(value, str) else value
+            object_id = _check_int(object_id, "object id")
+            if not isinstance(value, (bytes, bytearray)) or not 0 <= object_id <= 0xFF:
+                raise ValueRangeError(f"an object is (id 0..255, bytes or text), got {shown(item)}")
+            objects.append((object_id, bytes(value)))
+        object.__setattr__(self, "objects", tuple(objects))
+        if 7 + sum(2 + len(value) for _, value in objects) > MAX_PDU_SIZE:
+            raise ValueRangeError("the objects do not fit one response (253 bytes): split them with "
+                                  "more_follows")
+        for name in ("read_code", "conformity", "next_object_id"):
+            if not 0 <= _check_int(getattr(self, name), name) <= 0xFF:
+                raise ValueRangeError(f"{name} does not fit its one byte: expected 0..255")
+
+    def encode(self) -> bytes:
+        head = bytes([0x2B, MEI_READ_DEVICE_ID, self.read_code, self.conformity,
+                      0xFF if self.more_follows else 0x00, self.next_object_id, len(self.objects)])
+        return head + b"".join(bytes([object_id, len(value)]) + value for object_id, value in self.objects)
+
+    @classmethod
+    def _decode(cls, data: bytes, offset: int = 0):
+        name = "Read Device Identification response"
+        _expect_minimum(data, 7, name, offset)
+        if data[1] != MEI_READ_DEVICE_ID:
+            raise UnknownFunctionError(f"at byte {offset + 1}: MEI type 0x{data[1]:02X}, expected 0x0E",
+                                       function=0x2B)
+        if data[4] not in (0x00, 0xFF):
+            raise ValueRangeError(f"at byte {offset + 4}: more follows is 0x{data[4]:02X}, expected 0x00 or "
+                                  "0xFF")
+        objects, at, size = [], 7, len(data)
+        for _ in range(data[6]):
+            end = at + 2 + data[at + 1] if at + 2 <= size else size + 1
+            if end > size:
+                raise TruncatedError(f"{name} is truncated: object {len(objects) + 1} of {data[6]} runs past "
+                                     f"its {size} bytes (from byte {offset + at})")
+            objects.append((data[at], data[at + 2:end]))
+            at = end
+        if at != size:
+            raise TrailingBytesError(f"{name} has {size - at} trailing byte(s) from byte {offset + at}")
+        # every field was checked above: build without checking again
+        return cls._from_wire(data[2], data[3], data[4] == 0xFF, data[5], tuple(objects))
+
+    def fields(self) -> list[Field]:
+        raw = self.encode()
+        rows = [self._function_field(raw),
+                Field(1, raw[1:2], "MEI type", 0x0E, "Read Device Identification"),
+                Field(2, raw[2:3], "read device ID code", self.read_code,
+                      READ_DEVICE_ID_CODES.get(self.read_code, "unknown")),
+                Field(3, raw[3:4], "conformity level", self.conformity, f"0x{self.conformity:02X}"),
+                Field(4, raw[4:5], "more follows", self.more_follows,
+                      "0xFF: ask again from the next object id" if self.more_follows
+                      else "0x00: the last part"),
+                Field(5, raw[5:6], "next object id", self.next_object_id, "where the next request starts"),
+                Field(6, raw[6:7], "number of objects", len(self.objects), "")]
+        at = 7
+        for object_id, value in self.objects:
+            label = DEVICE_ID_OBJECTS.get(object_id, f"object 0x{object_id:02X}")
+            rows.append(Field(at, raw[at:at + 2 + len(value)], label, value.decode("ascii", "replace"),
+                              f"object id {object_id}, {len(value)} bytes"))
+            at += 2 + len(value)
+        return rows
+
+    def _summary_items(self):
+        objects = {object_id: value.decode("ascii", "replace") for object_id, value in self.objects}
+        return [("objects", objects),
+                ("more_follows", self.more_follows)]
