@@ -312,7 +312,7 @@ def cmd_decode(args: argparse.Namespace) -> int:
 
 def _request_pdu(fc: int, args: argparse.Namespace) -> _pdu.Pdu:
     cls = _pdu.REQUEST_CLASSES[fc]
-    if fc in (0x07, 0x0B, 0x0C, 0x11):  # the function code alone
+    if cls.fixed_size == 1:  # the function code alone (FC 7, 11, 12, 17)
         return cls()
     if fc == 0x08:  # Diagnostics: --value SUB_FUNCTION [--values DATA_WORDS]
         return cls(_int(_need(args, "value", fc, raw=True), "--value"), _words(args))

@@ -282,7 +282,7 @@ def _check_lost_bytes(data: bytes, role: str) -> None:
                 return
     lost = expected + 3 - n
     function = data[1]
-    if role == "response" and function in (1, 2, 3, 4) or role == "request" and function in (15, 16):
+    if _pdu.pdu_class(function, role).byte_count_at == count_at - 1:  # the byte count tells
         what = f"byte count (byte {count_at}) says {data[count_at]} data bytes, {n - count_at - 3} arrived"
     else:
         what = f"an FC{function} {role} is {expected + 3} bytes, {n} arrived"
@@ -687,22 +687,22 @@ class _Scan:
 
 
 @lru_cache(maxsize=2)
-def _function_codes(role: str) -> frozenset[int]:
-    """The function-code bytes that can start a PDU of ``role`` (a fast first test for the splitter)."""
-    codes = set()
+def _function_classes(role: str) -> dict[int, type[_pdu.Pdu]]:
+    """The class of each function-code byte that can start a PDU of ``role`` (a response: also 0x80-0xFF,
+    the exception responses)."""
+    classes: dict[int, type[_pdu.Pdu]] = {}
     for code in range(256):
         try:
-            _pdu.pdu_length(bytes([code, 0, 0, 0, 0, 0]), role)
+            classes[code] = _pdu.pdu_class(code, role)
         except ModbusError:
             continue
-        codes.add(code)
-    return frozenset(codes)
+    return classes
 
 
 @lru_cache(maxsize=2)
 def _start_pattern(role: str) -> re.Pattern[bytes]:
     """Two bytes that can begin an RTU frame of ``role``: a unit 0..247, then a known function code."""
-    codes = b"".join(re.escape(bytes([code])) for code in sorted(_function_codes(role)))
+    codes = b"".join(re.escape(bytes([code])) for code in sorted(_function_classes(role)))
     return re.compile(b"[\\x00-\\xf7][" + codes + b"]", re.DOTALL)
 
 
@@ -734,7 +734,7 @@ class RtuSplitter(_Splitter):
     def __init__(self, role: str = "request") -> None:
         super().__init__()
         self.role = _pdu._check_role(role)
-        self._starts = _function_codes(self.role)
+        self._classes = _function_classes(self.role)
         self._next_start = _start_pattern(self.role)
         self._scan: _Scan | None = None
 
@@ -753,32 +753,21 @@ class RtuSplitter(_Splitter):
             return -1  # a reserved address: too rare to take for the start of a frame in a byte stream
         if len(buf) - start < 2:
             return None
-        if buf[start + 1] not in self._starts:
+        cls = self._classes.get(buf[start + 1])
+        if cls is None:
             return -1
-        # the function code and at most 9 more bytes decide the length (FC 23: byte count at 9); an FC 43
-        # response needs its object headers
-        look = _pdu.MAX_PDU_SIZE if buf[start + 1] == 0x2B else 10
+        # the function's class reads the length from the first bytes it needs (FC 23: byte count at 9; an
+        # FC 43 response: its object headers) and tests the byte count before the CRC is computed
+        head = bytes(buf[start + 1 : start + 1 + cls.length_prefix()])
         try:
-            size = _pdu.pdu_length(bytes(buf[start + 1 : start + 1 + look]), self.role)
+            size = cls.length_from(head)
         except ModbusError:
             return -1
         if size is None:
             return None
-        if not 1 <= size <= _pdu.MAX_PDU_SIZE or not self._plausible(start):
+        if not 1 <= size <= _pdu.MAX_PDU_SIZE or not cls.plausible(head):
             return -1
         return 1 + size + 2
-
-    def _plausible(self, start: int) -> bool:
-        """Whether the byte count at ``start`` fits its function (a quick test before the CRC's)."""
-        buf = self._buffer
-        function = buf[start + 1]
-        if self.role == "response" and function in (1, 2, 3, 4):
-            count = buf[start + 2]
-            return 1 <= count <= 250 and (function < 3 or count % 2 == 0)
-        if self.role == "request" and function in (15, 16) and len(buf) - start >= 7:
-            quantity, count = int.from_bytes(buf[start + 4:start + 6], "big"), buf[start + 6]
-            return count == (2 * quantity if function == 16 else (quantity + 7) // 8)
-        return True
 
     def _cut(self, final: bool = False) -> list[bytes]:
         frames: list[bytes] = []

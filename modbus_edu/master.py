@@ -620,7 +620,7 @@ class Master:
                 log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
                            role="response", note=pdu_note(response))
                 return response
-            problem = self._misfit(request, response)
+            problem = request.misfit(response)
             if problem:
                 stats.bad_responses += 1
                 log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
@@ -642,32 +642,4 @@ class Master:
             return f"unit {r_unit}, expected {unit}"
         if r_function is not None and (r_function & 0x7F) != function:
             return f"function {r_function & 0x7F}, expected {function}"
-        return ""
-
-    @staticmethod
-    def _misfit(request: Any, response: Any) -> str:
-        """How a response of the right function fails to fit its request ('' if it fits)."""
-        function = request.function_code
-        if function in (1, 2):
-            needed = (request.count + 7) // 8
-            if len(response.bits) != 8 * needed:
-                return f"{len(response.bits) // 8} data bytes for {request.count} bits, expected {needed}"
-        elif function in (3, 4):
-            if len(response.registers) != request.count:
-                return f"{len(response.registers)} registers, expected {request.count}"
-        elif function in (5, 6):
-            if (response.address, response.value) != (request.address, request.value):
-                return (f"the echo says address {response.address} value {response.value!r}, the request "
-                        f"was address {request.address} value {request.value!r}")
-        elif function == 0x16:
-            if response != _pdu.MaskWriteRegisterResponse(request.address, request.and_mask, request.or_mask):
-                return "the echo differs from the request"
-        elif function == 0x17:
-            if len(response.registers) != request.read_count:
-                return f"{len(response.registers)} registers, expected {request.read_count}"
-        elif function in (0x07, 0x08, 0x0B, 0x0C, 0x11, 0x14, 0x15, 0x18, 0x2B):
-            pass
-        elif (response.address, response.count) != (request.address, len(request.values)):
-            return (f"the echo says address {response.address} count {response.count}, the request was "
-                    f"address {request.address} count {len(request.values)}")
         return ""

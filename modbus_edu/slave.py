@@ -51,7 +51,7 @@ from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, fields
 from functools import lru_cache
-from typing import Any
+from typing import Any, ClassVar
 
 from . import pdu as _pdu
 from .datamodel import DataBank, table_kind
@@ -419,7 +419,7 @@ class Slave:
         Never raises for a protocol problem: every failure becomes an exception response.
         """
         function = getattr(request, "function_code", 0)
-        if getattr(request, "role", None) != "request" or function not in _pdu.REQUEST_CLASSES:
+        if getattr(request, "role", None) != "request" or function not in self.HANDLERS:
             function = function & 0x7F if isinstance(function, int) and function & 0x7F else 1
             return ExceptionResponse(function, int(ExceptionCode.ILLEGAL_FUNCTION))
         try:
@@ -440,38 +440,50 @@ class Slave:
             self.last_error = exc
             return ExceptionResponse(function, int(ExceptionCode.SERVER_DEVICE_FAILURE))
 
-    def _execute(self, request: Any) -> Pdu:
-        function = request.function_code
-        if function == 0x07:
-            return _pdu.ReadExceptionStatusResponse(self.exception_status)
-        if function == 0x11:
-            return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
-        if function in (0x16, 0x17, 0x18):
-            return self._execute_registers(request)
-        if function in (0x08, 0x0B, 0x0C):
-            return self._diagnose(request)
-        if function in (0x14, 0x15):
-            return self._file_records(request)
-        if function == 0x2B:
-            return self._identify(request)
-        kind = table_kind(function)
-        table = self.bank.table(kind)
-        if function in (1, 2, 3, 4):
-            self.before_read(kind, request.address, request.count)
-            values = table.read(request.address, request.count)
-            cls = _pdu.RESPONSE_CLASSES[function]
-            if function in (1, 2):
-                return cls(bits=tuple(values))
-            return cls(registers=tuple(values))
-        if function in (5, 6):
-            values = [request.value]
-            table.write(request.address, values)
-            self.after_write(kind, request.address, values)
-            return _pdu.RESPONSE_CLASSES[function](address=request.address, value=request.value)
-        values = list(request.values)
-        table.write(request.address, values)
+    #: The method that carries out each function code's request: a new function code adds its line here.
+    HANDLERS: ClassVar[dict[int, str]] = {
+        0x01: "_read_table", 0x02: "_read_table", 0x03: "_read_table", 0x04: "_read_table",
+        0x05: "_write_single", 0x06: "_write_single", 0x0F: "_write_multiple", 0x10: "_write_multiple",
+        0x07: "_read_exception_status", 0x08: "_diagnose", 0x0B: "_get_event_counter",
+        0x0C: "_get_event_log", 0x11: "_report_server_id", 0x14: "_read_file_records",
+        0x15: "_write_file_records", 0x16: "_mask_write_register", 0x17: "_read_write_registers",
+        0x18: "_read_fifo_queue", 0x2B: "_identify",
+    }
+
+    def _execute(self, request: Any) -> Pdu | None:
+        return getattr(self, self.HANDLERS[request.function_code])(request)
+
+    def _read_table(self, request: Any) -> Pdu:
+        """FC 1-4: the table of the function, read."""
+        kind = table_kind(request.function_code)
+        self.before_read(kind, request.address, request.count)
+        values = tuple(self.bank.table(kind).read(request.address, request.count))
+        cls = _pdu.RESPONSE_CLASSES[request.function_code]
+        return cls(bits=values) if request.function_code in (1, 2) else cls(registers=values)
+
+    def _write_single(self, request: Any) -> Pdu:
+        """FC 5 and 6: one coil or register written; the response echoes the request."""
+        kind = table_kind(request.function_code)
+        values = [request.value]
+        self.bank.table(kind).write(request.address, values)
         self.after_write(kind, request.address, values)
-        return _pdu.RESPONSE_CLASSES[function](address=request.address, count=len(values))
+        return _pdu.RESPONSE_CLASSES[request.function_code](address=request.address, value=request.value)
+
+    def _write_multiple(self, request: Any) -> Pdu:
+        """FC 15 and 16: coils or registers written; the response says where and how many."""
+        kind = table_kind(request.function_code)
+        values = list(request.values)
+        self.bank.table(kind).write(request.address, values)
+        self.after_write(kind, request.address, values)
+        return _pdu.RESPONSE_CLASSES[request.function_code](address=request.address, count=len(values))
+
+    def _read_exception_status(self, request: Any) -> Pdu:
+        """FC 7: the eight exception status outputs."""
+        return _pdu.ReadExceptionStatusResponse(self.exception_status)
+
+    def _report_server_id(self, request: Any) -> Pdu:
+        """FC 17: the server ID and the run indicator."""
+        return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
 
     def diagnostic_counters(self) -> dict[int, int]:
         """FC 8's counters by sub-function, since the last restart or clear (16 bits each).
@@ -491,13 +503,17 @@ class Slave:
                   0x10: 0, 0x11: 0, 0x12: 0}
         return {key: value & 0xFFFF for key, value in counts.items()}
 
+    def _get_event_counter(self, request: Any) -> Pdu:
+        """FC 11: the status word and the event counter."""
+        return _pdu.GetCommEventCounterResponse(0, self.event_count)
+
+    def _get_event_log(self, request: Any) -> Pdu:
+        """FC 12: the status word, the event and message counters, and the events, newest first."""
+        messages = self.diagnostic_counters()[0x0B]
+        return _pdu.GetCommEventLogResponse(0, self.event_count, messages, bytes(self.events))
+
     def _diagnose(self, request: Any) -> Pdu | None:
-        """FC 8 (a sub-function), FC 11 (the event counter) and FC 12 (the event log)."""
-        if request.function_code == 0x0B:
-            return _pdu.GetCommEventCounterResponse(0, self.event_count)
-        if request.function_code == 0x0C:
-            messages = self.diagnostic_counters()[0x0B]
-            return _pdu.GetCommEventLogResponse(0, self.event_count, messages, bytes(self.events))
+        """FC 8: a sub-function (None: no answer, in listen-only mode or after it)."""
         sub, data = request.sub_function, request.data
         echo = _pdu.DiagnosticsResponse(sub, data)
         if sub == 0x00:  # return query data: the line check
@@ -525,23 +541,24 @@ class Slave:
         value = self.diagnostic_register if sub == 0x02 else self.diagnostic_counters()[sub]
         return _pdu.DiagnosticsResponse(sub, value.to_bytes(2, "big"))
 
-    def _file_records(self, request: Any) -> Pdu:
-        """FC 20 and 21 over :attr:`DataBank.files` (file number -> registers)."""
-        files = self.bank.files
+    def _file_registers(self, function: int, file: int, record: int, count: int) -> list[int]:
+        """The registers of a file that holds ``count`` records from ``record``; exception 02 if none."""
+        stored = self.bank.files.get(file)
+        if stored is None or record + count > len(stored):
+            raise ModbusExceptionError(function, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
+        return stored
 
-        def registers(file: int, record: int, count: int) -> list[int]:
-            stored = files.get(file)
-            if stored is None or record + count > len(stored):
-                raise ModbusExceptionError(request.function_code, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
-            return stored
+    def _read_file_records(self, request: Any) -> Pdu:
+        """FC 20 over :attr:`DataBank.files` (file number -> registers)."""
+        return _pdu.ReadFileRecordResponse(tuple(
+            tuple(self._file_registers(0x14, f, r, n)[r:r + n]) for f, r, n in request.records))
 
-        if request.function_code == 0x14:
-            return _pdu.ReadFileRecordResponse(tuple(
-                tuple(registers(f, r, n)[r:r + n]) for f, r, n in request.records))
-        for file, record, values in request.records:  # all checked before any is written
-            registers(file, record, len(values))
+    def _write_file_records(self, request: Any) -> Pdu:
+        """FC 21 over :attr:`DataBank.files`: every record checked before any is written."""
         for file, record, values in request.records:
-            files[file][record:record + len(values)] = list(values)
+            self._file_registers(0x15, file, record, len(values))
+        for file, record, values in request.records:
+            self.bank.files[file][record:record + len(values)] = list(values)
         return _pdu.WriteFileRecordResponse(request.records)
 
     def _identify(self, request: Any) -> Pdu:
@@ -570,26 +587,34 @@ class Slave:
         return _pdu.ReadDeviceIdentificationResponse(code, level, False, 0,
                                                      tuple((i, objects[i]) for i in chosen))
 
-    def _execute_registers(self, request: Any) -> Pdu:
-        """FC 22 (mask write one register) and FC 23 (write, then read, holding registers)."""
+    def _read_fifo_queue(self, request: Any) -> Pdu:
+        """FC 24: the count at the pointer address, the values after it."""
         kind = "holding_registers"
         table = self.bank.table(kind)
-        if request.function_code == 0x18:  # the count at the pointer address, the values after it
-            self.before_read(kind, request.address, 1)
-            count = table.read(request.address, 1)[0]
-            if count > _pdu.MAX_FIFO_COUNT:
-                raise ModbusExceptionError(0x18, int(ExceptionCode.ILLEGAL_DATA_VALUE))
-            if request.address + 1 + count > 0x10000:
-                raise ModbusExceptionError(0x18, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
-            self.before_read(kind, request.address + 1, count)
-            return _pdu.ReadFifoQueueResponse(tuple(table.read(request.address + 1, count)))
-        if request.function_code == 0x16:
-            self.before_read(kind, request.address, 1)
-            current = table.read(request.address, 1)[0]
-            value = _pdu.mask_write(current, request.and_mask, request.or_mask)
-            table.write(request.address, [value])
-            self.after_write(kind, request.address, [value])
-            return _pdu.MaskWriteRegisterResponse(request.address, request.and_mask, request.or_mask)
+        self.before_read(kind, request.address, 1)
+        count = table.read(request.address, 1)[0]
+        if count > _pdu.MAX_FIFO_COUNT:
+            raise ModbusExceptionError(0x18, int(ExceptionCode.ILLEGAL_DATA_VALUE))
+        if request.address + 1 + count > 0x10000:
+            raise ModbusExceptionError(0x18, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
+        self.before_read(kind, request.address + 1, count)
+        return _pdu.ReadFifoQueueResponse(tuple(table.read(request.address + 1, count)))
+
+    def _mask_write_register(self, request: Any) -> Pdu:
+        """FC 22: one holding register, (current AND and_mask) OR (or_mask AND NOT and_mask)."""
+        kind = "holding_registers"
+        table = self.bank.table(kind)
+        self.before_read(kind, request.address, 1)
+        current = table.read(request.address, 1)[0]
+        value = _pdu.mask_write(current, request.and_mask, request.or_mask)
+        table.write(request.address, [value])
+        self.after_write(kind, request.address, [value])
+        return _pdu.MaskWriteRegisterResponse(request.address, request.and_mask, request.or_mask)
+
+    def _read_write_registers(self, request: Any) -> Pdu:
+        """FC 23: holding registers written, then read, in one transaction."""
+        kind = "holding_registers"
+        table = self.bank.table(kind)
         table.read(request.read_address, request.read_count)  # both ranges exist, or nothing is written
         values = list(request.values)
         table.write(request.write_address, values)

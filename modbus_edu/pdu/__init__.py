@@ -46,6 +46,7 @@ from .base import (
     Pdu,
     decode_pdu,
     pack_bits,
+    pdu_class,
     pdu_length,
     request_class,
     response_class,
@@ -185,5 +186,6 @@ __all__ = [
     "request_class",
     "response_class",
     "decode_pdu",
+    "pdu_class",
     "pdu_length",
 ]

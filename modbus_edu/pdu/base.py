@@ -12,7 +12,6 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from ..codes import (
-    MAX_PDU_SIZE,
     ROLES,
     SERIAL_LINE_ONLY,
     FunctionCode,
@@ -194,6 +193,10 @@ class Pdu:
     function_code: ClassVar[int]
     role: ClassVar[str]
     is_exception: ClassVar[bool] = False
+    fixed_size: ClassVar[int | None] = None
+    """The PDU's length when its function fixes it (a read request: 5 bytes); None when a byte count says."""
+    byte_count_at: ClassVar[int | None] = None
+    """Where the byte count sits (a read response: byte 1); the PDU ends ``byte_count_at + 1 + count``."""
     __slots__ = ()
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -205,6 +208,36 @@ class Pdu:
         code = getattr(cls, "function_code", None)  # a private base class shares its code: not registered
         if isinstance(code, int) and not cls.__name__.startswith("_"):
             (REQUEST_CLASSES if cls.role == "request" else RESPONSE_CLASSES)[code] = cls
+
+    @classmethod
+    def length_from(cls, data: bytes) -> int | None:
+        """This PDU's total length, read from its first bytes (function code first); None: more needed.
+
+        Every class has its rule: a fixed size, or a byte count plus what precedes it.  The splitters
+        and :func:`pdu_length` ask it, so a receiver finds the end of a frame without silence on the line.
+        """
+        if cls.fixed_size is not None:
+            return cls.fixed_size
+        at = cls.byte_count_at
+        if at is None:  # pragma: no cover - every class with a function code says one or the other
+            raise NotImplementedError(f"{cls.__name__} has no length rule")
+        return at + 1 + data[at] if len(data) > at else None
+
+    @classmethod
+    def length_prefix(cls) -> int:
+        """How many first bytes :meth:`length_from` reads at most."""
+        return 1 if cls.fixed_size is not None else (cls.byte_count_at or 0) + 1
+
+    @classmethod
+    def plausible(cls, data: bytes) -> bool:
+        """A quick test of the first bytes (function code first) before a checksum is computed: whether
+        the byte count fits the function.  True unless a class knows better."""
+        return True
+
+    def misfit(self, response: Pdu) -> str:
+        """How ``response``, of this request's function, fails to fit this request ('' if it fits):
+        the wrong number of values for a read, an echo that differs for a write."""
+        return ""
 
     @property
     def title(self) -> str:
@@ -269,6 +302,7 @@ class _ReadRequest(Pdu):
     count: int
 
     role: ClassVar[str] = "request"
+    fixed_size: ClassVar[int | None] = 5
     limit: ClassVar[int]
     what: ClassVar[str]
 
@@ -335,6 +369,7 @@ class _WriteMultipleResponse(Pdu):
     count: int
 
     role: ClassVar[str] = "response"
+    fixed_size: ClassVar[int | None] = 5
     limit: ClassVar[int]
     what: ClassVar[str]
 
@@ -402,6 +437,20 @@ def response_class(function: int) -> type[Pdu]:
         raise _unknown(int(function) if isinstance(function, int) else -1, 0, "response") from None
 
 
+def pdu_class(function: int, role: str, offset: int = 0) -> type[Pdu]:
+    """The class of a PDU of ``role`` that starts with the byte ``function``.
+
+    In a response, a code with its top bit set is an :class:`ExceptionResponse`; a code no class claims
+    is an :class:`~modbus_edu.errors.UnknownFunctionError` (``offset`` places it in the frame).
+    """
+    if role == "response" and function & 0x80:
+        return _EXCEPTION_RESPONSE[0]
+    cls = (REQUEST_CLASSES if role == "request" else RESPONSE_CLASSES).get(function)
+    if cls is None:
+        raise _unknown(function, offset, role)
+    return cls
+
+
 def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
     """Decode PDU bytes (function code first) as a request or a response.
 
@@ -410,83 +459,36 @@ def decode_pdu(data: bytes, role: str, offset: int = 0) -> Pdu:
     """
     _check_role(role)
     data = _pdu_bytes(data, offset)
-    function = data[0]
-    if role == "response" and function & 0x80:
-        return _EXCEPTION_RESPONSE[0].decode(data, offset)
-    table = REQUEST_CLASSES if role == "request" else RESPONSE_CLASSES
-    cls = table.get(function)
-    if cls is None:
-        raise _unknown(function, offset, role)
-    return cls._decode(data, offset)
+    cls = pdu_class(data[0], role, offset)
+    return cls.decode(data, offset) if cls.is_exception else cls._decode(data, offset)
 
 
 def pdu_length(data: bytes, role: str) -> int | None:
     """The total length of the PDU that starts ``data``, or None if more bytes are needed to know.
 
-    Requests of functions 1-6 are 5 bytes; FC 15 and 16 requests are 6 + byte count, FC 23 10 + byte
-    count, FC 22 seven bytes, FC 7 and 17 one.  Responses of functions 1-4, 17 and 23 are 2 + byte
-    count; of 5, 6, 15, 16 five bytes; FC 22 seven, FC 7 two; exception responses two.  This is how
-    a receiver finds the end of an RTU frame without relying on silence on the line.
+    The class of the function code says (:meth:`Pdu.length_from`): a fixed size (a read request is 5
+    bytes, an exception response 2), or a byte count plus what precedes it (a read response is 2 + byte
+    count, an FC 15 or 16 request 6 + byte count).  This is how a receiver finds the end of an RTU frame
+    without relying on silence on the line.
     """
     _check_role(role)
     if isinstance(data, (bytes, bytearray, memoryview)) and not len(data):
         return None
     data = _pdu_bytes(data, 0)
-    function = data[0]
-    if role == "response":
-        if function & 0x80:
-            return 2
-        if function in (1, 2, 3, 4, 0x11, 0x17):
-            return 2 + data[1] if len(data) >= 2 else None
-        if function in (5, 6, 15, 16):
-            return 5
-        if function == 0x07:
-            return 2
-        if function == 0x16:
-            return 7
-        if function == 0x18:
-            return 3 + int.from_bytes(data[1:3], "big") if len(data) >= 3 else None
-        if function == 0x2B:
-            return _device_id_length(data)
-        if function == 0x08:
-            return 5
-        if function == 0x0B:
-            return 5
-        if function in (0x0C, 0x14, 0x15):
-            return 2 + data[1] if len(data) >= 2 else None
-    else:
-        if function in (1, 2, 3, 4, 5, 6):
-            return 5
-        if function in (15, 16):
-            return 6 + data[5] if len(data) >= 6 else None
-        if function in (0x07, 0x11):
-            return 1
-        if function == 0x16:
-            return 7
-        if function == 0x17:
-            return 10 + data[9] if len(data) >= 10 else None
-        if function == 0x18:
-            return 3
-        if function == 0x2B:
-            return 4
-        if function == 0x08:
-            return 5  # one data word: what nearly every diagnostics request carries
-        if function in (0x0B, 0x0C):
-            return 1
-        if function in (0x14, 0x15):
-            return 2 + data[1] if len(data) >= 2 else None
-    raise _unknown(function, 0, role)
+    return pdu_class(data[0], role).length_from(data)
 
 
-def _device_id_length(data: bytes) -> int | None:
-    """The length of a Read Device Identification response: its objects say (None: need more bytes)."""
-    if len(data) < 7:
-        return None
-    at = 7
-    for _ in range(data[6]):
-        if at + 2 > len(data):  # the next object's header has not come yet (or cannot, past a PDU)
-            return None if len(data) < MAX_PDU_SIZE else MAX_PDU_SIZE + 1
-        at += 2 + data[at + 1]
-        if at > MAX_PDU_SIZE:
-            return at  # longer than a PDU: the caller refuses it
-    return at
+def _count_echo_misfit(request: Any, response: Any) -> str:
+    """FC 15 and 16: the response echoes the starting address and the quantity written."""
+    if (response.address, response.count) != (request.address, len(request.values)):
+        return (f"the echo says address {response.address} count {response.count}, the request was "
+                f"address {request.address} count {len(request.values)}")
+    return ""
+
+
+def _value_echo_misfit(request: Any, response: Any) -> str:
+    """FC 5 and 6: the response echoes the request's address and value."""
+    if (response.address, response.value) != (request.address, request.value):
+        return (f"the echo says address {response.address} value {response.value!r}, the request "
+                f"was address {request.address} value {request.value!r}")
+    return ""

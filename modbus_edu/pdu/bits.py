@@ -22,10 +22,12 @@ from .base import (
     _check_bits,
     _check_quantity,
     _check_span,
+    _count_echo_misfit,
     _expect_byte_count,
     _expect_length,
     _expect_minimum,
     _ReadRequest,
+    _value_echo_misfit,
     _WriteMultipleResponse,
     pack_bits,
     unpack_bits,
@@ -38,10 +40,25 @@ COIL_OFF = 0x0000
 
 
 @dataclass(frozen=True, slots=True)
+class _ReadBitsRequest(_ReadRequest):
+    def misfit(self, response: Pdu) -> str:
+        """A read-bits response carries ceil(count / 8) data bytes."""
+        needed = (self.count + 7) // 8
+        if len(response.bits) != 8 * needed:
+            return f"{len(response.bits) // 8} data bytes for {self.count} bits, expected {needed}"
+        return ""
+
+
+@dataclass(frozen=True, slots=True)
 class _ReadBitsResponse(Pdu):
     bits: tuple[bool, ...]
 
     role: ClassVar[str] = "response"
+    byte_count_at: ClassVar[int | None] = 1
+
+    @classmethod
+    def plausible(cls, data: bytes) -> bool:
+        return 1 <= data[1] <= 250
 
     def __post_init__(self) -> None:
         bits = _check_bits(self.bits, "bits")
@@ -83,7 +100,7 @@ class _ReadBitsResponse(Pdu):
 
 
 @dataclass(frozen=True, slots=True)
-class ReadCoilsRequest(_ReadRequest):
+class ReadCoilsRequest(_ReadBitsRequest):
     """Read Coils (FC 01) request: read 1 to 2000 contiguous coils::
 
         offset  size  field
@@ -115,7 +132,7 @@ class ReadCoilsResponse(_ReadBitsResponse):
 
 
 @dataclass(frozen=True, slots=True)
-class ReadDiscreteInputsRequest(_ReadRequest):
+class ReadDiscreteInputsRequest(_ReadBitsRequest):
     """Read Discrete Inputs (FC 02) request::
 
         offset  size  field
@@ -148,6 +165,7 @@ class _WriteSingleCoil(Pdu):
     value: bool
 
     function_code: ClassVar[int] = 0x05
+    fixed_size: ClassVar[int | None] = 5
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))
@@ -193,6 +211,9 @@ class WriteSingleCoilRequest(_WriteSingleCoil):
 
     role: ClassVar[str] = "request"
 
+    def misfit(self, response: Pdu) -> str:
+        return _value_echo_misfit(self, response)
+
 
 @dataclass(frozen=True, slots=True)
 class WriteSingleCoilResponse(_WriteSingleCoil):
@@ -226,7 +247,16 @@ class WriteMultipleCoilsRequest(Pdu):
     values: tuple[bool, ...]
 
     function_code: ClassVar[int] = 0x0F
+    byte_count_at: ClassVar[int | None] = 5
     role: ClassVar[str] = "request"
+
+    @classmethod
+    def plausible(cls, data: bytes) -> bool:
+        """The byte count is ceil(quantity / 8)."""
+        return len(data) < 6 or data[5] == (int.from_bytes(data[3:5], "big") + 7) // 8
+
+    def misfit(self, response: Pdu) -> str:
+        return _count_echo_misfit(self, response)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))

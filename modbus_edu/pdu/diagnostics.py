@@ -36,6 +36,7 @@ class _NoDataRequest(Pdu):
 
     __slots__ = ()
     role: ClassVar[str] = "request"
+    fixed_size: ClassVar[int | None] = 1
     function_code: ClassVar[int]
 
     def encode(self) -> bytes:
@@ -73,6 +74,7 @@ class ReadExceptionStatusResponse(Pdu):
     status: int
 
     function_code: ClassVar[int] = 0x07
+    fixed_size: ClassVar[int | None] = 2
     role: ClassVar[str] = "response"
 
     def __post_init__(self) -> None:
@@ -123,6 +125,7 @@ class ReportServerIdResponse(Pdu):
     run_indicator: bool = True
 
     function_code: ClassVar[int] = 0x11
+    byte_count_at: ClassVar[int | None] = 1
     role: ClassVar[str] = "response"
 
     def __post_init__(self) -> None:
@@ -189,6 +192,7 @@ class _Diagnostics(Pdu):
     data: bytes = b"\x00\x00"
 
     function_code: ClassVar[int] = 0x08
+    fixed_size: ClassVar[int | None] = 5  # one data word: what nearly every diagnostics PDU carries
 
     def __post_init__(self) -> None:
         try:
@@ -278,6 +282,7 @@ class GetCommEventCounterResponse(Pdu):
     event_count: int
 
     function_code: ClassVar[int] = 0x0B
+    fixed_size: ClassVar[int | None] = 5
     role: ClassVar[str] = "response"
 
     def __post_init__(self) -> None:
@@ -329,6 +334,7 @@ class GetCommEventLogResponse(Pdu):
     events: bytes = b""
 
     function_code: ClassVar[int] = 0x0C
+    byte_count_at: ClassVar[int | None] = 1
     role: ClassVar[str] = "response"
 
     def __post_init__(self) -> None:

@@ -40,6 +40,7 @@ class ExceptionResponse(Pdu):
     code: int
 
     role: ClassVar[str] = "response"
+    fixed_size: ClassVar[int | None] = 2
     is_exception: ClassVar[bool] = True
 
     def __post_init__(self) -> None:

@@ -54,6 +54,7 @@ class ReadFileRecordRequest(Pdu):
     records: tuple[tuple[int, int, int], ...]
 
     function_code: ClassVar[int] = 0x14
+    byte_count_at: ClassVar[int | None] = 1
     role: ClassVar[str] = "request"
 
     def __post_init__(self) -> None:
@@ -117,6 +118,7 @@ class ReadFileRecordResponse(Pdu):
     records: tuple[tuple[int, ...], ...]
 
     function_code: ClassVar[int] = 0x14
+    byte_count_at: ClassVar[int | None] = 1
     role: ClassVar[str] = "response"
 
     def __post_init__(self) -> None:
@@ -166,6 +168,7 @@ class _WriteFileRecord(Pdu):
     records: tuple[tuple[int, int, tuple[int, ...]], ...]
 
     function_code: ClassVar[int] = 0x15
+    byte_count_at: ClassVar[int | None] = 1
 
     def __post_init__(self) -> None:
         records = []

@@ -51,6 +51,7 @@ class ReadDeviceIdentificationRequest(Pdu):
     object_id: int = 0
 
     function_code: ClassVar[int] = 0x2B
+    fixed_size: ClassVar[int | None] = 4
     role: ClassVar[str] = "request"
 
     def __post_init__(self) -> None:
@@ -110,6 +111,24 @@ class ReadDeviceIdentificationResponse(Pdu):
 
     function_code: ClassVar[int] = 0x2B
     role: ClassVar[str] = "response"
+
+    @classmethod
+    def length_from(cls, data: bytes) -> int | None:
+        """Its objects say how long it is: walk their headers (None: need more bytes; past a PDU: refused)."""
+        if len(data) < 7:
+            return None
+        at = 7
+        for _ in range(data[6]):
+            if at + 2 > len(data):  # the next object's header has not come yet (or cannot, past a PDU)
+                return None if len(data) < MAX_PDU_SIZE else MAX_PDU_SIZE + 1
+            at += 2 + data[at + 1]
+            if at > MAX_PDU_SIZE:
+                return at  # longer than a PDU: the caller refuses it
+        return at
+
+    @classmethod
+    def length_prefix(cls) -> int:
+        return MAX_PDU_SIZE
 
     def __post_init__(self) -> None:
         objects = []

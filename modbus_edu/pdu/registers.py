@@ -24,12 +24,23 @@ from .base import (
     _check_register,
     _check_registers,
     _check_span,
+    _count_echo_misfit,
     _expect_byte_count,
     _expect_length,
     _expect_minimum,
     _ReadRequest,
+    _value_echo_misfit,
     _WriteMultipleResponse,
 )
+
+
+@dataclass(frozen=True, slots=True)
+class _ReadRegistersRequest(_ReadRequest):
+    def misfit(self, response: Pdu) -> str:
+        """A read-registers response carries ``count`` registers."""
+        if len(response.registers) != self.count:
+            return f"{len(response.registers)} registers, expected {self.count}"
+        return ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,6 +48,11 @@ class _ReadRegistersResponse(Pdu):
     registers: tuple[int, ...]
 
     role: ClassVar[str] = "response"
+    byte_count_at: ClassVar[int | None] = 1
+
+    @classmethod
+    def plausible(cls, data: bytes) -> bool:
+        return 2 <= data[1] <= 250 and data[1] % 2 == 0
 
     def __post_init__(self) -> None:
         registers = _check_registers(self.registers, "registers")
@@ -84,7 +100,7 @@ _REGISTERS_LAYOUT = tuple(struct.Struct(f">BB{count}H") for count in range(MAX_R
 
 
 @dataclass(frozen=True, slots=True)
-class ReadHoldingRegistersRequest(_ReadRequest):
+class ReadHoldingRegistersRequest(_ReadRegistersRequest):
     """Read Holding Registers (FC 03) request::
 
         offset  size  field
@@ -114,7 +130,7 @@ class ReadHoldingRegistersResponse(_ReadRegistersResponse):
 
 
 @dataclass(frozen=True, slots=True)
-class ReadInputRegistersRequest(_ReadRequest):
+class ReadInputRegistersRequest(_ReadRegistersRequest):
     """Read Input Registers (FC 04) request::
 
         offset  size  field
@@ -147,6 +163,7 @@ class _WriteSingleRegister(Pdu):
     value: int
 
     function_code: ClassVar[int] = 0x06
+    fixed_size: ClassVar[int | None] = 5
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))
@@ -183,6 +200,9 @@ class WriteSingleRegisterRequest(_WriteSingleRegister):
 
     role: ClassVar[str] = "request"
 
+    def misfit(self, response: Pdu) -> str:
+        return _value_echo_misfit(self, response)
+
 
 @dataclass(frozen=True, slots=True)
 class WriteSingleRegisterResponse(_WriteSingleRegister):
@@ -215,7 +235,16 @@ class WriteMultipleRegistersRequest(Pdu):
     values: tuple[int, ...]
 
     function_code: ClassVar[int] = 0x10
+    byte_count_at: ClassVar[int | None] = 5
     role: ClassVar[str] = "request"
+
+    @classmethod
+    def plausible(cls, data: bytes) -> bool:
+        """The byte count is 2 x quantity."""
+        return len(data) < 6 or data[5] == 2 * int.from_bytes(data[3:5], "big")
+
+    def misfit(self, response: Pdu) -> str:
+        return _count_echo_misfit(self, response)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))
@@ -283,6 +312,7 @@ class _MaskWriteRegister(Pdu):
     or_mask: int
 
     function_code: ClassVar[int] = 0x16
+    fixed_size: ClassVar[int | None] = 7
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))
@@ -333,6 +363,11 @@ class MaskWriteRegisterRequest(_MaskWriteRegister):
 
     role: ClassVar[str] = "request"
 
+    def misfit(self, response: Pdu) -> str:
+        if response != MaskWriteRegisterResponse(self.address, self.and_mask, self.or_mask):
+            return "the echo differs from the request"
+        return ""
+
 
 @dataclass(frozen=True, slots=True)
 class MaskWriteRegisterResponse(_MaskWriteRegister):
@@ -363,7 +398,13 @@ class ReadWriteMultipleRegistersRequest(Pdu):
     values: tuple[int, ...]
 
     function_code: ClassVar[int] = 0x17
+    byte_count_at: ClassVar[int | None] = 9
     role: ClassVar[str] = "request"
+
+    def misfit(self, response: Pdu) -> str:
+        if len(response.registers) != self.read_count:
+            return f"{len(response.registers)} registers, expected {self.read_count}"
+        return ""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "read_address", _check_address(self.read_address))
@@ -449,6 +490,7 @@ class ReadFifoQueueRequest(Pdu):
     address: int
 
     function_code: ClassVar[int] = 0x18
+    fixed_size: ClassVar[int | None] = 3
     role: ClassVar[str] = "request"
 
     def __post_init__(self) -> None:
@@ -486,6 +528,15 @@ class ReadFifoQueueResponse(Pdu):
 
     function_code: ClassVar[int] = 0x18
     role: ClassVar[str] = "response"
+
+    @classmethod
+    def length_from(cls, data: bytes) -> int | None:
+        """3 + its byte count, a 16-bit field (bytes 1-2)."""
+        return 3 + int.from_bytes(data[1:3], "big") if len(data) >= 3 else None
+
+    @classmethod
+    def length_prefix(cls) -> int:
+        return 3
 
     def __post_init__(self) -> None:
         values = () if self.values == () else _check_registers(self.values, "values")
