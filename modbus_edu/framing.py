@@ -641,6 +641,8 @@ class _Splitter:
         self._buffer = bytearray()
         self.discarded = 0
         """Junk bytes dropped so far (bytes that could not start or belong to a frame)."""
+        self.error = ""
+        """Why the stream cannot be framed any further ('' while it can; only a strict splitter stops)."""
 
     @property
     def pending(self) -> bytes:
@@ -651,6 +653,7 @@ class _Splitter:
         """Forget buffered bytes and the discarded count (a new connection, a reopened port)."""
         self._buffer.clear()
         self.discarded = 0
+        self.error = ""
 
     def _drop(self, count: int) -> None:
         del self._buffer[:count]
@@ -927,11 +930,21 @@ class TcpSplitter(_Splitter):
     next byte, which lets it read captures and recordings with junk in them.  A real Modbus/TCP server
     does not guess like this: on a stream it cannot frame it closes the connection, because after one
     wrong length it can no longer know where any later frame starts.  ``feed`` never raises for any bytes.
+
+    ``strict=True`` is that server's splitter: at a header it cannot frame it stops, and :attr:`error`
+    says why, with the header's bytes (the frames before it are still returned); it judges a header once all
+    seven bytes are in.
     """
 
     mode: ClassVar[str] = "tcp"
 
+    def __init__(self, strict: bool = False) -> None:
+        super().__init__()
+        self.strict = strict
+
     def _cut(self) -> list[bytes]:
+        if self.strict:
+            return self._cut_strict()
         frames: list[bytes] = []
         buf = self._buffer
         while len(buf) >= 3:
@@ -948,6 +961,25 @@ class TcpSplitter(_Splitter):
                 break
             frames.append(bytes(buf[: 6 + length]))
             del buf[: 6 + length]
+        return frames
+
+    def _cut_strict(self) -> list[bytes]:
+        frames: list[bytes] = []
+        buf = self._buffer
+        while not self.error and len(buf) >= MBAP_HEADER_SIZE:
+            _tid, protocol, length, _unit = MBAP.unpack_from(buf, 0)
+            if protocol != 0:
+                why = f"MBAP protocol identifier is {protocol}, Modbus/TCP requires 0"
+            elif not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
+                why = (f"MBAP length field is {length}, must be {MIN_MBAP_LENGTH}..{MAX_MBAP_LENGTH} "
+                       "(unit id + PDU of at most 253 bytes)")
+            elif len(buf) < 6 + length:
+                break
+            else:
+                frames.append(bytes(buf[: 6 + length]))
+                del buf[: 6 + length]
+                continue
+            self.error = f"{why} (header bytes {bytes(buf[:MBAP_HEADER_SIZE]).hex(' ')})"
         return frames
 
 

@@ -28,7 +28,8 @@ from typing import Any
 from .errors import AddressRangeError, LinkError, ModbusError, UnknownFunctionError
 from .framing import TcpFrame
 from .links.base import Link
-from .links.tcp import TcpServer, exception_reply
+from .links.routing import exception_reply
+from .links.tcp import TcpServer
 from .master import Master
 from .pdu import ExceptionResponse
 

@@ -35,7 +35,7 @@ from ..slave import Slave
 from ..traffic import TrafficLog
 from .base import Link
 from .faults import Faults
-from .tcp import GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND, exception_reply, normalize_slaves, route_unit
+from .routing import GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND, exception_reply, normalize_slaves, route_unit
 from .wire import BusStats, SerialBus, SerialTiming, same_format, uart_receive
 
 __all__ = ["LoopbackSerialLink", "LoopbackTcpLink", "loopback_serial", "loopback_tcp"]
@@ -384,7 +384,7 @@ class LoopbackTcpLink(_LoopbackLink):
 
     def _serve(self, frame: bytes) -> None:
         """The server's side: route by unit id as :class:`~modbus_edu.links.tcp.TcpServer` does
-        (:func:`~modbus_edu.links.tcp.route_unit`: one slave is reached by units 0 and 0xFF too; a unit
+        (:func:`~modbus_edu.links.routing.route_unit`: one slave is reached by units 0 and 0xFF too; a unit
         nobody serves is answered with exception 0x0B; TCP has no broadcast)."""
         now = self.clock.now
         self.monitor.record(now, "tx", "tcp", frame, "client", self._dest(frame), "", "request")

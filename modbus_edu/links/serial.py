@@ -45,7 +45,7 @@ from ..crc import crc16
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import splitter_for
 from .base import Link
-from .tcp import normalize_slaves
+from .routing import normalize_slaves
 from .wire import SerialTiming
 
 __all__ = [

@@ -10,7 +10,7 @@ arrive split over several reads, or two requests in one read. The length field i
 frame ends - there is no CRC and no silence to go by.
 
 :class:`TcpServer` serves one or several :class:`~modbus_edu.slave.Slave` objects (selected by the unit
-id of each request, see :func:`route_unit`) from a background thread; :func:`tcp_link` opens a
+id of each request, see :func:`~.routing.route_unit`) from a background thread; :func:`tcp_link` opens a
 :class:`~modbus_edu.links.base.Link` to any Modbus/TCP server, for a :class:`~modbus_edu.master.Master`
 to drive.
 
@@ -40,19 +40,24 @@ import socket
 import threading
 import time
 from collections import deque
-from collections.abc import Mapping
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from ..clock import Clock, RealClock
-from ..codes import MAX_MBAP_LENGTH, MBAP, MBAP_HEADER_SIZE, MIN_MBAP_LENGTH
+from ..codes import MBAP_HEADER_SIZE
 from ..errors import ConfigError, LinkError, guard_numbers
-from ..framing import TcpFrame, splitter_for
-from ..pdu import ExceptionResponse
+from ..framing import TcpSplitter, splitter_for
 from .base import Link
-
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from ..slave import Slave
+from .routing import (  # noqa: F401 (routing's names, re-exported where they were first defined)
+    DIRECT_UNITS,
+    GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND,
+    SERVER_DEVICE_FAILURE,
+    _units_text,
+    dispatch,
+    exception_reply,
+    normalize_slaves,
+    route_unit,
+)
 
 __all__ = [
     "MBAP_HEADER_SIZE",
@@ -65,114 +70,14 @@ __all__ = [
     "is_loopback_host",
 ]
 
-#: Exception code a gateway returns when the addressed device does not answer (spec section 7).
-GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND = 0x0B
 #: The framings a TCP socket can carry: Modbus/TCP's MBAP, or RTU/ASCII frames (a serial device server).
 FRAMINGS = ("tcp", "rtu", "ascii")
-#: Exception code for "an unrecoverable error occurred while the server was performing the action".
-SERVER_DEVICE_FAILURE = 0x04
-#: The unit ids that mean "the device itself" on Modbus/TCP (implementation guide, section 4.4.1.2):
-#: 0xFF is the recommended one, 0 is accepted too.
-DIRECT_UNITS = (0x00, 0xFF)
 
 _RECV_SIZE = 65536
 #: Stop reading from a client whose unsent responses pile up beyond this (it does not read its socket).
 _MAX_PENDING_OUTPUT = 64 * 1024
 
 _log = logging.getLogger("modbus_edu.tcp")
-
-
-# --------------------------------------------------------------------------------------------------
-# helpers shared by the TCP and serial servers
-# --------------------------------------------------------------------------------------------------
-def normalize_slaves(slaves: Any) -> dict[int | None, Slave]:
-    """Turn ``slaves`` - one Slave, an iterable of Slaves or a mapping unit -> Slave - into a dict.
-
-    The keys are the units the slaves answer to; ``None`` is the key of a ``Slave(unit=None)``, which
-    answers any unit that no other slave owns. Every Slave filters requests by its own ``unit``, so in
-    a mapping each key must equal its slave's unit, and two slaves may not share a unit (on a real bus
-    they would both answer and garble each other's response).
-    """
-    if slaves is None:
-        raise ConfigError("a server needs at least one Slave to serve; got None")
-    if isinstance(slaves, Mapping):
-        pairs = list(slaves.items())
-        for key, slave in pairs:
-            own = _unit_of(slave)
-            if own != key:
-                raise ConfigError(
-                    f"the slave registered under unit {key} answers to unit {own}: "
-                    "the key of the mapping must be the slave's own unit id"
-                )
-        items = [slave for _, slave in pairs]
-    elif isinstance(slaves, (list, tuple, set, frozenset)):
-        items = list(slaves)
-    else:
-        items = [slaves]
-    result: dict[int | None, Slave] = {}
-    for slave in items:
-        unit = _unit_of(slave)
-        if unit in result:
-            who = "any unit (unit=None)" if unit is None else f"unit {unit}"
-            raise ConfigError(f"two slaves answer to {who}; give every slave its own unit id (1..247)")
-        result[unit] = slave
-    if not result:
-        raise ConfigError("a server needs at least one Slave to serve; got an empty collection")
-    return result
-
-
-def route_unit(slaves: Mapping[int | None, Slave], unit: int) -> tuple[Slave | None, bool]:
-    """Which slave answers a Modbus/TCP request for ``unit``: ``(slave, direct)``, or ``(None, False)``.
-
-    ``slaves`` is what :func:`normalize_slaves` returns.  The rules, after the *Modbus Messaging on
-    TCP/IP Implementation Guide* (V1.0b, section 4.4.1.2):
-
-    * **one slave** - the server *is* the device, reached by its IP address: units **0** and **0xFF**
-      mean "you" and reach it whatever its own unit (``direct`` is True: the server calls
-      :meth:`~modbus_edu.slave.Slave.handle_direct`, and the response echoes the request's unit id).
-      Its own unit reaches it too; any other unit finds nobody.
-    * **several slaves** - the server is a *gateway* and routes by unit id: the slave with that unit,
-      else a ``Slave(unit=None)`` if there is one (it answers any unit 1..255, 0xFF included), else
-      nobody.  Unit **0** finds nobody: it would be a broadcast on the serial line behind a gateway,
-      and TCP has no broadcast (the client waits for an answer).  Unit 0xFF finds nobody unless a slave
-      owns it: the guide chose 0xFF because no serial slave has that address.
-
-    "Nobody" is answered with exception 0x0B by :class:`TcpServer`.
-
-    >>> from modbus_edu.slave import Slave
-    >>> one = normalize_slaves(Slave(unit=1))
-    >>> [route_unit(one, unit)[1] for unit in (0, 1, 0xFF)]
-    [True, False, True]
-    >>> route_unit(one, 5)
-    (None, False)
-    >>> gateway = normalize_slaves([Slave(unit=1), Slave(unit=2)])
-    >>> route_unit(gateway, 2)[0].unit, route_unit(gateway, 0), route_unit(gateway, 0xFF)
-    (2, (None, False), (None, False))
-    """
-    if len(slaves) == 1 and unit in DIRECT_UNITS:
-        return next(iter(slaves.values())), True
-    if unit == 0:
-        return None, False
-    slave = slaves.get(unit)
-    if slave is None:
-        slave = slaves.get(None)
-    return slave, False
-
-
-def _unit_of(slave: Any) -> int | None:
-    if not hasattr(slave, "handle") or not hasattr(slave, "unit"):
-        raise ConfigError(
-            f"expected a Slave (an object with .unit and .handle(frame, mode)), got {type(slave).__name__}"
-        )
-    return slave.unit
-
-
-def _units_text(slaves: Mapping[int | None, Any]) -> str:
-    units = sorted(u for u in slaves if u is not None)
-    text = ",".join(str(u) for u in units)
-    if None in slaves:
-        text = f"{text}+any" if text else "any"
-    return text
 
 
 def is_loopback_host(host: str) -> bool:
@@ -194,7 +99,7 @@ class TcpServerCounters:
 
     ``connections``  clients accepted;  ``requests``  complete frames received;  ``responses``  frames
     sent back;  ``bad_frames``  connections closed because their bytes were not Modbus/TCP (bad MBAP);
-    ``unknown_unit``  requests for a unit no slave here answers (see :func:`route_unit`; unit 0 on a
+    ``unknown_unit``  requests for a unit no slave here answers (see :func:`~.routing.route_unit`; unit 0 on a
     server with several slaves), answered with exception 0x0B;
     ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence;
     ``slow_closed``  connections closed because a request did not complete within ``request_timeout``
@@ -228,18 +133,18 @@ class _Connection:
         self.last_activity = now
         self.partial_since: float | None = None  # when the first byte of an unfinished request came
         self.events = selectors.EVENT_READ
-        self.splitter: Any = None  # RTU/ASCII over TCP: the serial splitter of this connection
-        self.frames: deque[bytes] = deque()  # RTU/ASCII over TCP: whole requests not yet answered
+        self.splitter: Any = None  # the splitter of the server's framing, made at the first request
+        self.frames: deque[bytes] = deque()  # whole requests cut by the splitter, not yet answered
 
 
 class TcpServer:
     """A Modbus/TCP server for the course's slaves, running in a background thread.
 
     ``slaves`` is one :class:`~modbus_edu.slave.Slave`, a list of them, or a dict unit -> Slave. Each
-    request goes to the slave chosen by the unit id in its MBAP header (:func:`route_unit`); that slave's
-    ``handle(frame, "tcp")`` does all the protocol work (decoding, the data bank, exception responses),
-    so the server only cuts the byte stream into frames and routes them. Every response carries the
-    request's transaction id and unit id.
+    request goes to the slave chosen by the unit id in its MBAP header (:func:`~.routing.route_unit`);
+    that slave's ``handle(frame, "tcp")`` does all the protocol work (decoding, the data bank, exception
+    responses), so the server only cuts the byte stream into frames and routes them. Every response
+    carries the request's transaction id and unit id.
 
     Unit ids, after the *Modbus Messaging on TCP/IP Implementation Guide* (V1.0b, section 4.4.1.2):
 
@@ -259,9 +164,9 @@ class TcpServer:
 
     Defences, because a TCP port is open to whatever connects to it:
 
-    * every MBAP header is checked: protocol id must be 0 and the length field 2..254; a client that
-      sends anything else is not speaking Modbus/TCP and its connection is closed (``bad_frames``);
-      other clients are not affected.
+    * every MBAP header is checked (by a strict :class:`~modbus_edu.framing.TcpSplitter`): protocol id
+      must be 0 and the length field 2..254; a client that sends anything else is not speaking
+      Modbus/TCP and its connection is closed (``bad_frames``); other clients are not affected.
     * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed.
     * a request must arrive whole within ``request_timeout`` seconds of its first byte, or its
       connection is closed: a client that trickles a frame byte by byte (slowloris) holds nothing.
@@ -651,69 +556,37 @@ class TcpServer:
         if len(conn.outbuf) < _MAX_PENDING_OUTPUT and self._has_request(conn):
             self._backlog[conn.sock.fileno()] = conn
 
-    @staticmethod
-    def _complete(buf: bytearray) -> bool:
-        """Whether ``buf`` starts with a whole frame (or a header bad enough to act on at once)."""
-        if len(buf) < MBAP_HEADER_SIZE:
-            return False
-        length = int.from_bytes(buf[4:6], "big")
-        bad = buf[2:4] != b"\0\0" or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH
-        return bad or len(buf) >= 6 + length
-
     def _has_request(self, conn: _Connection) -> bool:
-        """Whether a whole request is waiting on ``conn``."""
-        if self.framing == "tcp":
-            return self._complete(conn.inbuf)
-        return bool(conn.frames)
+        """Whether a whole request (or a stream that cannot be framed) is waiting on ``conn``."""
+        return bool(conn.frames or conn.splitter is not None and conn.splitter.error)
 
     def _process(self, conn: _Connection) -> bool:
-        """Answer the first complete frame in the input buffer, if there is one and the backlog allows.
+        """Answer the first complete request, if there is one and the backlog allows.
 
-        Returns False if the connection was closed because its bytes are not Modbus/TCP.
+        The splitter of the framing cuts the requests (Modbus/TCP by the MBAP length, RTU by length and
+        CRC: a socket has no silence, ASCII by its delimiters).  Returns False if the connection was
+        closed because its bytes are not Modbus/TCP.
         """
-        if self.framing != "tcp":
-            return self._process_serial(conn)
-        buf = conn.inbuf
-        if len(buf) >= MBAP_HEADER_SIZE and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-            tid, protocol, length, unit = MBAP.unpack_from(buf, 0)
-            if protocol != 0 or not MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH:
-                self.counters.bad_frames += 1
-                if protocol != 0:
-                    why = f"MBAP protocol identifier is {protocol}, Modbus/TCP requires 0"
-                else:
-                    why = (f"MBAP length field is {length}, must be {MIN_MBAP_LENGTH}..{MAX_MBAP_LENGTH} "
-                           "(unit id + PDU of at most 253 bytes)")
-                header = bytes(buf[:MBAP_HEADER_SIZE]).hex(" ")
-                if self._send(conn):  # the answers to the good frames before it, as far as they go
-                    self._drop(conn, f"not Modbus/TCP: {why} (header bytes {header})")
-                return False
-            stop = 6 + length
-            if stop <= len(buf):
-                reply = self._dispatch(bytes(buf[:stop]), unit, tid)
+        splitter = conn.splitter
+        if splitter is None:
+            splitter = conn.splitter = (TcpSplitter(strict=True) if self.framing == "tcp"
+                                        else splitter_for(self.framing, "request"))
+        if conn.inbuf:
+            conn.frames.extend(splitter.feed(bytes(conn.inbuf)))
+            conn.inbuf.clear()
+        if len(conn.outbuf) < _MAX_PENDING_OUTPUT:
+            if conn.frames:
+                frame = conn.frames.popleft()
+                reply = self._dispatch(frame) if self.framing == "tcp" else self._dispatch_serial(frame)
                 if reply:
                     conn.outbuf += reply
-                del buf[:stop]
+            elif splitter.error:  # a header that is not Modbus/TCP: no later frame can be found
+                self.counters.bad_frames += 1
+                if self._send(conn):  # the answers to the good frames before it, as far as they go
+                    self._drop(conn, f"not Modbus/TCP: {splitter.error}")
+                return False
         # a request under way (bytes of it, not all) starts its clock; a finished one stops it
-        if buf and not self._complete(buf):
-            if conn.partial_since is None:
-                conn.partial_since = time.monotonic()
-        else:
-            conn.partial_since = None
-        return True
-
-    def _process_serial(self, conn: _Connection) -> bool:
-        """RTU or ASCII over TCP: the framing.py splitter cuts requests (RTU by length and CRC: a socket
-        has no silence); each is answered by the slave of its unit, or by nobody, as on a serial line."""
-        if conn.splitter is None:
-            conn.splitter = splitter_for(self.framing, "request")
-        if conn.inbuf:
-            conn.frames.extend(conn.splitter.feed(bytes(conn.inbuf)))
-            conn.inbuf.clear()
-        if conn.frames and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-            reply = self._dispatch_serial(conn.frames.popleft())
-            if reply:
-                conn.outbuf += reply
-        if conn.splitter.pending and not conn.frames:
+        if splitter.pending and not conn.frames:
             if conn.partial_since is None:
                 conn.partial_since = time.monotonic()
         else:
@@ -743,25 +616,12 @@ class TcpServer:
             self.counters.responses += 1
         return reply
 
-    def _dispatch(self, frame: bytes, unit: int, tid: int) -> bytes | None:
-        """Hand one complete frame to the slave it is for; return the bytes to send back (or None)."""
+    def _dispatch(self, frame: bytes) -> bytes | None:
+        """One Modbus/TCP request to the slave it is for (:func:`~.routing.dispatch`); the reply."""
         self.counters.requests += 1
-        slave, direct = route_unit(self.slaves, unit)
-        try:
-            if slave is None:  # nobody at that unit (or unit 0 at a gateway): tell the client at once
-                self.counters.unknown_unit += 1
-                reply = exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
-            elif direct and hasattr(slave, "handle_direct"):  # unit 0 / 0xFF: the device itself
-                with self.lock:
-                    reply = slave.handle_direct(frame)
-            else:
-                with self.lock:
-                    reply = slave.handle(frame, "tcp")
-        except Exception:
-            # A slave turns every protocol problem into an exception response itself; getting here
-            # means a bug or a failing callback (on_read/on_write). Tell the client: device failure.
-            self.log.exception("slave for unit %d failed on request %s", unit, frame.hex(" "))
-            reply = exception_reply(frame, SERVER_DEVICE_FAILURE)
+        reply, found = dispatch(self.slaves, frame, self.lock, self.log)
+        if not found:
+            self.counters.unknown_unit += 1
         if reply:
             self.counters.responses += 1
         return reply
@@ -778,17 +638,6 @@ class TcpServer:
                 return False
             del conn.outbuf[:sent]
         return True
-
-
-def exception_reply(frame: bytes, code: int) -> bytes | None:
-    """The exception response a Modbus/TCP server sends itself for request ``frame`` (same transaction id
-    and unit), e.g. 0x0B when no slave is at that unit; None for a frame without a function code."""
-    tid, _, _, unit = MBAP.unpack_from(frame, 0)
-    function = frame[7] & 0x7F if len(frame) > 7 else 0
-    if function == 0:
-        return None
-    pdu = ExceptionResponse(function=function, code=code)
-    return TcpFrame(transaction_id=tid, unit=unit, pdu=pdu).encode()
 
 
 def _is_int(value: Any) -> bool:

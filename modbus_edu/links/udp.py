@@ -23,16 +23,8 @@ from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError
 from ..framing import TcpSplitter
 from .base import Link
-from .tcp import (
-    GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND,
-    SERVER_DEVICE_FAILURE,
-    _check_host,
-    _is_int,
-    _positive_seconds,
-    exception_reply,
-    normalize_slaves,
-    route_unit,
-)
+from .routing import dispatch, normalize_slaves
+from .tcp import _check_host, _is_int, _positive_seconds
 
 __all__ = ["UdpLink", "UdpServer", "udp_link"]
 
@@ -52,8 +44,9 @@ def _one_frame(splitter: TcpSplitter, data: bytes) -> bytes | None:
 class UdpServer:
     """A Modbus/UDP server for the course's slaves, in a background thread.
 
-    Routing by unit id is :class:`~modbus_edu.links.tcp.TcpServer`'s (:func:`route_unit`): a unit
-    nobody serves is answered 0x0B. ``bad_datagrams`` counts datagrams that were not one MBAP frame.
+    Routing by unit id is :class:`~modbus_edu.links.tcp.TcpServer`'s
+    (:func:`~modbus_edu.links.routing.route_unit`): a unit nobody serves is answered 0x0B.
+    ``bad_datagrams`` counts datagrams that were not one MBAP frame.
     """
 
     def __init__(self, slaves: Any, host: str = "127.0.0.1", port: int = 0) -> None:
@@ -124,20 +117,7 @@ class UdpServer:
 
     def _dispatch(self, frame: bytes) -> bytes | None:
         self.requests += 1
-        unit = frame[6]
-        slave, direct = route_unit(self.slaves, unit)
-        try:
-            if slave is None:
-                reply = exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
-            elif direct and hasattr(slave, "handle_direct"):
-                with self.lock:
-                    reply = slave.handle_direct(frame)
-            else:
-                with self.lock:
-                    reply = slave.handle(frame, "tcp")
-        except Exception:
-            self.log.exception("slave for unit %d failed on request %s", unit, frame.hex(" "))
-            reply = exception_reply(frame, SERVER_DEVICE_FAILURE)
+        reply, _found = dispatch(self.slaves, frame, self.lock, self.log)
         if reply:
             self.responses += 1
         return reply
