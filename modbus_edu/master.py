@@ -84,7 +84,7 @@ MAX_STALE = 256
 MAX_MISMATCH_NOTES = 3
 """How many foreign frames a :class:`TransactionMismatchError` describes; it counts them all."""
 
-__all__ = ["Master", "MasterStats"]
+__all__ = ["Master", "MasterStats", "Verdict", "classify_response"]
 
 
 @dataclass
@@ -202,6 +202,74 @@ def _peek(data: bytes, mode: str) -> tuple[int | None, int | None, int | None]:
     except ValueError:
         return None, None, None
 
+
+
+def _source(data: bytes, mode: str) -> str:
+    """Who sent a raw frame, for the traffic log: ``unit N``, or ``?`` if it cannot be read."""
+    unit = _peek(data, mode)[1]
+    return f"unit {unit}" if unit is not None else "?"
+
+
+def _mismatch(mode: str, unit: int, function: int, tid: int, r_tid: int | None, r_unit: int | None,
+              r_function: int | None) -> str:
+    """Why a response does not belong to the request ('' if it does)."""
+    if mode == "tcp" and r_tid is not None and r_tid != tid:
+        return f"transaction id {r_tid}, expected {tid}"
+    if r_unit is not None and r_unit != unit:
+        return f"unit {r_unit}, expected {unit}"
+    if r_function is not None and (r_function & 0x7F) != function:
+        return f"function {r_function & 0x7F}, expected {function}"
+    return ""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """What a received frame is to the request awaiting its response (see :func:`classify_response`).
+
+    ``kind`` is ``"valid"`` or ``"exception"`` (``response`` is the answer), ``"mismatch"`` (a frame for
+    another transaction, unit or function: ``why``; the wait goes on), ``"bad"`` (a malformed answer, or
+    one that does not fit the request) or ``"checksum"`` (``error`` is what the master raises).
+    ``source`` and ``note`` are what the traffic log records.
+    """
+
+    kind: str
+    source: str
+    note: str
+    response: Pdu | None = None
+    error: ModbusError | None = None
+    why: str = ""
+
+
+def classify_response(data: bytes, mode: str, request: Pdu, unit: int, tid: int) -> Verdict:
+    """Judge a frame received while ``request`` (to ``unit``, transaction ``tid``) waits for its answer.
+
+    Pure: no clock, no link, no counter.  A frame whose envelope, unit and function can be read but
+    belong to another request is a mismatch even when its PDU is malformed; a response of the right
+    function must fit its request (:meth:`~modbus_edu.pdu.Pdu.misfit`).
+    """
+    function = request.function_code
+    try:
+        decoded = decode_frame(data, mode, "response")
+    except ChecksumError as exc:
+        return Verdict("checksum", _source(data, mode), f"checksum error: {exc}", error=exc)
+    except (FrameError, PduError) as exc:
+        why = _mismatch(mode, unit, function, tid, *_peek(data, mode))
+        if why and not isinstance(exc, FrameError):
+            return Verdict("mismatch", _source(data, mode), f"mismatch, ignored: {why}", why=why)
+        return Verdict("bad", _source(data, mode), f"bad response: {exc}", error=exc)
+    response = decoded.pdu
+    source = f"unit {decoded.unit}"
+    why = _mismatch(mode, unit, function, tid, getattr(decoded, "transaction_id", None), decoded.unit,
+                    response.function_code)
+    if why:
+        return Verdict("mismatch", source, f"mismatch, ignored: {why}", why=why)
+    if isinstance(response, ExceptionResponse):
+        return Verdict("exception", source, pdu_note(response), response=response)
+    problem = request.misfit(response)
+    if problem:
+        return Verdict("bad", source, f"bad response: {problem}", error=PduError(
+            f"the response of unit {unit} does not fit {request.title}: {problem}"))
+    return Verdict("valid", source, pdu_note(response), response=response)
 
 class Master:
     """A Modbus master on a link: ``Master(link, timeout=1.0, retries=0, delay=0.0, transaction_id=1)``.
@@ -554,92 +622,57 @@ class Master:
             self._last_end = clock.now
 
     def _source(self, data: bytes) -> str:
-        unit = _peek(data, self.link.mode)[1]
-        return f"unit {unit}" if unit is not None else "?"
+        return _source(data, self.link.mode)
 
     def _wait(self, unit: int, request: Pdu, tid: int, sent: float) -> Pdu:
+        """Receive until the response to ``request`` comes (or the deadline passes): what arrives is
+        judged by :func:`classify_response`; this loop counts, logs and waits on."""
         link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
         deadline = sent + self.timeout  # absolute: whatever arrives meanwhile, the wait ends here
         mismatched: list[str] = []  # the first MAX_MISMATCH_NOTES reasons; `ignored` counts them all
         ignored = 0
-        function = request.function_code
         while True:
             remaining = deadline - clock.now
             data = link.receive(remaining) if remaining > 0 else None
             if data is None:
                 stats.timeouts += 1
-                waited = clock.now - sent
-                if ignored:
-                    more = f"; and {ignored - len(mismatched)} more" if ignored > len(mismatched) else ""
-                    raise TransactionMismatchError(
-                        f"no response to {request.title} for unit {unit} within {self.timeout:g} s "
-                        f"(waited {waited:.6f} s); {ignored} frame(s) came that did not belong to "
-                        f"it: {'; '.join(mismatched)}{more}"
-                    )
-                raise ModbusTimeoutError(
-                    f"no response from unit {unit} to {request.title} within {self.timeout:g} s "
-                    f"(waited {waited:.6f} s on the link's clock)"
-                )
+                raise self._no_response(unit, request, clock.now - sent, ignored, mismatched)
             now = clock.now
-            try:
-                decoded = decode_frame(data, mode, "response")
-            except ChecksumError as exc:
-                stats.checksum_errors += 1
-                log.record(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
-                           note=f"checksum error: {exc}")
-                raise
-            except (FrameError, PduError) as exc:
-                # Envelope and unit/function readable but not ours? Then it is a mismatch, not a bad answer.
-                why = self._mismatch(unit, function, tid, *_peek(data, mode))
-                if why and not isinstance(exc, FrameError):
-                    stats.mismatches += 1
-                    ignored += 1
-                    if len(mismatched) < MAX_MISMATCH_NOTES:
-                        mismatched.append(why)
-                    log.record(now, "rx", mode, data, source=self._source(data), dest="master",
-                               role="response", note=f"mismatch, ignored: {why}")
-                    continue
-                stats.bad_responses += 1
-                log.record(now, "rx", mode, data, source=self._source(data), dest="master", role="response",
-                           note=f"bad response: {exc}")
-                raise
-            response = decoded.pdu
-            why = self._mismatch(unit, function, tid, getattr(decoded, "transaction_id", None), decoded.unit,
-                                 response.function_code)
-            if why:
+            verdict = classify_response(data, mode, request, unit, tid)
+            kind = verdict.kind
+            # source, dest, note, role (positional: this runs on every poll)
+            log.record(now, "rx", mode, data, verdict.source, "master", verdict.note, "response")
+            if kind == "mismatch":
                 stats.mismatches += 1
                 ignored += 1
                 if len(mismatched) < MAX_MISMATCH_NOTES:
-                    mismatched.append(why)
-                log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
-                           role="response", note=f"mismatch, ignored: {why}")
+                    mismatched.append(verdict.why)
                 continue
-            if isinstance(response, ExceptionResponse):
-                stats.exceptions += 1
+            if kind == "valid" or kind == "exception":
+                if kind == "valid":
+                    stats.valid_responses += 1
+                else:
+                    stats.exceptions += 1
                 stats.latencies.append(now - sent)
-                log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
-                           role="response", note=pdu_note(response))
-                return response
-            problem = request.misfit(response)
-            if problem:
+                return verdict.response  # type: ignore[return-value]
+            if kind == "checksum":
+                stats.checksum_errors += 1
+            else:
                 stats.bad_responses += 1
-                log.record(now, "rx", mode, data, source=f"unit {decoded.unit}", dest="master",
-                           role="response", note=f"bad response: {problem}")
-                raise PduError(f"the response of unit {unit} does not fit {request.title}: {problem}")
-            stats.valid_responses += 1
-            stats.latencies.append(now - sent)
-            # source, dest, note, role (positional: this runs on every poll)
-            log.record(now, "rx", mode, data, f"unit {decoded.unit}", "master", pdu_note(response),
-                       "response")
-            return response
+            raise verdict.error  # type: ignore[misc]
 
-    def _mismatch(self, unit: int, function: int, tid: int, r_tid: int | None, r_unit: int | None,
-                  r_function: int | None) -> str:
-        """Why a response does not belong to the request ('' if it does)."""
-        if self.link.mode == "tcp" and r_tid is not None and r_tid != tid:
-            return f"transaction id {r_tid}, expected {tid}"
-        if r_unit is not None and r_unit != unit:
-            return f"unit {r_unit}, expected {unit}"
-        if r_function is not None and (r_function & 0x7F) != function:
-            return f"function {r_function & 0x7F}, expected {function}"
-        return ""
+    def _no_response(self, unit: int, request: Pdu, waited: float, ignored: int,
+                     mismatched: list[str]) -> ModbusError:
+        """The error of a wait that ended without the response: frames that did not belong to the
+        request, if any came, else a timeout."""
+        if ignored:
+            more = f"; and {ignored - len(mismatched)} more" if ignored > len(mismatched) else ""
+            return TransactionMismatchError(
+                f"no response to {request.title} for unit {unit} within {self.timeout:g} s "
+                f"(waited {waited:.6f} s); {ignored} frame(s) came that did not belong to "
+                f"it: {'; '.join(mismatched)}{more}"
+            )
+        return ModbusTimeoutError(
+            f"no response from unit {unit} to {request.title} within {self.timeout:g} s "
+            f"(waited {waited:.6f} s on the link's clock)"
+        )
