@@ -526,22 +526,11 @@ class Slave:
         return _pdu.DiagnosticsResponse(sub, value.to_bytes(2, "big"))
 
     def _file_records(self, request: Any) -> Pdu:
-        """FC 20 and 21 over :attr:`DataBank.files` (file number -> registers)."""
+        """FC 20 and 21 over :attr:`DataBank.files` (see :class:`~modbus_edu.datamodel.FileRecords`)."""
         files = self.bank.files
-
-        def registers(file: int, record: int, count: int) -> list[int]:
-            stored = files.get(file)
-            if stored is None or record + count > len(stored):
-                raise ModbusExceptionError(request.function_code, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
-            return stored
-
         if request.function_code == 0x14:
-            return _pdu.ReadFileRecordResponse(tuple(
-                tuple(registers(f, r, n)[r:r + n]) for f, r, n in request.records))
-        for file, record, values in request.records:  # all checked before any is written
-            registers(file, record, len(values))
-        for file, record, values in request.records:
-            files[file][record:record + len(values)] = list(values)
+            return _pdu.ReadFileRecordResponse(tuple(tuple(files.read(*group)) for group in request.records))
+        files.write(request.records)
         return _pdu.WriteFileRecordResponse(request.records)
 
     def _identify(self, request: Any) -> Pdu:
