@@ -45,7 +45,7 @@ from ..crc import crc16
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import ASCII_MAX_FRAME, RTU_MAX_FRAME, splitter_for
 from .base import Link
-from .tcp import normalize_slaves
+from .tcp import is_loopback_host, normalize_slaves
 from .wire import SerialTiming
 
 __all__ = [
@@ -627,6 +627,11 @@ class TcpSerialPort:
             raise LinkError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from exc
         self.address: tuple[str, int] = self._listener.getsockname()[:2]
         self.portstr = f"tcp-listen://{self.address[0]}:{self.address[1]}"
+        if not is_loopback_host(host):
+            _log.warning(
+                "serial line over TCP listening on %s:%d, beyond this computer: anyone who can reach it "
+                "can read and write the devices on it (Modbus has no authentication); bind 127.0.0.1 "
+                "unless that is what you want", self.address[0], self.address[1])
         self._client: socket.socket | None = None
         self.is_open = True
 
