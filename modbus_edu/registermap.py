@@ -28,7 +28,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import ModbusError
+from .errors import ModbusError, shown
 from .values import ORDERS, TYPES, decode_value, encode_value, register_count
 
 __all__ = [
@@ -48,6 +48,12 @@ MAX_READ_REGISTERS = 125
 _TABLES = {"holding": 3, "input": 4}
 _COLUMNS = ("name", "table", "address", "type", "order", "scale", "unit")
 _REQUIRED = ("name", "table", "address", "type")
+#: The longest field a register map may hold (a name, a unit, a number): a datasheet never needs more.
+MAX_FIELD = 200
+#: The largest register map file read (65536 registers x 2 tables fit in a few MB).
+MAX_FILE_BYTES = 8 * 1024 * 1024
+#: A scale is a finite, non-zero factor between these sizes (0.001 for "x1000", 1000 for kilo-units).
+SCALE_RANGE = (1e-9, 1e9)
 
 
 class RegisterMapError(ModbusError):
@@ -76,6 +82,9 @@ class Point:
         """The function code that reads it: 3 (holding registers) or 4 (input registers)."""
         return _TABLES[self.table]
 
+    def __post_init__(self) -> None:
+        check_scale(self.scale, f"point {self.name!r}")
+
     def decode(self, registers: Sequence[int]) -> float | int:
         """The value in engineering units from the point's own registers."""
         raw = decode_value(registers, self.type, self.order)
@@ -90,6 +99,48 @@ class Poll:
     address: int
     count: int
     points: tuple[Point, ...]
+
+
+def check_scale(scale: object, where: str) -> float:
+    """``scale`` as a float, or a RegisterMapError: 0, inf, nan, subnormal or absurd sizes are refused."""
+    low, high = SCALE_RANGE
+    if isinstance(scale, bool) or not isinstance(scale, (int, float)):
+        raise RegisterMapError(f"{where}: scale {shown(scale)} is not a number")
+    try:
+        value = float(scale)
+    except OverflowError:
+        value = float("inf")
+    if value != value or not low <= abs(value) <= high:
+        raise RegisterMapError(
+            f"{where}: scale {shown(scale)} must be a finite, non-zero number between {low:g} and "
+            f"{high:g} in size (0.1 for a value sent x10, 1000 for one sent in kilo-units)"
+        )
+    return value
+
+
+def _decode_text(data: bytes, where: str) -> str:
+    """A register map file's bytes as text: UTF-8, with or without a byte-order mark; anything else is
+    refused by name (a spreadsheet's "Unicode text" is UTF-16, an old one's CSV is often latin-1)."""
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise RegisterMapError(
+            f"{where}: the file is UTF-16 (it starts with the byte-order mark {data[:2].hex(' ').upper()}); "
+            f"save it as 'CSV UTF-8'"
+        )
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    nul = data.find(b"\x00")
+    if nul >= 0:
+        raise RegisterMapError(
+            f"{where}: byte {nul} is 00: this is a binary file or UTF-16 text, not a CSV register map "
+            f"(save it as 'CSV UTF-8')"
+        )
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RegisterMapError(
+            f"{where}: byte {exc.start} is {data[exc.start]:02X}, which is not UTF-8 (the file may be "
+            f"latin-1 or Windows-1252); save it as 'CSV UTF-8'"
+        ) from None
 
 
 def datasheet_to_address(number: int, numbering: str = "1-based") -> int:
@@ -231,20 +282,37 @@ def load_map(source: str | Path, numbering: str = "0-based", name: str | None = 
     ``numbering`` says how the file's ``address`` column counts (see :func:`datasheet_to_address`).
     """
     if isinstance(source, str) and "\n" in source:
-        text, where = source, name or "<text>"
+        text, where = source.removeprefix("\ufeff"), name or "<text>"
     else:
         path = Path(source)
         where = name or path.name
         try:
-            text = path.read_text(encoding="utf-8")
+            with path.open("rb") as file:
+                data = file.read(MAX_FILE_BYTES + 1)
         except OSError as exc:
             raise RegisterMapError(f"cannot read register map {str(path)!r}: {exc.strerror}") from None
-    rows = list(csv.reader(io.StringIO(text)))
+        if len(data) > MAX_FILE_BYTES:
+            raise RegisterMapError(f"{where}: larger than {MAX_FILE_BYTES // 2**20} MiB: not a register map")
+        text = _decode_text(data, where)
+    try:
+        rows = list(csv.reader(io.StringIO(text)))
+    except csv.Error as exc:
+        raise RegisterMapError(f"{where}: not readable as CSV ({exc})") from None
     rows = [(i, r) for i, r in enumerate(rows, 1) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise RegisterMapError(f"{where}: empty file, expected a header row ({','.join(_COLUMNS)})")
+    for line, row in rows:
+        for column, cell in enumerate(row, 1):
+            if len(cell) > MAX_FIELD:
+                raise RegisterMapError(
+                    f"{where} line {line}: field {column} is {len(cell)} characters long; a register map's "
+                    f"fields are at most {MAX_FIELD}"
+                )
     header_line, header = rows[0]
     header = [h.strip().lower() for h in header]
+    for col in set(header):
+        if header.count(col) > 1:
+            raise RegisterMapError(f"{where} line {header_line}: the column {col!r} appears twice")
     for col in _REQUIRED:
         if col not in header:
             raise RegisterMapError(
@@ -285,7 +353,7 @@ def _point(row: dict[str, str], where: str, numbering: str) -> Point:
     if order not in ORDERS:
         raise RegisterMapError(f"{where}: order {row.get('order')!r} must be one of {', '.join(ORDERS)}")
     try:
-        scale = float(row.get("scale") or 1)
+        scale = check_scale(float(row.get("scale") or 1), where)
     except ValueError:
         raise RegisterMapError(f"{where}: scale {row.get('scale')!r} is not a number") from None
     if address + register_count(type_) > 65536:

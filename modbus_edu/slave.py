@@ -541,24 +541,14 @@ class Slave:
         value = self.diagnostic_register if sub == 0x02 else self.diagnostic_counters()[sub]
         return _pdu.DiagnosticsResponse(sub, value.to_bytes(2, "big"))
 
-    def _file_registers(self, function: int, file: int, record: int, count: int) -> list[int]:
-        """The registers of a file that holds ``count`` records from ``record``; exception 02 if none."""
-        stored = self.bank.files.get(file)
-        if stored is None or record + count > len(stored):
-            raise ModbusExceptionError(function, int(ExceptionCode.ILLEGAL_DATA_ADDRESS))
-        return stored
-
     def _read_file_records(self, request: Any) -> Pdu:
-        """FC 20 over :attr:`DataBank.files` (file number -> registers)."""
-        return _pdu.ReadFileRecordResponse(tuple(
-            tuple(self._file_registers(0x14, f, r, n)[r:r + n]) for f, r, n in request.records))
+        """FC 20 over :attr:`DataBank.files` (see :class:`~modbus_edu.datamodel.FileRecords`)."""
+        files = self.bank.files
+        return _pdu.ReadFileRecordResponse(tuple(tuple(files.read(*group)) for group in request.records))
 
     def _write_file_records(self, request: Any) -> Pdu:
         """FC 21 over :attr:`DataBank.files`: every record checked before any is written."""
-        for file, record, values in request.records:
-            self._file_registers(0x15, file, record, len(values))
-        for file, record, values in request.records:
-            self.bank.files[file][record:record + len(values)] = list(values)
+        self.bank.files.write(request.records)
         return _pdu.WriteFileRecordResponse(request.records)
 
     def _identify(self, request: Any) -> Pdu:

@@ -152,10 +152,10 @@ def _check_registers(registers: Sequence[int], what: str = "registers") -> list[
             v = operator.index(r)
         except TypeError:
             raise ValueFormatError(
-                f"{what}[{i}] is {type(r).__name__} {r!r}: a register holds a whole number 0..65535"
+                f"{what}[{i}] is {type(r).__name__} {shown(r)}: a register holds a whole number 0..65535"
             ) from None
         if not 0 <= v <= 0xFFFF:
-            raise ValueFormatError(f"{what}[{i}] = {v} is outside 0..65535: a register holds 16 bits")
+            raise ValueFormatError(f"{what}[{i}] = {shown(v)} is outside 0..65535: a register holds 16 bits")
         out.append(v)
     return out
 

@@ -6,6 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import modbus_edu as mb
 from modbus_edu.datamodel import (
     ADDRESS_SPACE,
     TABLE_KINDS,
@@ -501,3 +502,43 @@ def test_a_register_refuses_a_bool() -> None:
 def test_from_references_takes_a_mapping() -> None:
     with pytest.raises(DataModelError, match="mapping"):
         DataBank.from_references(5)
+
+
+# --- files (FC 20/21) -----------------------------------------------------------------------------------
+def test_a_dense_bank_answers_any_file_and_creates_it_on_first_write():
+    bank = mb.DataBank()
+    assert bank.files.read(65535, 9998, 2) == [0, 0]
+    bank.files.write([(7, 3, [1, 2]), (7, 0, [9])])
+    assert bank.files[7] == [9, 0, 0, 1, 2]
+    assert bank.files.read(7, 4, 3) == [2, 0, 0]           # past the written end: zeros, as a table
+
+
+def test_a_sparse_bank_has_only_the_files_put_there():
+    from modbus_edu.errors import IllegalAddressError
+
+    bank = mb.DataBank(sparse=True)
+    bank.files[4] = [0] * 10
+    assert bank.files.read(4, 8, 2) == [0, 0]
+    for bad in [(4, 9, 2), (5, 0, 1)]:
+        with pytest.raises(IllegalAddressError, match="do not exist"):
+            bank.files.read(*bad)
+    with pytest.raises(IllegalAddressError):
+        bank.files.write([(4, 0, [1]), (5, 0, [1])])
+    assert bank.files[4][0] == 0                              # nothing written when one record is refused
+
+
+def test_file_memory_is_bounded_and_a_full_device_answers_exception_04():
+    from modbus_edu.datamodel import FileMemoryError, FileRecords
+
+    files = FileRecords(limit=20_000)
+    files.write([(1, 0, [1] * 9_999), (2, 0, [2] * 10_000)])
+    with pytest.raises(FileMemoryError, match="at most 20000"):
+        files.write([(3, 9_000, [3] * 2)])
+    files.write([(1, 0, [5] * 100)])                          # rewriting what exists needs no memory
+    slave = mb.Slave(1, mb.DataBank())
+    slave.bank.files.limit = 10
+    master = mb.Master(mb.loopback_serial(slave))
+    master.write_file_record(1, 1, 0, [1] * 10)
+    with pytest.raises(mb.ModbusExceptionError) as caught:
+        master.write_file_record(1, 2, 0, [1])
+    assert caught.value.code == 4 and 2 not in slave.bank.files

@@ -217,7 +217,7 @@ def test_diagnostics_as_a_line_check_and_its_counters_after_injected_faults():
     assert master.diagnostics(1, 0x0C) == 1          # one message with a bad checksum
     assert master.diagnostics(1, 0x0B) == 4          # messages heard: 4 (the damaged one included)
     with pytest.raises(mb.ModbusExceptionError):
-        master.read_file_record(1, 9, 0, 1)          # no file 9: exception 02
+        master.diagnostics(1, 0x0B, b"\x00\x01")     # a counter query carries 00 00: exception 03
     assert master.diagnostics(1, 0x0D) == 1          # one exception response sent
     assert master.get_comm_event_counter(1) == 4     # normal completions (not the exception, not FC 11)
     log = master.get_comm_event_log(1)
@@ -239,8 +239,10 @@ def test_file_records_through_the_master_and_pymodbus_both_ways_and_live():
     assert master.read_file_record(1, 4, 1, 2) == [0x0DFE, 0x0020]
     master.write_file_record(1, 4, 7, [0x06AF, 0x04BE, 0x100D])
     assert slave.bank.files[4][7:10] == [0x06AF, 0x04BE, 0x100D]
+    assert master.read_file_record(1, 9, 0, 1) == [0]     # a dense bank has every file, as every address
+    sparse = mb.Master(mb.loopback_serial(mb.Slave(1, mb.DataBank(sparse=True))))
     with pytest.raises(mb.ModbusExceptionError) as caught:
-        master.read_file_record(1, 9, 0, 1)
+        sparse.read_file_record(1, 9, 0, 1)
     assert caught.value.code == 2
     # pymodbus's FileRecord counts record_length in bytes: 4 bytes are our 2 registers
     record = pf.FileRecord(file_number=4, record_number=1, record_length=4)
@@ -263,6 +265,11 @@ def test_file_records_through_the_master_and_pymodbus_both_ways_and_live():
                 [pf.FileRecord(file_number=3, record_number=0, record_data=bytes.fromhex("00 01 00 02"))],
                 device_id=1)
             assert not written.isError() and slave.bank.files[3][:2] == [1, 2]
+            # a file nobody made: created on first write, as pymodbus's client expects of a device
+            written = client.write_file_record(
+                [pf.FileRecord(file_number=5, record_number=7, record_data=bytes.fromhex("12 34"))],
+                device_id=1)
+            assert not written.isError() and slave.bank.files[5] == [0] * 7 + [0x1234]
         finally:
             client.close()
 

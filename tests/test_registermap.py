@@ -105,3 +105,58 @@ def test_power_meter_map_file_matches_the_meter():
     from_file = m.read(master, unit=1)
     expected = read_meter(master, unit=1)
     assert from_file == pytest.approx(expected)
+
+
+# --- files as they come from spreadsheets and from hostile hands -------------------------------------------
+_MAP = "name,table,address,type,order,scale,unit\nvoltage,input,0,float32,CDAB,1,V\n"
+
+
+@pytest.mark.parametrize("prefix", [b"", b"\xef\xbb\xbf"], ids=["utf-8", "utf-8 with BOM"])
+def test_utf8_maps_read_with_or_without_a_byte_order_mark(tmp_path, prefix):
+    path = tmp_path / "map.csv"
+    path.write_bytes(prefix + _MAP.encode())
+    assert load_map(path)["voltage"].type == "float32"
+    assert load_map("\ufeff" + _MAP)["voltage"].order == "CDAB"
+
+
+@pytest.mark.parametrize(
+    "data, fragment",
+    [
+        (_MAP.encode("utf-16"), "UTF-16"),
+        (_MAP.encode("utf-16-le"), "byte 1 is 00"),
+        (_MAP.replace("V\n", "\u00b0C\n").encode("latin-1"), "not UTF-8"),
+        (bytes(range(256)) * 4, "byte 0 is 00"),
+    ],
+    ids=["utf-16 with BOM", "utf-16 without BOM", "latin-1", "binary"],
+)
+def test_other_encodings_are_refused_by_name(tmp_path, data, fragment):
+    path = tmp_path / "map.csv"
+    path.write_bytes(data)
+    with pytest.raises(RegisterMapError, match=fragment) as info:
+        load_map(path)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("length", [201, 5000, 200_000])
+def test_an_over_long_field_is_a_clear_error(length):
+    text = f"name,table,address,type,order,scale,unit\nvoltage,input,0,float32,CDAB,1,{'V' * length}\n"
+    with pytest.raises(RegisterMapError, match=r"line 2: field 7 is|not readable as CSV") as info:
+        load_map(text)
+    assert len(str(info.value)) < 200
+
+
+def test_a_duplicated_column_is_refused():
+    with pytest.raises(RegisterMapError, match="'unit' appears twice"):
+        load_map("name,table,address,type,unit,unit\nvoltage,input,0,uint16,V,V\n")
+
+
+@pytest.mark.parametrize("scale", ["0", "-0", "inf", "-inf", "nan", "1e308", "-1e308", "5e-324", "1e-320"])
+def test_absurd_scales_are_refused_at_load(scale):
+    with pytest.raises(RegisterMapError, match="scale"):
+        load_map(f"name,table,address,type,scale\nvoltage,input,0,uint16,{scale}\n")
+
+
+@pytest.mark.parametrize("scale", [0, 0.0, float("nan"), float("inf"), 1e308, 5e-324, True, "1"])
+def test_a_point_refuses_an_absurd_scale_so_store_never_divides_by_zero(scale):
+    with pytest.raises(RegisterMapError, match="scale"):
+        Point("voltage", "input", 0, "uint16", "ABCD", scale)

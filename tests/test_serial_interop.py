@@ -239,3 +239,19 @@ def test_serial_server_opens_a_socket_url_and_answers_raw_rtu():
 def test_serial_server_rejects_what_is_not_a_port():
     with pytest.raises(ConfigError, match="pyserial URL or an open pyserial-like object"):
         SerialServer(Slave(), object())
+
+
+def test_a_serial_line_listening_beyond_loopback_warns_and_loopback_does_not(caplog, monkeypatch):
+    import logging
+
+    import modbus_edu.links.serial as serial_module
+    from modbus_edu.links.serial import TcpSerialPort
+
+    with caplog.at_level(logging.WARNING, logger="modbus_edu.serial"):
+        TcpSerialPort("127.0.0.1").close()
+    assert "no authentication" not in caplog.text
+    # it really binds 127.0.0.1: the test only makes the port believe the address is reachable
+    monkeypatch.setattr(serial_module, "is_loopback_host", lambda host: False)
+    with caplog.at_level(logging.WARNING, logger="modbus_edu.serial"):
+        TcpSerialPort("127.0.0.1").close()
+    assert "beyond this computer" in caplog.text and "no authentication" in caplog.text

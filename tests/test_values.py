@@ -443,3 +443,9 @@ def test_parse_formatted_examples_and_errors():
 def test_integer_types_refuse_a_bool() -> None:
     with pytest.raises(ValueFormatError, match="bool"):
         encode_value(True, "uint16")
+
+
+@pytest.mark.parametrize("huge", [10**5000, -(10**5000), 2**70], ids=["10**5000", "-10**5000", "2**70"])
+def test_decode_values_names_a_huge_register_without_leaking_python_errors(huge):
+    with pytest.raises(ModbusError, match="registers\\[1\\] = an int of \\d+ bits is outside 0..65535"):
+        decode_values([1, huge], "uint16")

@@ -43,9 +43,10 @@ from typing import Any
 from ..clock import RealClock
 from ..crc import crc16
 from ..errors import ConfigError, LinkError, guard_numbers
-from ..framing import splitter_for
+from ..framing import ASCII_MAX_FRAME, RTU_MAX_FRAME, splitter_for
 from .base import Link
 from .routing import normalize_slaves
+from .tcp import is_loopback_host
 from .wire import SerialTiming
 
 __all__ = [
@@ -97,7 +98,7 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
     except ImportError as exc:  # pragma: no cover - pyserial is a dependency
         raise LinkError("serial links need pyserial: pip install pyserial") from exc
     try:
-        return serial.serial_for_url(
+        port = serial.serial_for_url(
             url,
             baudrate=int(timing.baudrate),
             bytesize=timing.bytesize,
@@ -105,7 +106,14 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
             stopbits=timing.stopbits,
             timeout=_POLL,
             write_timeout=write_timeout,
+            do_not_open=True,
         )
+        if _under_reports(port):
+            # socket:// empties its input when it opens, reading until the peer pauses: a peer that
+            # never pauses would hold open() forever. Drop input for DRAIN_SECONDS at most instead.
+            port.reset_input_buffer = lambda: _drain(port)
+        port.open()
+        return port
     except ValueError as exc:  # pyserial: a setting the port does not support
         raise ConfigError(f"serial port {url!r} rejects the settings {timing}: {exc}") from exc
     except _OS_REFUSALS as exc:  # termios.error: the driver refused a setting (a pty and 7 data bits)
@@ -121,20 +129,72 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
         raise LinkError(f"cannot open serial port {url!r}: {exc} - {hint}") from exc
 
 
-def _read_available(port: Any) -> bytes:
-    """Wait up to the port's timeout for one byte, then take whatever else has already arrived."""
+#: The most bytes one read takes before the caller looks at its deadline and its frames again.
+READ_CHUNK = 4096
+#: The longest a request spends dropping stale input: a peer still streaming is not waited out.
+DRAIN_SECONDS = 0.05
+DRAIN_CHUNK = 1 << 16
+_DRAIN_PAUSE = 0.001
+
+
+def _under_reports(port: Any) -> bool:
+    """pyserial's ``socket://`` says ``in_waiting == 1`` whatever is queued (it only asks select)."""
+    return type(port).__module__.endswith("protocol_socket")
+
+
+def _read_now(port: Any, size: int) -> bytes:
+    """Up to ``size`` bytes that have already arrived, without waiting for more."""
+    if not _under_reports(port):
+        return port.read(size)
+    timeout = port.timeout
+    port.timeout = 0  # socket:// reads what is queued, up to size, and returns at once
+    try:
+        return port.read(size)
+    finally:
+        port.timeout = timeout
+
+
+def _read_available(port: Any, budget: int = READ_CHUNK) -> bytes:
+    """Wait up to the port's timeout for one byte, then take what else has already arrived, up to
+    ``budget`` bytes.
+
+    The budget is what keeps a caller's deadline: a peer that never stops sending (a babbling device,
+    junk over ``socket://``) is read a chunk at a time, and the caller checks its clock between chunks.
+    Bytes are gathered in a bytearray, so a long read costs time in proportion to its length.
+    """
     waiting = port.in_waiting
-    data = port.read(waiting if waiting > 0 else 1)
-    if data:
-        while True:
-            waiting = port.in_waiting
-            if not waiting:
-                break
-            more = port.read(waiting)
-            if not more:
-                break
-            data += more
-    return data
+    data = bytearray(port.read(min(waiting, budget) if waiting > 0 else 1))
+    while data and len(data) < budget and port.in_waiting:
+        more = _read_now(port, budget - len(data))
+        if not more:
+            break
+        data += more
+    return bytes(data)
+
+
+def _input_waiting(port: Any) -> bool:
+    """Has input arrived? Over ``socket://``, a millisecond's grace: after a flood, more is on its way."""
+    if _under_reports(port):
+        return bool(select.select([port.fileno()], [], [], _DRAIN_PAUSE)[0])
+    return port.in_waiting > 0
+
+
+def _drain(port: Any, seconds: float = DRAIN_SECONDS) -> int:
+    """Drop the input that has already arrived, for at most ``seconds``; return how many bytes.
+
+    pyserial's ``reset_input_buffer`` over ``socket://`` reads until the peer pauses, which a peer that
+    never pauses turns into a wait without end; this stops after ``seconds``, and what is left is read
+    and skipped as junk like any other input."""
+    end = time.monotonic() + seconds
+    dropped = 0
+    while _input_waiting(port):
+        chunk = _read_now(port, DRAIN_CHUNK)
+        if not chunk:
+            break
+        dropped += len(chunk)
+        if time.monotonic() >= end:
+            break
+    return dropped
 
 
 class _FrameCutter:
@@ -144,21 +204,32 @@ class _FrameCutter:
     a real receiver would call "the frame" when the line goes quiet.
     """
 
+    #: Frames cut but not yet taken: a peer that sends faster than they are answered loses the oldest.
+    MAX_FRAMES = 64
+
     def __init__(self, mode: str, role: str, frame_gap: float) -> None:
         self.splitter = splitter_for(mode, role)
         self.frame_gap = frame_gap
         self.last_byte = 0.0
-        self.frames: deque[bytes] = deque()
+        self.frames: deque[bytes] = deque(maxlen=self.MAX_FRAMES)
         self.burst = bytearray()
+        # a frame ends at a silence only if it fits in one frame: older bytes of a burst can never
+        # belong to it, so the burst keeps at most one frame's worth (its length is bounded)
+        self.burst_limit = RTU_MAX_FRAME if mode == "rtu" else ASCII_MAX_FRAME
+        self.dropped = 0
+        """Frames cut but dropped because more than :attr:`MAX_FRAMES` were waiting."""
 
     def feed(self, data: bytes, now: float) -> None:
         self.last_byte = now
         cut = self.splitter.feed(data)
         if cut:
+            self.dropped += max(0, len(self.frames) + len(cut) - self.MAX_FRAMES)
             self.frames.extend(cut)
-            self.burst[:] = self.splitter.pending  # what follows the last frame cut
+            self.burst[:] = self.splitter.pending[-self.burst_limit:]  # what follows the last frame cut
         else:
             self.burst += data
+            if len(self.burst) > self.burst_limit:
+                del self.burst[: len(self.burst) - self.burst_limit]
 
     def silence_deadline(self) -> float | None:
         """When the bytes heard since the last frame end as a frame by silence (None: nothing heard)."""
@@ -251,8 +322,7 @@ class SerialLink(Link):
         cutter = self._cutter
         stale = len(cutter.frames) + (1 if cutter.splitter.pending else 0)
         try:
-            if self.port.in_waiting:
-                self.port.reset_input_buffer()
+            if _drain(self.port):
                 stale += 1
             cutter.reset()
             self.port.write(frame)
@@ -275,9 +345,8 @@ class SerialLink(Link):
                 return cutter.frames.popleft()
             try:
                 if now >= deadline:  # time is up: one last look at what has already arrived
-                    waiting = self.port.in_waiting
-                    if waiting:
-                        cutter.feed(self.port.read(waiting), now)
+                    if self.port.in_waiting:
+                        cutter.feed(_read_now(self.port, READ_CHUNK), now)
                     return cutter.frames.popleft() if cutter.frames else None
                 data = _read_available(self.port)
             except Exception as exc:
@@ -559,6 +628,11 @@ class TcpSerialPort:
             raise LinkError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from exc
         self.address: tuple[str, int] = self._listener.getsockname()[:2]
         self.portstr = f"tcp-listen://{self.address[0]}:{self.address[1]}"
+        if not is_loopback_host(host):
+            _log.warning(
+                "serial line over TCP listening on %s:%d, beyond this computer: anyone who can reach it "
+                "can read and write the devices on it (Modbus has no authentication); bind 127.0.0.1 "
+                "unless that is what you want", self.address[0], self.address[1])
         self._client: socket.socket | None = None
         self.is_open = True
 
@@ -651,11 +725,9 @@ class TcpSerialPort:
         """Nothing to do: ``write`` hands every byte to the socket."""
 
     def reset_input_buffer(self) -> None:
-        """Throw away the bytes received and not read yet."""
-        while self.in_waiting:
-            if self._client is None:
-                break
-            self._client.recv(65536)
+        """Throw away the bytes received and not read yet (for at most :data:`DRAIN_SECONDS` while a
+        client keeps sending)."""
+        _drain(self)
 
     def close(self) -> None:
         """Disconnect the client and stop listening."""

@@ -676,6 +676,12 @@ def _close_socket(sock: socket.socket) -> None:
 # --------------------------------------------------------------------------------------------------
 # the client link
 # --------------------------------------------------------------------------------------------------
+#: The longest a request spends dropping stale input before it is sent.
+DRAIN_SECONDS = 0.05
+_DRAIN_SIZE = 1 << 16
+_DRAIN_PAUSE = 0.001
+
+
 class TcpLink(Link):
     """A :class:`~modbus_edu.links.base.Link` to a Modbus/TCP server over a real socket.
 
@@ -709,6 +715,8 @@ class TcpLink(Link):
         self.timeout = timeout
         self.clock = clock if clock is not None else RealClock()
         self.reconnects = 0
+        self.stale_bytes = 0
+        """Bytes that arrived outside a transaction and were dropped before a request."""
         self.closed = False
         self._sock: socket.socket | None = None
         self._splitter = splitter_for(framing, "response")
@@ -772,9 +780,42 @@ class TcpLink(Link):
             "request connects again"
         )
 
+    def _drop_stale(self) -> None:
+        """Throw away what arrived before this request: frames already cut, and the bytes waiting in
+        the socket, read in large chunks without parsing them.  After a flood there may be megabytes
+        queued; they go in milliseconds, so a request does not wait behind them.  A peer still sending
+        after :data:`DRAIN_SECONDS` is not waited out: the rest is skipped while the request waits.
+        A connection the server closed meanwhile is made again by :meth:`send`."""
+        self._frames.clear()
+        sock = self._sock
+        if sock is None or not select.select([sock], [], [], 0)[0]:
+            return
+        self._splitter.reset()
+        end = time.monotonic() + DRAIN_SECONDS
+        try:
+            sock.settimeout(0)
+            # a short wait between chunks: on a busy connection more is usually already on its way
+            while select.select([sock], [], [], _DRAIN_PAUSE)[0]:
+                data = sock.recv(_DRAIN_SIZE)
+                if not data:  # the server closed the connection
+                    break
+                self.stale_bytes += len(data)
+                if time.monotonic() >= end:
+                    return
+            else:
+                return
+        except (BlockingIOError, InterruptedError):
+            return
+        except OSError:
+            pass
+        _close_socket(sock)
+        self._sock = None
+
     def send(self, frame: bytes) -> None:
-        """Send one frame; connect again first if the server had closed the connection."""
+        """Send one frame; stale input is dropped first, and a connection the server had closed is made
+        again."""
         self._check_open()
+        self._drop_stale()
         if self._sock is None:
             self._connect()
             self.reconnects += 1
@@ -795,13 +836,16 @@ class TcpLink(Link):
             return None  # not connected: nothing can arrive (the next send connects again)
         sock = self._sock
         deadline = time.monotonic() + max(0.0, timeout)
+        looked = False
         while True:
             remaining = deadline - time.monotonic()
             try:
                 if remaining > 0:
                     sock.settimeout(remaining)
-                elif not select.select([sock], [], [], 0)[0]:
-                    return None  # receive(0): nothing has arrived
+                elif looked or not select.select([sock], [], [], 0)[0]:
+                    return None  # time is up (one last look was taken), whatever is still arriving
+                else:
+                    looked = True
                 data = sock.recv(_RECV_SIZE)
             except (TimeoutError, BlockingIOError, InterruptedError):
                 return None
