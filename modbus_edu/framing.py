@@ -709,6 +709,12 @@ def _start_pattern(role: str) -> re.Pattern[bytes]:
     return re.compile(b"[\\x00-\\xf7][" + codes + b"]", re.DOTALL)
 
 
+_OPEN = -2  # RtuSplitter._frame_length: a frame whose bytes do not say its length
+#: The longest frame with a function code this library does not know that an open-ended splitter looks
+#: for: every junk byte may look like the start of one, and each costs a CRC over this many bytes.
+UNKNOWN_FUNCTION_MAX_FRAME = 64
+
+
 class RtuSplitter(_Splitter):
     """Cut RTU frames out of a byte stream by their expected length.
 
@@ -730,24 +736,59 @@ class RtuSplitter(_Splitter):
 
     :meth:`flush` is the silence: it tells the splitter that the pending bytes will not be continued, so
     a frame that junk made look longer than it is can still be found.
+
+    Some frames do not say their length: FC 8 Return Query Data echoes data of any length
+    (:data:`~modbus_edu.pdu.OPEN_LENGTH`).  Such a frame ends at the first byte where the CRC of what
+    precedes checks out, worked out byte by byte as they come (linear), or at a silence.  With
+    ``open_ended=True`` (a server on a socket, where every byte is meant as Modbus) the same goes for
+    a function code this library does not implement and for a byte count that disagrees with its
+    quantity: the frame is cut, and the slave answers it with exception 01 or 03 as the specification
+    says, instead of the bytes being skipped as junk.
     """
 
     mode: ClassVar[str] = "rtu"
 
-    def __init__(self, role: str = "request") -> None:
+    def __init__(self, role: str = "request", open_ended: bool = False) -> None:
         super().__init__()
         self.role = _pdu._check_role(role)
+        self.open_ended = bool(open_ended)
         self._classes = _function_classes(self.role)
         self._next_start = _start_pattern(self.role)
         self._scan: _Scan | None = None
+        self._open: list[int] | None = None  # a frame of unknown length: [bytes under the CRC, CRC so far]
 
     def _drop(self, count: int) -> None:
         super()._drop(count)
         self._scan = None
+        self._open = None
 
     def reset(self) -> None:
         super().reset()
         self._scan = None
+        self._open = None
+
+    def _open_end(self) -> int | None:
+        """The length of the frame of unknown length at the start of the buffer: where the CRC of the
+        bytes before two bytes equals those two bytes; None while no such place has come; -1 when none
+        came within the longest such frame (the start was junk)."""
+        buf = self._buffer
+        state = self._open
+        if state is None:
+            state = self._open = [0, 0xFFFF]
+        k, register = state
+        table = CRC_TABLE
+        longest = RTU_MAX_FRAME if buf[1] in self._classes else UNKNOWN_FUNCTION_MAX_FRAME
+        limit = min(len(buf), longest) - 2
+        while k < limit:
+            register = (register >> 8) ^ table[(register ^ buf[k]) & 0xFF]
+            k += 1
+            if k >= 2 and register == buf[k] | buf[k + 1] << 8:
+                self._open = None
+                return k + 2
+        if len(buf) >= longest:
+            return -1  # no CRC checked out within the longest such frame: this start was junk
+        state[0], state[1] = k, register
+        return None
 
     def _frame_length(self, start: int) -> int | None:
         """Expected frame length at ``start``: an int, None (need more bytes) or -1 (cannot be a frame)."""
@@ -757,8 +798,8 @@ class RtuSplitter(_Splitter):
         if len(buf) - start < 2:
             return None
         cls = self._classes.get(buf[start + 1])
-        if cls is None:
-            return -1
+        if cls is None:  # a function this library does not implement (1..127; above are exceptions)
+            return _OPEN if self.open_ended and 0 < buf[start + 1] < 0x80 else -1
         # the function's class reads the length from the first bytes it needs (FC 23: byte count at 9; an
         # FC 43 response: its object headers) and tests the byte count before the CRC is computed
         head = bytes(buf[start + 1 : start + 1 + cls.length_prefix()])
@@ -768,7 +809,9 @@ class RtuSplitter(_Splitter):
             return -1
         if size is None:
             return None
-        if not 1 <= size <= _pdu.MAX_PDU_SIZE or not cls.plausible(head):
+        if size == _pdu.OPEN_LENGTH:
+            return _OPEN
+        if not 1 <= size <= _pdu.MAX_PDU_SIZE or not (self.open_ended or cls.plausible(head)):
             return -1
         return 1 + size + 2
 
@@ -792,6 +835,17 @@ class RtuSplitter(_Splitter):
                     self._drop(1)
                 continue
             total = self._frame_length(0)
+            if total == _OPEN:
+                end = self._open_end()
+                if end is None and not final:
+                    break  # its end has not come yet
+                if end is None or end < 0:
+                    self._drop(1)  # no CRC within a frame's length: this start was not a frame
+                    continue
+                frames.append(bytes(buf[:end]))
+                del buf[:end]
+                self._scan = None
+                continue
             if total is None or (total > 0 and total > len(buf)):
                 later = self._complete_frame_after(0)
                 if later is not None:  # what we wait for is junk: a whole frame stands behind it
@@ -986,10 +1040,12 @@ class TcpSplitter(_Splitter):
 _SPLITTERS: dict[str, type] = {"rtu": RtuSplitter, "ascii": AsciiSplitter, "tcp": TcpSplitter}
 
 
-def splitter_for(mode: str, role: str = "request") -> RtuSplitter | AsciiSplitter | TcpSplitter:
-    """A fresh splitter for a mode (``role`` matters to RTU only, which cuts by expected length)."""
+def splitter_for(mode: str, role: str = "request", open_ended: bool = False
+                 ) -> RtuSplitter | AsciiSplitter | TcpSplitter:
+    """A fresh splitter for a mode (``role`` and ``open_ended`` matter to RTU only, which cuts by expected
+    length; see :class:`RtuSplitter`)."""
     mode = _check_mode(mode)
     if mode == "rtu":
-        return RtuSplitter(role)
+        return RtuSplitter(role, open_ended)
     _pdu._check_role(role)
     return _SPLITTERS[mode]()

@@ -47,6 +47,7 @@ from ..clock import Clock, RealClock
 from ..codes import MBAP_HEADER_SIZE
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpSplitter, splitter_for
+from ..pdu import REQUEST_CLASSES
 from .base import Link
 from .routing import (  # noqa: F401 (routing's names, re-exported where they were first defined)
     DIRECT_UNITS,
@@ -76,6 +77,14 @@ FRAMINGS = ("tcp", "rtu", "ascii")
 _RECV_SIZE = 65536
 #: Stop reading from a client whose unsent responses pile up beyond this (it does not read its socket).
 _MAX_PENDING_OUTPUT = 64 * 1024
+#: The most bytes one read takes from a client: with :data:`_MAX_QUEUED`, what a connection may hold.
+_READ_SIZE = 4096
+#: RTU over TCP reads less at a time: junk costs the RTU splitter more per byte (it looks for a CRC).
+_SERIAL_READ_SIZE = 512
+#: Stop reading from a client with this many whole requests waiting for their turn (it pipelines).
+_MAX_QUEUED = 16
+#: RTU/ASCII over TCP: bytes that never become a frame before a connection is closed as not Modbus.
+_MAX_JUNK = 1024
 
 _log = logging.getLogger("modbus_edu.tcp")
 
@@ -103,7 +112,10 @@ class TcpServerCounters:
     server with several slaves), answered with exception 0x0B;
     ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence;
     ``slow_closed``  connections closed because a request did not complete within ``request_timeout``
-    seconds of its first byte;  ``evicted``  idle connections closed to make room for a new client.
+    seconds of its first byte;  ``evicted``  idle connections closed to make room for a new client;
+    ``held_back``  times a connection was not read because its unanswered input or unsent output was
+    at its bound (a client that pipelines without reading);  ``late_replies``  answers of an
+    asynchronous slave (a gateway) that came after their connection had gone, and were dropped.
     """
 
     connections: int = 0
@@ -114,6 +126,8 @@ class TcpServerCounters:
     idle_closed: int = 0
     slow_closed: int = 0
     evicted: int = 0
+    held_back: int = 0
+    late_replies: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -122,19 +136,23 @@ class TcpServerCounters:
 class _Connection:
     """One accepted client: its socket, what it sent that is not yet a whole frame, what we owe it."""
 
-    __slots__ = ("sock", "peer", "inbuf", "outbuf", "last_activity", "partial_since", "events", "splitter",
-                 "frames")
+    __slots__ = ("sock", "fd", "peer", "outbuf", "last_activity", "last_byte", "partial_since", "events",
+                 "splitter", "frames", "served", "junk_mark", "awaiting")
 
-    def __init__(self, sock: socket.socket, peer: Any, now: float) -> None:
+    def __init__(self, sock: socket.socket, peer: Any, now: float, splitter: Any) -> None:
         self.sock = sock
+        self.fd = sock.fileno()
         self.peer = peer
-        self.inbuf = bytearray()
         self.outbuf = bytearray()
         self.last_activity = now
+        self.last_byte = now
         self.partial_since: float | None = None  # when the first byte of an unfinished request came
         self.events = selectors.EVENT_READ
-        self.splitter: Any = None  # the splitter of the server's framing, made at the first request
+        self.splitter = splitter  # cuts this connection's requests out of its byte stream
         self.frames: deque[bytes] = deque()  # whole requests cut by the splitter, not yet answered
+        self.served = 0  # requests answered: a client that has never completed one is the first to go
+        self.junk_mark = 0  # the splitter's discarded count when the last whole request came
+        self.awaiting = False  # an asynchronous slave (a gateway) has this connection's request
 
 
 class TcpServer:
@@ -174,6 +192,19 @@ class TcpServer:
       idle longest is closed to make room (``evicted``), so idle clients cannot lock others out.
     * the server is fair: each turn it answers at most one request per connection, so a client that
       pipelines thousands of requests does not delay the others.
+    * every connection's input and output are bounded: the server stops reading a client that has
+      :data:`_MAX_QUEUED` whole requests waiting or :data:`_MAX_PENDING_OUTPUT` bytes of answers it
+      has not read, and reads at most :data:`_READ_SIZE` bytes at a time; TCP's flow control then
+      holds the client back.  A client that pipelines without reading costs a few kilobytes, not
+      memory without end (``held_back``).
+    * RTU and ASCII over TCP: a connection whose bytes never make a frame (:data:`_MAX_JUNK` bytes of
+      junk since its last request) is closed (``bad_frames``); an RTU frame whose length its bytes do
+      not say (an unknown function code, FC 8 Return Query Data) ends where its CRC checks out, and
+      an unfinished one ends after ``quiet_gap`` seconds without a byte (a socket has no silence of
+      3.5 characters, but a short quiet gap works the same way).
+    * when the server is full, it makes room by closing a connection that has never completed a
+      request (the oldest such), else the longest idle one: a flood of new or broken connections
+      cannot push out a client that is being served.
     * when ``accept()`` fails (out of file descriptors), the server stops accepting for a moment instead
       of spinning; refusal and failure warnings are rate-limited.
 
@@ -208,6 +239,7 @@ class TcpServer:
         request_timeout: float = 5.0,
         logger: logging.Logger | None = None,
         framing: str = "tcp",
+        quiet_gap: float = 0.03,
     ) -> None:
         self.slaves = normalize_slaves(slaves)
         if framing not in FRAMINGS:
@@ -243,7 +275,13 @@ class TcpServer:
         self.idle_timeout = idle_timeout
         self.max_connections = max_connections
         self.request_timeout = request_timeout
+        self.quiet_gap = _positive_seconds("quiet_gap", quiet_gap,
+                                           "(the pause that ends an RTU frame on TCP)")
         self.log = logger if logger is not None else _log
+        # an asynchronous slave (a gateway) answers from its own thread: submit(frame, mode, reply)
+        only = next(iter(self.slaves.values())) if len(self.slaves) == 1 else None
+        self._submit = getattr(only, "submit", None)
+        self._replies: deque[tuple[_Connection, bytes | None]] = deque()
         self.counters = TcpServerCounters()
         self.lock = threading.RLock()
         self._listener: socket.socket | None = None
@@ -364,6 +402,16 @@ class TcpServer:
         """Number of clients connected right now."""
         return len(self._connections)
 
+    @property
+    def buffered_bytes(self) -> int:
+        """Bytes the server holds for its clients right now: requests read and not yet answered (whole or
+        in part) and answers not yet sent.  Bounded per connection, whatever the clients do."""
+        return sum(len(c.outbuf) + len(c.splitter.pending) + sum(map(len, c.frames))
+                   for c in list(self._connections.values()))
+
+    #: The most :attr:`buffered_bytes` one connection can account for.
+    MAX_BUFFERED_PER_CONNECTION = _MAX_PENDING_OUTPUT + _MAX_QUEUED * 260 + 3 * _READ_SIZE
+
     def __repr__(self) -> str:
         if self.address:
             where = f"{self.address[0]}:{self.address[1]}"
@@ -415,16 +463,17 @@ class TcpServer:
                             wake_r.recv(4096)
                         except OSError:
                             pass
+                        self._deliver_replies()
                     else:
                         conn = key.data
-                        if mask & selectors.EVENT_WRITE:
+                        if mask & selectors.EVENT_WRITE and self._connections.get(conn.fd) is conn:
                             self._pump(conn)
-                        if mask & selectors.EVENT_READ and conn.sock.fileno() in self._connections:
+                        if mask & selectors.EVENT_READ and self._connections.get(conn.fd) is conn:
                             self._read(conn)
                 # one more request from each connection that has more waiting: a fair turn
                 for fd, conn in list(self._backlog.items()):
                     del self._backlog[fd]
-                    if fd in self._connections:
+                    if self._connections.get(fd) is conn:
                         self._pump(conn)
                 self._expire()
         except Exception:  # pragma: no cover - a bug: log it rather than die silently
@@ -433,12 +482,15 @@ class TcpServer:
             self._cleanup()
 
     def _deadlines(self, conn: _Connection) -> float:
-        """When ``conn`` must be closed if nothing changes: idle timeout or unfinished request."""
+        """When something must happen to ``conn`` if nothing changes: its idle timeout, its unfinished
+        request's deadline, or (RTU over TCP) the quiet gap that ends an unfinished frame."""
         due = float("inf")
-        if self.idle_timeout is not None:
+        if self.idle_timeout is not None and not conn.awaiting:
             due = conn.last_activity + self.idle_timeout
         if conn.partial_since is not None:
             due = min(due, conn.partial_since + self.request_timeout)
+            if self.framing == "rtu":
+                due = min(due, conn.last_byte + self.quiet_gap)
         return due
 
     def _next_deadline(self) -> float | None:
@@ -456,7 +508,13 @@ class TcpServer:
             if self._selector is not None and self._listener is not None:
                 self._selector.register(self._listener, selectors.EVENT_READ, None)
         for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
-            if conn.partial_since is not None and now >= conn.partial_since + self.request_timeout:
+            if (self.framing == "rtu" and conn.partial_since is not None
+                    and now >= conn.last_byte + self.quiet_gap):
+                # a quiet gap: what has come is all there is of this frame (a socket's silence)
+                conn.frames.extend(conn.splitter.flush())
+                conn.partial_since = None
+                self._pump(conn)
+            elif conn.partial_since is not None and now >= conn.partial_since + self.request_timeout:
                 self.counters.slow_closed += 1
                 self._drop(conn, f"a request did not arrive whole within {self.request_timeout:g} s")
             else:
@@ -490,25 +548,36 @@ class TcpServer:
                 self._warn("accept", "accept failed: %s; pausing %.2f s", exc, self._accept_backoff)
                 return
             if len(self._connections) >= self.max_connections:
-                oldest = min(self._connections.values(), key=lambda c: c.last_activity)
+                # room for the newcomer: first a connection that never completed a request, then the
+                # longest idle one, so that a flood of new or broken connections cannot push out clients
+                # that are being served
+                oldest = min(self._connections.values(), key=lambda c: (c.served > 0, c.last_activity))
                 self.counters.evicted += 1
                 self._warn("evict", "client %s connects with %d connections open (max_connections=%d): "
-                           "closing the longest idle, %s", peer, len(self._connections),
-                           self.max_connections, oldest.peer)
-                self._drop(oldest, "closed to make room for a new client (longest idle)")
+                           "closing %s", peer, len(self._connections), self.max_connections, oldest.peer)
+                self._drop(oldest, "closed to make room for a new client")
             sock.setblocking(False)
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            conn = _Connection(sock, peer, time.monotonic())
+            conn = _Connection(sock, peer, time.monotonic(), self._splitter())
             self._connections[sock.fileno()] = conn
             self._selector.register(sock, selectors.EVENT_READ, conn)
             self.counters.connections += 1
             self.log.debug("client %s connected", peer)
 
+    def _splitter(self) -> Any:
+        """A new connection's splitter: Modbus/TCP by the MBAP length (strict: a bad header ends the
+        connection), RTU by length, CRC and quiet gap (open-ended: every byte is meant as Modbus), ASCII
+        by its delimiters."""
+        if self.framing == "tcp":
+            return TcpSplitter(strict=True)
+        return splitter_for(self.framing, "request", open_ended=True)
+
     def _drop(self, conn: _Connection, reason: str | None) -> None:
-        fd = conn.sock.fileno()
-        if self._connections.pop(fd, None) is None:
+        if self._connections.get(conn.fd) is not conn:
             return
-        if self._selector is not None:
+        del self._connections[conn.fd]
+        self._backlog.pop(conn.fd, None)
+        if self._selector is not None and conn.events:
             try:
                 self._selector.unregister(conn.sock)
             except (KeyError, ValueError):  # pragma: no cover
@@ -518,13 +587,21 @@ class TcpServer:
             self.log.info("closed connection from %s: %s", conn.peer, reason)
 
     def _set_events(self, conn: _Connection, events: int) -> None:
-        if conn.events != events and self._selector is not None:
-            conn.events = events
-            self._selector.modify(conn.sock, events, conn)
+        """Watch ``conn`` for ``events`` (0: not at all, while it waits its turn with nothing to send)."""
+        selector = self._selector
+        if conn.events == events or selector is None:
+            return
+        if not events:
+            selector.unregister(conn.sock)
+        elif not conn.events:
+            selector.register(conn.sock, events, conn)
+        else:
+            selector.modify(conn.sock, events, conn)
+        conn.events = events
 
     def _read(self, conn: _Connection) -> None:
         try:
-            data = conn.sock.recv(_RECV_SIZE)
+            data = conn.sock.recv(_READ_SIZE if self.framing == "tcp" else _SERIAL_READ_SIZE)
         except (BlockingIOError, InterruptedError):
             return
         except OSError as exc:
@@ -533,58 +610,57 @@ class TcpServer:
         if not data:
             self._drop(conn, None)  # the client closed its end: an ordinary goodbye
             return
-        conn.last_activity = time.monotonic()
-        conn.inbuf += data
+        conn.last_activity = conn.last_byte = time.monotonic()
+        conn.frames.extend(conn.splitter.feed(data))
         self._pump(conn)
 
     def _pump(self, conn: _Connection) -> None:
         """Answer one request that has arrived and send what is owed; queue the connection for the next
-        turn if another complete request is waiting.
+        turn if another complete request is waiting; read it again only while it is within its bounds.
 
-        A client that sends requests without reading the answers fills our output buffer; past
-        ``_MAX_PENDING_OUTPUT`` bytes the server stops answering (and reading) that client until it
-        reads, so that no client can make the server buffer without end.
+        A client that sends requests without reading the answers fills our output buffer, and one that
+        pipelines fills the queue of requests: past ``_MAX_PENDING_OUTPUT`` bytes or ``_MAX_QUEUED``
+        requests the server stops reading that client until it has caught up, so that no client can
+        make the server buffer without end.
         """
         if not self._process(conn) or not self._send(conn):
             return
-        if not conn.outbuf:
-            self._set_events(conn, selectors.EVENT_READ)
-        elif len(conn.outbuf) >= _MAX_PENDING_OUTPUT:
-            self._set_events(conn, selectors.EVENT_WRITE)
-        else:
-            self._set_events(conn, selectors.EVENT_WRITE | selectors.EVENT_READ)
-        if len(conn.outbuf) < _MAX_PENDING_OUTPUT and self._has_request(conn):
-            self._backlog[conn.sock.fileno()] = conn
-
-    def _has_request(self, conn: _Connection) -> bool:
-        """Whether a whole request (or a stream that cannot be framed) is waiting on ``conn``."""
-        return bool(conn.frames or conn.splitter is not None and conn.splitter.error)
+        full = len(conn.outbuf) >= _MAX_PENDING_OUTPUT or len(conn.frames) >= _MAX_QUEUED
+        if full and conn.events & selectors.EVENT_READ:
+            self.counters.held_back += 1
+        events = (0 if full else selectors.EVENT_READ) | (selectors.EVENT_WRITE if conn.outbuf else 0)
+        self._set_events(conn, events)
+        waiting = conn.frames or conn.splitter.error or conn.splitter.discarded - conn.junk_mark > _MAX_JUNK
+        if waiting and not conn.awaiting and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
+            self._backlog[conn.fd] = conn
 
     def _process(self, conn: _Connection) -> bool:
-        """Answer the first complete request, if there is one and the backlog allows.
+        """Answer the first complete request, if there is one and the connection's bounds allow.
 
-        The splitter of the framing cuts the requests (Modbus/TCP by the MBAP length, RTU by length and
-        CRC: a socket has no silence, ASCII by its delimiters).  Returns False if the connection was
-        closed because its bytes are not Modbus/TCP.
+        The connection's splitter has cut the requests (Modbus/TCP by the MBAP length, RTU by length and
+        CRC, ASCII by its delimiters).  Returns False if the connection was closed because its bytes are
+        not Modbus.
         """
         splitter = conn.splitter
-        if splitter is None:
-            splitter = conn.splitter = (TcpSplitter(strict=True) if self.framing == "tcp"
-                                        else splitter_for(self.framing, "request"))
-        if conn.inbuf:
-            conn.frames.extend(splitter.feed(bytes(conn.inbuf)))
-            conn.inbuf.clear()
-        if len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-            if conn.frames:
-                frame = conn.frames.popleft()
+        if conn.frames and not conn.awaiting and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
+            frame = conn.frames.popleft()
+            conn.served += 1
+            if self._implemented(frame):  # junk that happens to pass a CRC check does not count
+                conn.junk_mark = splitter.discarded
+            if self._submit is not None:
+                self._hand_over(conn, frame)
+            else:
                 reply = self._dispatch(frame) if self.framing == "tcp" else self._dispatch_serial(frame)
                 if reply:
                     conn.outbuf += reply
-            elif splitter.error:  # a header that is not Modbus/TCP: no later frame can be found
-                self.counters.bad_frames += 1
-                if self._send(conn):  # the answers to the good frames before it, as far as they go
-                    self._drop(conn, f"not Modbus/TCP: {splitter.error}")
-                return False
+        elif not conn.frames and (splitter.error or splitter.discarded - conn.junk_mark > _MAX_JUNK):
+            # a header that is not Modbus/TCP, or a stream of bytes that never make a frame
+            self.counters.bad_frames += 1
+            junk = splitter.discarded - conn.junk_mark
+            why = splitter.error or f"{junk} bytes that make no {self.framing.upper()} frame"
+            if self._send(conn):  # the answers to the good frames before it, as far as they go
+                self._drop(conn, f"not Modbus: {why}")
+            return False
         # a request under way (bytes of it, not all) starts its clock; a finished one stops it
         if splitter.pending and not conn.frames:
             if conn.partial_since is None:
@@ -592,6 +668,51 @@ class TcpServer:
         else:
             conn.partial_since = None
         return True
+
+    def _implemented(self, frame: bytes) -> bool:
+        """Whether a request's function code is one the library implements (RTU and ASCII over TCP: one
+        in a thousand junk bytes starts something whose CRC checks out, with an unknown function)."""
+        if self.framing == "tcp":
+            return True
+        try:
+            function = frame[1] if self.framing == "rtu" else int(frame[3:5], 16)
+        except ValueError:
+            return False
+        return function in REQUEST_CLASSES
+
+    # ---------------------------------------------------------------- asynchronous slaves (a gateway)
+    def _hand_over(self, conn: _Connection, frame: bytes) -> None:
+        """Give ``frame`` to the asynchronous slave; its reply comes back through :meth:`_reply_later`,
+        from whatever thread it likes.  The connection's next request waits for it (answers keep the
+        order of their requests)."""
+        self.counters.requests += 1
+        conn.awaiting = True
+
+        def reply(data: bytes | None) -> None:
+            self._replies.append((conn, data))
+            self._wake()
+
+        try:
+            self._submit(frame, self.framing, reply)
+        except Exception:
+            self.log.exception("asynchronous slave failed on request %s", frame.hex(" "))
+            conn.awaiting = False
+            if self.framing == "tcp":
+                conn.outbuf += exception_reply(frame, SERVER_DEVICE_FAILURE) or b""
+
+    def _deliver_replies(self) -> None:
+        """Hand the asynchronous slave's answers to their connections (dropped if the client has gone)."""
+        while self._replies:
+            conn, data = self._replies.popleft()
+            if self._connections.get(conn.fd) is not conn:
+                self.counters.late_replies += 1
+                continue
+            conn.awaiting = False
+            conn.last_activity = time.monotonic()
+            if data:
+                self.counters.responses += 1
+                conn.outbuf += data
+            self._pump(conn)
 
     def _dispatch_serial(self, frame: bytes) -> bytes | None:
         """One RTU/ASCII request to the slave(s) it is for: a broadcast (unit 0) reaches all and is not

@@ -40,6 +40,7 @@ from .base import (
     MAX_READ_WRITE_REGISTERS,
     MAX_WRITE_COILS,
     MAX_WRITE_REGISTERS,
+    OPEN_LENGTH,
     REQUEST_CLASSES,
     RESPONSE_CLASSES,
     Field,
@@ -118,6 +119,7 @@ from .registers import (
 
 __all__ = [
     "MAX_PDU_SIZE",
+    "OPEN_LENGTH",
     "ROLES",
     "SERIAL_LINE_ONLY",
     "ExceptionCode",

@@ -49,6 +49,11 @@ MAX_READ_WRITE_REGISTERS = 121
 """Read/Write Multiple Registers (FC 23): 1 to 121 registers written per request (0x79)."""
 
 
+#: What :meth:`Pdu.length_from` returns when a PDU's bytes do not say its length (FC 8 Return Query Data
+#: echoes data of any length): a receiver then ends the frame by its checksum or by silence.
+OPEN_LENGTH = 0
+
+
 @dataclass(frozen=True)
 class Field:
     """One field of a PDU, for dissection tables: where it is, its bytes, its name, value and meaning."""
@@ -211,7 +216,8 @@ class Pdu:
 
     @classmethod
     def length_from(cls, data: bytes) -> int | None:
-        """This PDU's total length, read from its first bytes (function code first); None: more needed.
+        """This PDU's total length, read from its first bytes (function code first); None: more needed;
+        :data:`OPEN_LENGTH`: the bytes do not say (only the frame's end does: a CRC, a silence).
 
         Every class has its rule: a fixed size, or a byte count plus what precedes it.  The splitters
         and :func:`pdu_length` ask it, so a receiver finds the end of a frame without silence on the line.
@@ -475,7 +481,8 @@ def pdu_length(data: bytes, role: str) -> int | None:
     if isinstance(data, (bytes, bytearray, memoryview)) and not len(data):
         return None
     data = _pdu_bytes(data, 0)
-    return pdu_class(data[0], role).length_from(data)
+    size = pdu_class(data[0], role).length_from(data)
+    return None if size == OPEN_LENGTH else size
 
 
 def _count_echo_misfit(request: Any, response: Any) -> str:

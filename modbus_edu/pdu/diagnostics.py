@@ -21,6 +21,7 @@ from ..errors import (
     shown,
 )
 from .base import (
+    OPEN_LENGTH,
     Field,
     Pdu,
     _check_int,
@@ -192,7 +193,18 @@ class _Diagnostics(Pdu):
     data: bytes = b"\x00\x00"
 
     function_code: ClassVar[int] = 0x08
-    fixed_size: ClassVar[int | None] = 5  # one data word: what nearly every diagnostics PDU carries
+
+    @classmethod
+    def length_from(cls, data: bytes) -> int | None:
+        """One data word (5 bytes) for every sub-function but Return Query Data (0x0000), which echoes
+        data of any length: its PDU does not say where it ends (:data:`OPEN_LENGTH`)."""
+        if len(data) < 3:
+            return None
+        return OPEN_LENGTH if data[1] == 0 and data[2] == 0 else 5
+
+    @classmethod
+    def length_prefix(cls) -> int:
+        return 3
 
     def __post_init__(self) -> None:
         try:
