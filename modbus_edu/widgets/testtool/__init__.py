@@ -5,13 +5,13 @@
 * :mod:`.connection` -- loopback partner, serial port or TCP; polling (master) and answering (slave);
 * :mod:`.grid` -- the data grid of the chosen function's table, writes, dummy data;
 * :mod:`.traffic` -- counters, TX/RX lamps, the TX and RX logs;
-* :mod:`.config` -- every setting as a dict or JSON file;
+* :mod:`.config` -- every setting (:class:`TestToolSettings`) as a dict or JSON file;
 * :mod:`.controls` -- the roles, option lists and small control factories they share.
 """
 
 from __future__ import annotations
 
-from .controls import ROLES, Role
+from .controls import ROLES, Role, TestToolSettings
 from .panel import TestTool
 
-__all__ = ["TestTool", "ROLES", "Role"]
+__all__ = ["TestTool", "TestToolSettings", "ROLES", "Role"]
