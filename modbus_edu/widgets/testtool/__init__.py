@@ -1,4 +1,7 @@
-"""TestTool: source 000's Modbus test tool rebuilt as a notebook panel, one module per part.
+"""TestTool: the robot test-tool paper's Modbus test tool rebuilt as a notebook panel, one module per part.
+
+The paper: S. Chakraborty, P. S. Aithal, "Demonstration of Modbus Protocol for Robot Communication Using C#",
+IJAEML 5(2), 2021.
 
 * :mod:`.panel` -- the :class:`TestTool` widget: its controls and their layout in tabs
   (connection / data / traffic / settings), the role and what it shows;

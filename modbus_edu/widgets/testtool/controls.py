@@ -20,7 +20,7 @@ __all__ = ["Role", "ROLES", "ROLE_OPTIONS", "FUNCTION_OPTIONS", "BAUD_RATES", "F
 
 @dataclass(frozen=True)
 class Role:
-    """One of the four roles of source 000's tool."""
+    """One of the four roles of the robot test-tool paper's tool."""
 
     key: str
     title: str

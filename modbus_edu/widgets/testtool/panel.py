@@ -1,4 +1,4 @@
-"""TestTool, the panel: source 000's Modbus test tool rebuilt as a notebook panel.
+"""TestTool, the panel: the robot test-tool paper's Modbus test tool rebuilt as a notebook panel.
 
 One panel is an RTU master, an RTU slave, a TCP client or a TCP server.  Two panels in one notebook
 talk to each other over an in-process loopback wire (:func:`modbus_edu.links.loopback_serial` or
@@ -50,7 +50,8 @@ __all__ = ["TestTool"]
 
 
 class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin, W.VBox):
-    """Source 000's Modbus test tool in a notebook: RTU master, RTU slave, TCP client or TCP server.
+    """The robot test-tool paper's Modbus test tool in a notebook: RTU master, RTU slave, TCP client or TCP
+    server.
 
     **Connection.**  A *loopback partner* (another TestTool in the same notebook: ``TestTool(...,
     partner=other)`` or ``tool.connect(other)``) puts both on an in-process wire that runs on a
