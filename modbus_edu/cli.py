@@ -793,23 +793,45 @@ def build_parser() -> argparse.ArgumentParser:
                         help="show the traffic (crc/lrc: the calculation step by step)")
     parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     subs = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for add, command in (
+        (_options_crc, cmd_crc),
+        (_options_lrc, cmd_lrc),
+        (_options_decode, cmd_decode),
+        (_options_build, cmd_build),
+        (_options_serve, cmd_serve),
+        (_options_poll, cmd_poll),
+        (_options_identify, cmd_identify),
+        (_options_gateway, cmd_gateway),
+        (_options_scan, cmd_scan),
+    ):
+        sub = add(subs)
+        _common(sub)
+        sub.set_defaults(func=command)
+    return parser
 
+
+def _options_crc(subs: Any) -> argparse.ArgumentParser:
+    """The ``crc`` subcommand's options."""
     p = subs.add_parser("crc", help="CRC-16/MODBUS of bytes given in hex",
                         description="The CRC-16/MODBUS of some bytes, and its two bytes in wire order "
                                     "(low byte first). Example: modbus-edu crc 01 03 00 00 00 01")
     p.add_argument("hex", nargs="+", metavar="HEX", help="the bytes, e.g. 01 03 00 00 00 01 or 010300000001")
     p.add_argument("--text", action="store_true",
                    help="take the arguments as ASCII text (crc --text 123456789)")
-    _common(p)
-    p.set_defaults(func=cmd_crc)
+    return p
 
+
+def _options_lrc(subs: Any) -> argparse.ArgumentParser:
+    """The ``lrc`` subcommand's options."""
     p = subs.add_parser("lrc", help="LRC (Modbus ASCII) of bytes given in hex",
                         description="The LRC of some bytes (unit, function code, data), as Modbus ASCII "
                                     "sends it. Example: modbus-edu lrc 05 06 10 01 02 00")
     p.add_argument("hex", nargs="+", metavar="HEX", help="the bytes, e.g. 05 06 10 01 02 00")
-    _common(p)
-    p.set_defaults(func=cmd_lrc)
+    return p
 
+
+def _options_decode(subs: Any) -> argparse.ArgumentParser:
+    """The ``decode`` subcommand's options."""
     p = subs.add_parser("decode", help="dissect a frame field by field",
                         description="Dissect an RTU, ASCII or TCP frame: every byte, its field, value and "
                                     "meaning. Exit status 1 when the frame is not valid (the table shows "
@@ -822,9 +844,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--role", choices=["request", "response", "auto"], default="auto",
                    help="request or response (default: auto, whichever decodes)")
     p.add_argument("--json", action="store_true", help="print the dissection as JSON")
-    _common(p)
-    p.set_defaults(func=cmd_decode)
+    return p
 
+
+def _options_build(subs: Any) -> argparse.ArgumentParser:
+    """The ``build`` subcommand's options."""
     p = subs.add_parser("build", help="build a frame from its fields",
                         description="Build a request (or, with --role response, a response) and print it "
                                     "in hex with its dissection. Example: modbus-edu build --mode rtu "
@@ -845,9 +869,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="with --role response: an exception response, code 1..255")
     p.add_argument("--transaction-id", default="1", help="TCP transaction identifier (default 1)")
     p.add_argument("--json", action="store_true", help="print the frame and its dissection as JSON")
-    _common(p)
-    p.set_defaults(func=cmd_build)
+    return p
 
+
+def _options_serve(subs: Any) -> argparse.ArgumentParser:
+    """The ``serve`` subcommand's options."""
     p = subs.add_parser("serve", help="serve a simulated device until Ctrl-C",
                         description="Serve a simulated device on Modbus/TCP (default 127.0.0.1:5020) or on a "
                                     "serial port, until Ctrl-C. Devices: meter (the power-meter paper's "
@@ -862,9 +888,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="seed of the simulated values (default 0)")
     p.add_argument("--fill", choices=["zero", "increment", "random"], default="increment",
                    help="bank: registers 0..999 of both register tables (default increment: 0, 1, 2, ...)")
-    _common(p)
-    p.set_defaults(func=cmd_serve)
+    return p
 
+
+def _options_poll(subs: Any) -> argparse.ArgumentParser:
+    """The ``poll`` subcommand's options."""
     p = subs.add_parser("poll", help="read a real device repeatedly",
                         description="Read a device again and again (until Ctrl-C, or --polls times), print "
                                     "the values and running statistics, and log to CSV if asked. Example: "
@@ -882,9 +910,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="hex, binary, unsigned, signed, ascii_char, ascii_value, or a wide type such as "
                         "int32_ABCD, uint32_CDAB, float32_ABCD, float64_DCBA (default unsigned)")
     p.add_argument("--csv", metavar="FILE", help="also write every poll to this CSV file")
-    _common(p)
-    p.set_defaults(func=cmd_poll)
+    return p
 
+
+def _options_identify(subs: Any) -> argparse.ArgumentParser:
+    """The ``identify`` subcommand's options."""
     p = subs.add_parser("identify", help="ask a device what it is (FC 43/14, else FC 17)",
                         description="Ask a device for its identification: Read Device Identification (FC "
                                     "43 with MEI type 14), all the objects it has, and where the device does "
@@ -893,9 +923,11 @@ def build_parser() -> argparse.ArgumentParser:
     _wire_options(p, serve=False)
     p.add_argument("--unit", default="1", help="unit identifier / slave address (default 1)")
     p.add_argument("--timeout", type=float, default=1.0, help="response timeout, seconds (default 1)")
-    _common(p)
-    p.set_defaults(func=cmd_identify)
+    return p
 
+
+def _options_gateway(subs: Any) -> argparse.ArgumentParser:
+    """The ``gateway`` subcommand's options."""
     p = subs.add_parser("gateway", help="Modbus/TCP in front of a serial bus",
                         description="Serve Modbus/TCP and forward each request to the serial slave of its "
                                     "unit id; 0x0B when it stays silent, 0x0A for unit 0 or 248-255. "
@@ -903,9 +935,11 @@ def build_parser() -> argparse.ArgumentParser:
                                     "--baud 19200 --parity E")
     _wire_options(p, serve=False)
     p.add_argument("--timeout", type=float, default=0.5, help="wait for a slave, seconds (default 0.5)")
-    _common(p)
-    p.set_defaults(func=cmd_gateway)
+    return p
 
+
+def _options_scan(subs: Any) -> argparse.ArgumentParser:
+    """The ``scan`` subcommand's options."""
     p = subs.add_parser("scan", help="find who answers on a bus (unit ids, baud rates, parities)",
                         description="Ask every unit id (read holding register 0) and report who answers, "
                                     "with a progress bar, within a time budget. Example: modbus-edu scan "
@@ -916,9 +950,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--parities", help="serial parities to try, e.g. N,E (default --parity)")
     p.add_argument("--timeout", type=float, default=0.1, help="wait per question, seconds (default 0.1)")
     p.add_argument("--budget", type=float, default=120.0, help="stop after this many seconds (default 120)")
-    _common(p)
-    p.set_defaults(func=cmd_scan)
-    return parser
+    return p
 
 
 def _version() -> str:

@@ -15,7 +15,7 @@ is sent as ``37 4B``.
 
 The table method does the eight shift/XOR steps of a byte in one look-up: the entry for index *i* is
 what eight steps do to the value *i*.  256 entries of 16 bits (512 bytes of memory) buy roughly eight
-times fewer operations per byte, the trade-off that source 000 describes.
+times fewer operations per byte, the trade-off that the robot test-tool paper describes.
 
 LRC
 ---

@@ -23,8 +23,8 @@ why :meth:`Table.write` works on every table from Python.
 
 :class:`DataBank` holds the four tables.  A **dense** bank (the default) has all 65 536 addresses of each
 table, zeroed, like a device that answers every address.  A **sparse** bank has only the addresses you
-declare, like the Arduino slave library of source 002 (``regBank.add(40001)``); a request that touches
-an undeclared address makes the slave answer exception 02, *illegal data address*.
+declare, like the Arduino library of the Arduino slave paper (``regBank.add(40001)``); a request that
+touches an undeclared address makes the slave answer exception 02, *illegal data address*.
 
 Reference numbers
 -----------------
@@ -238,7 +238,8 @@ class Table:
     def declare(self, address: int, count: int = 1, value: Any = 0) -> None:
         """Make ``count`` addresses from ``address`` exist, and set them to ``value``.
 
-        This is ``regBank.add()`` followed by ``regBank.set()`` in source 002's Arduino library.
+        This is ``regBank.add()`` followed by ``regBank.set()`` in the Arduino library of the Arduino slave
+        paper.
         ``value`` is one value for all of them, or a sequence of ``count`` values.  On a dense table
         every address already exists, so ``declare`` only sets the values.
         """
@@ -522,7 +523,7 @@ class DataBank:
     :meth:`add` exist, and touching any other one raises
     :class:`~modbus_edu.errors.IllegalAddressError` (the slave answers exception 02).
 
-    Reference numbers work as in source 002's ``regBank``::
+    Reference numbers work as in the Arduino slave paper's ``regBank``::
 
         bank = DataBank(sparse=True)
         bank.add(40001)          # holding register address 0

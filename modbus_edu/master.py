@@ -89,7 +89,7 @@ __all__ = ["Master", "MasterStats", "Verdict", "classify_response"]
 
 @dataclass
 class MasterStats:
-    """A master's statistics (the counters of source 000's test tool, and a few more).
+    """A master's statistics (the counters of the robot test-tool paper's tool, and a few more).
 
     ``requests``         frames sent (each retry counts)
     ``valid_responses``  normal responses that fit their request
@@ -455,7 +455,7 @@ class Master:
         return list(response.registers)  # type: ignore[attr-defined]
 
     def read_once(self, function: int, unit: int, address: int, count: int) -> list:
-        """One read with function 1, 2, 3 or 4 (source 000's "read once" button)."""
+        """One read with function 1, 2, 3 or 4 (the robot test-tool paper's "read once" button)."""
         if function not in _READS:
             raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {function!r}")
         return self._read(function, unit, address, count)

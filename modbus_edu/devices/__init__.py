@@ -3,8 +3,8 @@
 A device is a :class:`~modbus_edu.slave.Slave` with a register map of its own, so it goes wherever a
 slave goes (a loopback wire, a TCP server, ``modbus-edu serve``):
 
-* :class:`PowerMeter` -- the three-phase meter of source 003 (Table 5's map, Table 6's two trials);
-* :class:`ArduinoSlave` -- the Arduino Uno slave of source 002 (a sparse bank declared with
+* :class:`PowerMeter` -- the three-phase meter of the power-meter paper (Table 5's map, Table 6's two trials);
+* :class:`ArduinoSlave` -- the Arduino Uno slave of the Arduino slave paper (a sparse bank declared with
   reference numbers, potentiometers, switches, LEDs, and a main loop that can be too slow).
 
 :mod:`modbus_edu.devices.generators` holds seeded, clock-driven data sources (ramp, sine, noise,

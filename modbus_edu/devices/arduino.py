@@ -1,4 +1,6 @@
-"""The Arduino Uno slave of source 002: a sparse register bank, simulated inputs, and a main loop.
+"""The Arduino Uno slave of the Arduino slave paper: a sparse register bank, simulated inputs, a main loop.
+
+The paper: J. D. S. Simões, A. M. Fernandes, E. A. R. de Seabra, "Use Arduino as a Modbus slave over RTU".
 
 Source 002 turns an Arduino Uno into a Modbus RTU slave with a library whose register bank is
 declared element by element, with reference numbers: ``regBank.add(40001)`` makes holding register
@@ -8,7 +10,7 @@ slave id, baud rate, parity and stop bits are configurable and all eight everyda
 (1, 2, 3, 4, 5, 6, 15, 16) work.  Potentiometers, switches and LEDs stand for real sensors and
 actuators.  :class:`ArduinoSlave` is that board, in Python.
 
-The main loop, and 002's finding
+The main loop, and the Arduino slave paper's finding
 --------------------------------
 An Arduino runs one ``loop()`` over and over.  The Modbus library only looks at the serial buffer
 when ``loop()`` calls it, once per turn.  A request that arrives while the rest of the loop body runs
@@ -101,7 +103,7 @@ LOOP_COUNTER = "30010"
 THRESHOLD = "40001"
 LCD = "40002"
 
-#: The course's parameters for 002's experiment (see :func:`loop_time_experiment`).
+#: The course's parameters for the Arduino slave paper's experiment (see :func:`loop_time_experiment`).
 SLOW_LOOP = 1.65
 """A sketch with ``delay(1500)`` and ~150 ms of sensor and LCD work: about 60% answered in 1 s."""
 FAST_LOOP = 0.01
@@ -143,13 +145,13 @@ def reply_time(byte_count: int, baudrate: int = 9600, parity: str = "N", stopbit
 
 
 class ArduinoSlave(Slave):
-    """Source 002's Arduino Uno slave: ``ArduinoSlave(unit=1, baudrate=9600, parity="N", stopbits=1,
-    loop_time=0.0, seed=0)``.
+    """The Arduino slave paper's Arduino Uno slave: ``ArduinoSlave(unit=1, baudrate=9600, parity="N",
+    stopbits=1, loop_time=0.0, seed=0)``.
 
     A :class:`~modbus_edu.slave.Slave` with a **sparse** bank declared by reference numbers
-    (:meth:`add`, :meth:`set`, :meth:`get`, as 002's ``regBank``), the default sketch of the module
-    docstring (``sketch=False`` for an empty bank), simulated potentiometers and switches (seeded by
-    ``seed``; ``simulate_inputs=False`` keeps whatever you ``set``), and a main loop of ``loop_time``
+    (:meth:`add`, :meth:`set`, :meth:`get`, as the Arduino slave paper's ``regBank``), the default sketch of
+    the module docstring (``sketch=False`` for an empty bank), simulated potentiometers and switches (seeded
+    by ``seed``; ``simulate_inputs=False`` keeps whatever you ``set``), and a main loop of ``loop_time``
     seconds (``jitter``: each loop lasts ``loop_time x (1 +- jitter)``) during which requests wait.
 
     ``baudrate``, ``parity`` and ``stopbits`` are the board's settings; the wire must match them::
@@ -243,7 +245,7 @@ class ArduinoSlave(Slave):
         """
         return {"baudrate": self.baudrate, "parity": self.parity, "stopbits": self.stopbits}
 
-    # -- 002's regBank ----------------------------------------------------------------------------
+    # -- the Arduino slave paper's regBank ------------------------------------------------------------
     def add(self, reference: ReferenceLike, value: Any = 0) -> Reference:
         """Declare an element by reference number (``add(40001)``, ``add("00308")``) and set it."""
         return self.bank.add(reference, value)
@@ -369,7 +371,7 @@ class ArduinoSlave(Slave):
 
 
 # --------------------------------------------------------------------------------------------------
-# 002's experiment: response rate against loop time
+# The Arduino slave paper's experiment: response rate against loop time
 # --------------------------------------------------------------------------------------------------
 @dataclass
 class LoopTrial:
@@ -430,8 +432,8 @@ def loop_time_trial(
 
     The master reads the two potentiometers (FC 04, 30001-30002) ``requests`` times and waits
     ``timeout`` seconds for each answer.  Before each request the master empties its receive buffer
-    (as 003's master does): a reply that comes after the timeout is counted in ``late_replies`` and
-    thrown away, never taken for the answer to the next request.
+    (as the power-meter paper's master does): a reply that comes after the timeout is counted in
+    ``late_replies`` and thrown away, never taken for the answer to the next request.
 
     **When the polls go out.**  Two polls are ``period`` seconds apart plus a seeded random extra,
     uniform in ``[0, spread)``.  ``period`` defaults to the longest possible loop plus the timeout plus
@@ -499,7 +501,8 @@ def loop_time_experiment(
     seed: int = EXPERIMENT_SEED,
     **options: Any,
 ) -> list[tuple[float, float]]:
-    """002's experiment: ``[(loop_time, answered_fraction), ...]``, one :func:`loop_time_trial` each.
+    """The Arduino slave paper's experiment: ``[(loop_time, answered_fraction), ...]``, one
+    :func:`loop_time_trial` each.
 
     With the defaults (a 1.0 s timeout, 200 requests, 9600 baud 8N1, loop jitter 10%, seed 0)::
 

@@ -1,9 +1,9 @@
 """Dummy data for registers: the fill tools of a test tool's data grid, and signals that change in time.
 
-Source 000's test tool fills its data grid three ways -- *random fill*, *fill* with a start value and an
-increment, and *auto fill* with random data every second -- and wishes for sensor simulation
-(values that change incrementally or randomly) and noise on top of sensor values.  This module
-provides all of that, with two rules that make a notebook's output the same on every run:
+The robot test-tool paper's test tool fills its data grid three ways -- *random fill*, *fill* with a start
+value and an increment, and *auto fill* with random data every second -- and wishes for sensor simulation
+(values that change incrementally or randomly) and noise on top of sensor values.  This module provides all of
+that, with two rules that make a notebook's output the same on every run:
 
 * **Seeded.** Every random value comes from ``random.Random(seed)``; the same seed gives the same data.
 * **No wall clock, no threads.** A generator is a function of time, ``value(t)``; you (or a device, or
@@ -235,7 +235,8 @@ class Noise(Generator):
 
 @dataclass(frozen=True)
 class Uniform(Generator):
-    """A new random value in ``low .. high`` every ``period`` seconds (the "auto fill" of source 000).
+    """A new random value in ``low .. high`` every ``period`` seconds (the "auto fill" of the robot test-tool
+    paper).
 
     The value for period ``k = floor(t / period)`` depends only on ``seed``, ``channel`` and ``k``.
     """
@@ -318,8 +319,8 @@ class AutoFill:
     when ``now`` has crossed one or more ticks since the last write, the values of the *latest* tick
     are written once (its time is passed to the generator, so the data do not depend on how often you
     call ``update``).  ``generator`` is one :class:`Generator` (channel ``i`` for the ``i``-th
-    element) or a sequence of ``count`` generators.  :meth:`stop` and :meth:`start` are source 000's
-    "Auto Fill stop/start".
+    element) or a sequence of ``count`` generators.  :meth:`stop` and :meth:`start` are the robot test-tool
+    paper's "Auto Fill stop/start".
     """
 
     table: Table

@@ -1,4 +1,7 @@
-"""The power meter of source 003: a three-phase meter read over RS-485 with function 03.
+"""The power meter of the power-meter paper: a three-phase meter read over RS-485 with function 03.
+
+The paper: H. M. K. K. M. B. Herath, S. V. A. S. H. Ariyathunge, H. D. N. S. Priyankara, "Development of a
+Data Acquisition and Monitoring System Based on MODBUS RTU Communication Protocol", IJISRT 5(6), 2020.
 
 Source 003 reads a power measuring device on the soft-starter panel of a milling machine.  Its
 settings (Table 2): **device id 1, 19200 baud, 8 data bits, no parity, 1 stop bit** (8N1), Modbus RTU.
@@ -33,12 +36,12 @@ whole map in one request; :func:`read_meter` reads it in the five contiguous blo
 :func:`meter_blocks`.  The meter is read-only: like the paper's, it is read with function 03, and
 any other function is answered with **exception 01, illegal function**.
 
-``PowerMeter(trial=1)`` and ``PowerMeter(trial=2)`` hold exactly the values of 003's Table 6 (the
-two trials: VL1 403.6 V then 412.6 V, AL1 304.9 A then 288.9 A, PF1 0.66 then 0.60, ...).  Table 6
-prints no energy reading, so the two energy values here (:data:`TRIAL_ENERGY_KWH`) are the course's
-own, marked as such.  ``live=True`` makes the values drift around the trial's values, with seeded
-noise, as a function of the time of the clock the meter is attached to (a loopback link sets it):
-reading the meter every second for ten minutes gives trends to plot, the same on every run.
+``PowerMeter(trial=1)`` and ``PowerMeter(trial=2)`` hold exactly the values of the power-meter paper's Table 6
+(the two trials: VL1 403.6 V then 412.6 V, AL1 304.9 A then 288.9 A, PF1 0.66 then 0.60, ...).  Table 6 prints
+no energy reading, so the two energy values here (:data:`TRIAL_ENERGY_KWH`) are the course's own, marked as
+such.  ``live=True`` makes the values drift around the trial's values, with seeded noise, as a function of the
+time of the clock the meter is attached to (a loopback link sets it): reading the meter every second for ten
+minutes gives trends to plot, the same on every run.
 """
 
 from __future__ import annotations
@@ -75,7 +78,7 @@ UINT32_MAX = 0xFFFF_FFFF
 
 @dataclass(frozen=True)
 class MeterRegister:
-    """One entry of 003's Table 5: a quantity and the register pair that carries it.
+    """One entry of the power-meter paper's Table 5: a quantity and the register pair that carries it.
 
     ``name``         short name used as a key: ``"VL1"``, ``"AL1"``, ``"THD_VL1"``, ``"PF1"``, ``"kWh"``
     ``label``        the paper's parameter name: ``"Phase voltage - VL1"``
@@ -114,7 +117,8 @@ class MeterRegister:
 
     @property
     def shown_decimals(self) -> int:
-        """Decimal places 003's Table 6 prints (currents: 1, "304.9 A", although the meter sends mA)."""
+        """Decimal places the power-meter paper's Table 6 prints (currents: 1, "304.9 A", although the meter
+        sends mA)."""
         return 1 if self.unit == "A" else self.decimals
 
     def registers(self, value: float) -> list[int]:
@@ -138,7 +142,8 @@ def _entry(
     return MeterRegister(name, label, address, unit, factor, text, raw_unit)
 
 
-#: 003's Table 5, in the paper's order.  Addresses are 0-based frame addresses (hexadecimal in the paper).
+#: The power-meter paper's Table 5, in the paper's order.  Addresses are 0-based frame addresses (hexadecimal
+#: in the paper).
 METER_MAP: tuple[MeterRegister, ...] = (
     _entry("VL1", "Phase voltage - VL1", 0x00, "V", 10, "V x 10", "voltage of phase L1, in tenths of a volt"),
     _entry("VL2", "Phase voltage - VL2", 0x0A, "V", 10, "V x 10", "voltage of phase L2, in tenths of a volt"),
@@ -179,7 +184,8 @@ def power_meter_map() -> Any:
 #: The entries of :data:`METER_MAP` by name.
 METER_BY_NAME: dict[str, MeterRegister] = {e.name: e for e in METER_MAP}
 
-#: 003's Table 6: the values the GUI showed in the two trials (engineering units; no energy in the paper).
+#: The power-meter paper's Table 6: the values the GUI showed in the two trials (engineering units; no energy
+#: in the paper).
 TRIALS: dict[int, dict[str, float]] = {
     1: {
         "VL1": 403.6, "VL2": 399.9, "VL3": 399.3,
@@ -248,7 +254,8 @@ def read_meter(master: Any, unit: int = 1, entries: Iterable[MeterRegister] = ME
 
 
 def meter_table(*trials: Mapping[str, float], titles: Sequence[str] | None = None) -> str:
-    """A plain-text table in the layout of 003's Table 6: one row per quantity, one column per reading.
+    """A plain-text table in the layout of the power-meter paper's Table 6: one row per quantity, one column
+    per reading.
 
     ``meter_table(read_meter(m1), read_meter(m2))`` prints the two trials side by side.  Quantities
     missing from a reading show ``-``.
@@ -282,18 +289,19 @@ def _active_power_kw(values: Mapping[str, float]) -> float:
 
 
 class PowerMeter(Slave):
-    """The power meter of source 003, as a slave: ``PowerMeter(unit=1, trial=1 | 2, live=False, seed=0)``.
+    """The power meter of the power-meter paper, as a slave: ``PowerMeter(unit=1, trial=1 | 2, live=False,
+    seed=0)``.
 
-    It serves 003's Table 5 (:data:`METER_MAP`) as holding registers, read with function 03; each
-    quantity is an **unsigned 32-bit value in its register pair, high word at the lower address**
-    (the paper leaves the word order open; this is the course's choice).  Addresses outside the map
-    answer exception 02; functions other than 03 answer exception 01.
+    It serves the power-meter paper's Table 5 (:data:`METER_MAP`) as holding registers, read with function 03;
+    each quantity is an **unsigned 32-bit value in its register pair, high word at the lower address** (the
+    paper leaves the word order open; this is the course's choice).  Addresses outside the map answer
+    exception 02; functions other than 03 answer exception 01.
 
-    ``trial`` selects the values of 003's Table 6 (1 or 2).  With ``live=True`` every value drifts
-    around the trial's value: a slow sine (a few tenths of a percent; each quantity its own period and
+    ``trial`` selects the values of the power-meter paper's Table 6 (1 or 2).  With ``live=True`` every value
+    drifts around the trial's value: a slow sine (a few tenths of a percent; each quantity its own period and
     phase) plus seeded Gaussian noise, computed from the time of the clock the meter is attached to
-    (``meter.clock``, set by a loopback link; 0 when there is none), and the energy counter grows with
-    the active power.  The same ``seed`` gives the same readings at the same times.
+    (``meter.clock``, set by a loopback link; 0 when there is none), and the energy counter grows with the
+    active power.  The same ``seed`` gives the same readings at the same times.
 
     The serial settings of 003 are class attributes, so a wire reads naturally::
 
@@ -313,7 +321,7 @@ class PowerMeter(Slave):
         self, unit: int = 1, trial: int = 1, live: bool = False, seed: int = 0, **kwargs: Any
     ) -> None:
         if trial not in TRIALS or isinstance(trial, bool):
-            raise ConfigError(f"trial must be 1 or 2 (the two trials of 003's Table 6), got {trial!r}")
+            raise ConfigError(f"trial must be 1 or 2 (the two trials of the meter's readings), got {trial!r}")
         if isinstance(seed, bool) or not isinstance(seed, int):
             raise ConfigError(f"seed must be an int, got {seed!r}")
         kwargs.setdefault("name", f"power meter {unit}")
@@ -334,7 +342,8 @@ class PowerMeter(Slave):
 
     @property
     def serial_settings(self) -> dict[str, Any]:
-        """003's line settings, ``{"baudrate": 19200, "parity": "N", "stopbits": 1, "bytesize": 8}``.
+        """The power-meter paper's line settings, ``{"baudrate": 19200, "parity": "N", "stopbits": 1,
+        "bytesize": 8}``.
 
         A loopback wire reads them: on a line with other settings the meter hears garbage and never
         answers.  ``loopback_serial(meter, **meter.serial_settings)`` gives a wire that matches.

@@ -52,7 +52,7 @@ def _check_10_2(answer: Any) -> str | None:
 
 
 def _al1_of_trial_2() -> float:
-    """AL1 of trial 2 in 003's Table 6, from the library's copy of the table."""
+    """AL1 of trial 2 in the power-meter paper's Table 6, from the library's copy of the table."""
     return TRIALS[2]["AL1"]
 
 

@@ -303,11 +303,13 @@ class Pdu:
 
 
 @dataclass(frozen=True, slots=True)
-class _ReadRequest(Pdu):
+class _AddressQuantity(Pdu):
+    """A starting address and a quantity, five bytes: a read request (FC 1-4), or the response to a
+    write of several coils or registers (FC 15, 16)."""
+
     address: int
     count: int
 
-    role: ClassVar[str] = "request"
     fixed_size: ClassVar[int | None] = 5
     limit: ClassVar[int]
     what: ClassVar[str]
@@ -315,14 +317,14 @@ class _ReadRequest(Pdu):
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))
         object.__setattr__(self, "count", _check_quantity(self.count, self.limit, self.what))
-        _check_span(self.address, self.count, self.what[:-1] if self.what.endswith("s") else self.what)
+        _check_span(self.address, self.count, self.what[:-1])
 
     def encode(self) -> bytes:
         return struct.pack(">BHH", self.function_code, self.address, self.count)
 
     @classmethod
     def _decode(cls, data: bytes, offset: int = 0):
-        _expect_length(data, 5, f"{function_title(cls.function_code)} request", offset)
+        _expect_length(data, 5, f"{function_title(cls.function_code)} {cls.role}", offset)
         _fc, address, count = struct.unpack(">BHH", data)
         try:
             return cls(address, count)
@@ -331,17 +333,22 @@ class _ReadRequest(Pdu):
         except AddressRangeError as exc:
             raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
 
+    def _summary_items(self):
+        return [("address", self.address), ("count", self.count)]
+
+
+@dataclass(frozen=True, slots=True)
+class _ReadRequest(_AddressQuantity):
+    role: ClassVar[str] = "request"
+
     def fields(self) -> list[Field]:
         raw = self.encode()
         return [
             self._function_field(raw),
             Field(1, raw[1:3], "starting address", self.address,
-                  f"0-based {self.what[:-1] if self.what.endswith('s') else self.what} address"),
+                  f"0-based {self.what[:-1]} address"),
             Field(3, raw[3:5], "quantity", self.count, f"number of {self.what} to read (1-{self.limit})"),
         ]
-
-    def _summary_items(self):
-        return [("address", self.address), ("count", self.count)]
 
 
 def _label(name: str | type[Pdu]) -> str:
@@ -370,42 +377,14 @@ def _expect_byte_count(data: bytes, header: int, byte_count: int, name: str | ty
 
 
 @dataclass(frozen=True, slots=True)
-class _WriteMultipleResponse(Pdu):
-    address: int
-    count: int
-
+class _WriteMultipleResponse(_AddressQuantity):
     role: ClassVar[str] = "response"
-    fixed_size: ClassVar[int | None] = 5
-    limit: ClassVar[int]
-    what: ClassVar[str]
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "address", _check_address(self.address))
-        object.__setattr__(self, "count", _check_quantity(self.count, self.limit, self.what))
-        _check_span(self.address, self.count, self.what[:-1])
-
-    def encode(self) -> bytes:
-        return struct.pack(">BHH", self.function_code, self.address, self.count)
-
-    @classmethod
-    def _decode(cls, data: bytes, offset: int = 0):
-        _expect_length(data, 5, f"{function_title(cls.function_code)} response", offset)
-        _fc, address, count = struct.unpack(">BHH", data)
-        try:
-            return cls(address, count)
-        except QuantityError as exc:
-            raise QuantityError(f"at bytes {offset + 3}-{offset + 4}: {exc}") from None
-        except AddressRangeError as exc:
-            raise AddressRangeError(f"at bytes {offset + 1}-{offset + 4}: {exc}") from None
 
     def fields(self) -> list[Field]:
         raw = self.encode()
         return [self._function_field(raw),
                 Field(1, raw[1:3], "starting address", self.address, f"0-based {self.what[:-1]} address"),
                 Field(3, raw[3:5], "quantity", self.count, f"number of {self.what} written")]
-
-    def _summary_items(self):
-        return [("address", self.address), ("count", self.count)]
 
 
 def _check_role(role: object) -> str:

@@ -3,8 +3,8 @@
 * :class:`FrameBuilder` -- fields in, the frame out, every byte coloured by its field;
 * :class:`FrameDecoder` -- hex in, the dissection out;
 * :class:`CrcExplorer` -- the CRC-16 bit by bit or by table, and the LRC, step by step;
-* :class:`TestTool` -- source 000's test tool: RTU master / RTU slave / TCP client / TCP server;
-* :class:`MeterDashboard` -- source 003's power meter read periodically, values and trends.
+* :class:`TestTool` -- the robot test-tool paper's tool: RTU master / RTU slave / TCP client / TCP server;
+* :class:`MeterDashboard` -- the power-meter paper's power meter read periodically, values and trends.
 
 Each panel is an ipywidgets widget: put it last in a cell to display it.  No panel holds protocol logic:
 every byte, check and decision comes from :mod:`modbus_edu`.

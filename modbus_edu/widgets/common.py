@@ -62,7 +62,7 @@ PALETTE: tuple[str, ...] = (
 )
 
 #: One colour per test-tool role, so that two panels side by side are told apart at a glance
-#: (source 000's wish: "background color may be changed for different app modes").
+#: (the robot test-tool paper's wish: "background color may be changed for different app modes").
 ROLE_COLOURS: dict[str, str] = {
     "rtu_master": "#e7f5ff",
     "rtu_slave": "#ebfbee",
@@ -183,7 +183,7 @@ def message_html(text: str, kind: str = "info") -> str:
 
 
 class MessageLine(W.HTML):
-    """Source 000's message box: one line that says what happened, instead of a pop-up.
+    """The robot test-tool paper's message box: one line that says what happened, instead of a pop-up.
 
     ``show(text, kind)`` sets it; ``error(exc)`` shows an exception as ``ClassName: message``.
     ``.text`` and ``.kind`` keep the last message for tests and notebooks.

@@ -1,4 +1,5 @@
-"""MeterDashboard: source 003's data acquisition -- read a power meter periodically, tabulate, plot trends."""
+"""MeterDashboard: the power-meter paper's data acquisition -- read a power meter periodically, tabulate, plot
+trends."""
 
 from __future__ import annotations
 
@@ -36,8 +37,8 @@ class MeterDashboard(StaticText, W.VBox):
     settings (003: 19200 baud 8N1) and reads it through a :class:`~modbus_edu.master.Master` -- or a
     ``Master`` already connected to a real or virtual meter.  Without a source it reads a simulated
     ``PowerMeter(unit=1, trial=1, live=True)``.  The register map comes from the device
-    module (:data:`modbus_edu.devices.meter.METER_MAP`, 003's Table 5; a device may carry its own as
-    ``register_map``); each read is :func:`modbus_edu.devices.meter.read_meter` (function 03, one
+    module (:data:`modbus_edu.devices.meter.METER_MAP`, the power-meter paper's Table 5; a device may carry
+    its own as ``register_map``); each read is :func:`modbus_edu.devices.meter.read_meter` (function 03, one
     request per contiguous block, unsigned 32-bit values high word first, scaled).
 
     Controls: *read once*, *start* / *stop* (every ``interval`` s on the kernel's asyncio loop, not
@@ -46,7 +47,7 @@ class MeterDashboard(StaticText, W.VBox):
     in a few seconds).  State: ``values`` (the last reading, ``{"VL1": 403.6, ...}``), ``history`` (a list of
     ``(time, values)`` on the link's clock), ``counts`` (reads, valid, timeouts, errors), ``plot_png``.
 
-    Example (003's first trial, the values drifting as on a running machine)::
+    Example (the power-meter paper's first trial, the values drifting as on a running machine)::
 
         from modbus_edu.devices import PowerMeter
         from modbus_edu.widgets import MeterDashboard
@@ -336,7 +337,7 @@ class MeterDashboard(StaticText, W.VBox):
         self.image.value = self.plot_png
 
     def table_rows(self, names: Sequence[str] | None = None) -> list[tuple[str, str]]:
-        """``[(label, "403.6 V"), ...]``: the last reading as 003's Table 6 prints it."""
+        """``[(label, "403.6 V"), ...]``: the last reading as the power-meter paper's Table 6 prints it."""
         chosen = [e for e in self.entries if names is None or e.name in names]
         return [(e.label, e.format(self.values[e.name])) for e in chosen if e.name in self.values]
 

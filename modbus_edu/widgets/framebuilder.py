@@ -166,7 +166,7 @@ class FrameBuilder(StaticText, W.VBox):
     ``dissection``   the :class:`~modbus_edu.explain.Dissection` of the frame, or ``None``
     ``error``        the :class:`~modbus_edu.errors.ModbusError` shown, or ``None``
 
-    Example (the request of VECTORS.md ``11 03 00 6B 00 03 76 87``)::
+    Example (the specification's Read Holding Registers example, section 6.3, sent to unit 0x11)::
 
         from modbus_edu.widgets import FrameBuilder
         fb = FrameBuilder(mode="rtu", unit=17, function=3, address=0x6B, count=3)

@@ -49,7 +49,7 @@ class FrameDecoder(StaticText, W.VBox):
         from modbus_edu.widgets import FrameDecoder
         fd = FrameDecoder("01 03 00 00 00 01 84 0B")   # one bit off in the CRC
         fd                                              # red: "CRC mismatch ... expected 84 0A"
-        fd.text.value = "01 18 00 00 00 05 01 03 02 04 D2"   # 000's TCP response: register = 1234
+        fd.text.value = "01 18 00 00 00 05 01 03 02 04 D2"   # a published TCP response: register = 1234
         fd.dissection.frame.pdu.registers               # (1234,)
     """
 

@@ -1,8 +1,10 @@
-"""The TestTool's settings as a JSON-able dict: save, load, apply, restore."""
+"""The TestTool's settings (:class:`~.controls.TestToolSettings`) as a JSON-able dict: save, load, apply,
+restore."""
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
 import math
 import random
@@ -13,7 +15,7 @@ import ipywidgets as W
 
 from ...errors import ConfigError, ModbusError, shown
 from ...values import FORMATS
-from .controls import CONFIG_KEYS, ROLES
+from .controls import CONFIG_KEYS, ROLES, TestToolSettings
 
 
 class ConfigMixin:
@@ -22,20 +24,16 @@ class ConfigMixin:
     # =====================================================================================================
     # configuration
     # =====================================================================================================
+    def settings(self) -> TestToolSettings:
+        """Every setting, as the controls hold it now."""
+        values = {key: self._config_widget(key).value for key in CONFIG_KEYS if key != "seed"}
+        for key in ("timeout", "interval", "auto_interval"):
+            values[key] = float(values[key])
+        return TestToolSettings(**values, seed=self._seed)
+
     def config(self) -> dict[str, Any]:
-        """Every setting as a JSON-able dict (what *save config* writes)."""
-        return {
-            "role": self.role.value, "name": self.name.value, "connection": self.connection.value,
-            "url": self.url.value, "baudrate": self.baudrate.value, "parity": self.parity.value,
-            "stopbits": self.stopbits.value, "host": self.host.value, "port": self.port.value,
-            "timeout": float(self.timeout.value), "unit": self.unit.value, "address": self.address.value,
-            "length": self.length.value, "function": self.function.value,
-            "transaction_id": self.transaction_id.value, "interval": float(self.interval.value),
-            "continuous": self.continuous.value, "display": self.display.value,
-            "fill_start": self.fill_start.value, "fill_increment": self.increment.value,
-            "fill_step": self.fill_step.value, "auto_interval": float(self.auto_interval.value),
-            "newest_on_top": self.newest_on_top.value, "seed": self._seed,
-        }
+        """Every setting as a JSON-able dict (what *save config* writes): :meth:`settings` as a dict."""
+        return dataclasses.asdict(self.settings())
 
     def apply_config(self, config: dict[str, Any]) -> bool:
         """Set every setting found in ``config`` (a dict as :meth:`config` returns).  Unknown keys or bad

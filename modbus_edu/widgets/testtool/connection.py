@@ -226,7 +226,8 @@ class ConnectionMixin:
         return self.table.read(self.address.value, self.length.value)
 
     def poll_once(self) -> Any:
-        """Send one request with the chosen function (source 000's READ button); return the values.
+        """Send one request with the chosen function (the robot test-tool paper's READ button); return the
+        values.
 
         A read returns the values read (and fills the grid); a write sends the grid's values and returns
         them.  Errors (timeout, exception response, a bad setting) are counted, shown on the message

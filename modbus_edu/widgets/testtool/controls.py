@@ -4,7 +4,7 @@ factories (a labelled control of a given width, a button with a tooltip, a row t
 from __future__ import annotations
 
 import asyncio
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import ipywidgets as W
 
@@ -14,13 +14,13 @@ from ...pdu import FunctionCode
 from ...values import FORMATS
 
 __all__ = ["Role", "ROLES", "ROLE_OPTIONS", "FUNCTION_OPTIONS", "BAUD_RATES", "FORMAT_OPTIONS", "MAX_CELLS",
-           "COLUMNS", "LOG_LINES", "TAB_TITLES", "GRID_HEIGHT", "LOG_HEIGHT", "CONFIG_KEYS", "running_loop",
-           "small", "button", "row"]
+           "COLUMNS", "LOG_LINES", "TAB_TITLES", "GRID_HEIGHT", "LOG_HEIGHT", "CONFIG_KEYS",
+           "TestToolSettings", "running_loop", "small", "button", "row"]
 
 
 @dataclass(frozen=True)
 class Role:
-    """One of the four roles of source 000's tool."""
+    """One of the four roles of the robot test-tool paper's tool."""
 
     key: str
     title: str
@@ -61,11 +61,42 @@ TAB_TITLES = ("connection", "data", "traffic", "settings")
 GRID_HEIGHT = "250px"
 LOG_HEIGHT = "300px"
 
-CONFIG_KEYS = (
-    "role", "name", "connection", "url", "baudrate", "parity", "stopbits", "host", "port", "timeout",
-    "unit", "address", "length", "function", "transaction_id", "interval", "continuous", "display",
-    "fill_start", "fill_increment", "fill_step", "auto_interval", "newest_on_top", "seed",
-)
+@dataclass
+class TestToolSettings:
+    """Every setting of a :class:`~modbus_edu.widgets.TestTool`: what its constructor takes as keywords,
+    what :meth:`~modbus_edu.widgets.TestTool.config` returns (as a dict) and what a saved configuration
+    holds.  ``None`` (name, connection) leaves the control as the role sets it."""
+
+    __test__ = False  # not a pytest test class, whatever its name says
+
+    role: str = "rtu_master"
+    name: str | None = None
+    connection: str | None = None
+    url: str = "loop://"
+    baudrate: int = 9600
+    parity: str = "N"
+    stopbits: float = 1
+    host: str = "127.0.0.1"
+    port: int = 5020
+    timeout: float = 1.0
+    unit: int = 1
+    address: int = 0
+    length: int = 10
+    function: int = 3
+    transaction_id: int = 1
+    interval: float = 1.0
+    continuous: bool = True
+    display: str = "unsigned"
+    fill_start: int = 0
+    fill_increment: bool = True
+    fill_step: int = 1
+    auto_interval: float = 1.0
+    newest_on_top: bool = True
+    seed: int = 0
+
+
+CONFIG_KEYS = tuple(item.name for item in fields(TestToolSettings))
+"""The settings' names, in the order :meth:`~modbus_edu.widgets.TestTool.config` gives them."""
 
 
 

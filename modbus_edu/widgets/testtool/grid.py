@@ -124,7 +124,8 @@ class GridMixin:
             self._write_value_typed = True
 
     def _selected_changed(self) -> None:
-        """Show the selected cell's value in the write box (source 000: row and column in a text box)."""
+        """Show the selected cell's value in the write box (the robot test-tool paper: row and column in a
+        text box)."""
         self._write_value_typed = False
         address = self.selected.value
         try:

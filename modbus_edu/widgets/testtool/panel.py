@@ -1,4 +1,4 @@
-"""TestTool, the panel: source 000's Modbus test tool rebuilt as a notebook panel.
+"""TestTool, the panel: the robot test-tool paper's Modbus test tool rebuilt as a notebook panel.
 
 One panel is an RTU master, an RTU slave, a TCP client or a TCP server.  Two panels in one notebook
 talk to each other over an in-process loopback wire (:func:`modbus_edu.links.loopback_serial` or
@@ -11,6 +11,7 @@ only holds settings, a data grid and counters.
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import random
 from typing import Any
 
@@ -28,6 +29,7 @@ from .config import ConfigMixin
 from .connection import ConnectionMixin
 from .controls import (
     BAUD_RATES,
+    CONFIG_KEYS,
     FORMAT_OPTIONS,
     FUNCTION_OPTIONS,
     GRID_HEIGHT,
@@ -36,6 +38,7 @@ from .controls import (
     ROLES,
     TAB_TITLES,
     Role,
+    TestToolSettings,
     button,
     row,
     small,
@@ -47,7 +50,8 @@ __all__ = ["TestTool"]
 
 
 class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin, W.VBox):
-    """Source 000's Modbus test tool in a notebook: RTU master, RTU slave, TCP client or TCP server.
+    """The robot test-tool paper's Modbus test tool in a notebook: RTU master, RTU slave, TCP client or TCP
+    server.
 
     **Connection.**  A *loopback partner* (another TestTool in the same notebook: ``TestTool(...,
     partner=other)`` or ``tool.connect(other)``) puts both on an in-process wire that runs on a
@@ -99,31 +103,17 @@ class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         role: str = "rtu_master",
         *,
         partner: TestTool | None = None,
-        name: str | None = None,
-        connection: str | None = None,
-        url: str = "loop://",
-        baudrate: int = 9600,
-        parity: str = "N",
-        stopbits: float = 1,
-        host: str = "127.0.0.1",
-        port: int = 5020,
-        timeout: float = 1.0,
-        unit: int = 1,
-        address: int = 0,
-        length: int = 10,
-        function: int = 3,
-        transaction_id: int = 1,
-        interval: float = 1.0,
-        continuous: bool = True,
-        display: str = "unsigned",
-        fill_start: int = 0,
-        fill_increment: bool = True,
-        fill_step: int = 1,
-        auto_interval: float = 1.0,
-        newest_on_top: bool = True,
-        seed: int = 0,
+        settings: TestToolSettings | None = None,
         **kwargs: Any,
     ) -> None:
+        """``role`` and every field of :class:`~.controls.TestToolSettings` as a keyword (``unit=2``,
+        ``url="loop://"``, ...), or ``settings=`` all at once (its role wins over the default ``role``);
+        other keywords go to the widget box."""
+        chosen = {key: kwargs.pop(key) for key in CONFIG_KEYS if key in kwargs and key != "role"}
+        if settings is None or role != "rtu_master":
+            chosen["role"] = role
+        settings = dataclasses.replace(settings or TestToolSettings(), **chosen)
+        role, seed = settings.role, settings.seed
         super().__init__(**kwargs)
         self.add_class("mbe-testtool")
         self.bank = DataBank()
@@ -154,17 +144,12 @@ class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         self._build()
         self._apply_role()
         self._render_auto_state()
-        settings = dict(
-            role=role, name=name, connection=connection or ("loopback" if partner is not None else None),
-            url=url, baudrate=baudrate, parity=parity, stopbits=stopbits, host=host, port=port,
-            timeout=timeout, unit=unit, address=address, length=length, function=function,
-            transaction_id=transaction_id, interval=interval, continuous=continuous, display=display,
-            fill_start=fill_start, fill_increment=fill_increment, fill_step=fill_step,
-            auto_interval=auto_interval, newest_on_top=newest_on_top, seed=seed,
-        )
+        values = dataclasses.asdict(settings)
+        if values["connection"] is None and partner is not None:
+            values["connection"] = "loopback"
         if role not in ROLES:
-            settings.pop("role")
-        self.apply_config({k: v for k, v in settings.items() if v is not None})
+            values.pop("role")
+        self.apply_config({k: v for k, v in values.items() if v is not None})
         if self.message.kind == "info":
             self.message.clear()
         if role not in ROLES:

@@ -41,7 +41,8 @@ class TrafficMixin:
                                 if extra else ""))
 
     def _update_lamps(self) -> None:
-        """Source 000's TX and RX indicators: lit when a frame went that way since the last redraw."""
+        """The robot test-tool paper's TX and RX indicators: lit when a frame went that way since the last
+        redraw."""
         log = self.traffic
         if log is not self._lamp_log or len(log) < self._lamp_seen:  # another log, or it was cleared
             self._lamp_log, self._lamp_seen = log, 0
