@@ -154,7 +154,7 @@ def _field_names(cls: type) -> tuple[str, ...] | None:
         return _FIELD_NAMES[cls]
     except KeyError:
         names = None
-        if cls.__module__ == "modbus_edu.pdu" and dataclasses.is_dataclass(cls):
+        if cls.__module__.startswith("modbus_edu.pdu") and dataclasses.is_dataclass(cls):
             names = tuple(f.name for f in dataclasses.fields(cls))
         _FIELD_NAMES[cls] = names
         return names
