@@ -508,15 +508,15 @@ def test_pdu_notes_are_remembered_for_every_pdu_module():
     """Each PDU class's summary is written once per distinct value, wherever in pdu/ the class lives."""
     from modbus_edu import traffic
     from modbus_edu.pdu import (
-        DiagnosticsRequest,
+        ExceptionResponse,
         ReadCoilsRequest,
-        ReadFileRecordRequest,
+        ReadDeviceIdentificationRequest,
         ReadHoldingRegistersRequest,
     )
 
     traffic._NOTES.clear()
     for pdu in (ReadHoldingRegistersRequest(address=0, count=10), ReadCoilsRequest(address=1, count=2),
-                DiagnosticsRequest(0x0B, 0), ReadFileRecordRequest(((4, 1, 2),))):
+                ExceptionResponse(3, 2), ReadDeviceIdentificationRequest(1, 0)):
         traffic.pdu_note(pdu)
         assert traffic._field_names(type(pdu)) is not None, type(pdu).__module__
     assert len(traffic._NOTES) == 4
