@@ -8,14 +8,14 @@ Usage (from the repository root)::
 
 What is measured
 ----------------
-(a) **Modbus/TCP servers**, on 127.0.0.1.  Our :class:`~modbus_edu.links.tcp.TcpServer` and pymodbus
-    3.16's ``ModbusTcpServer`` (its own asyncio loop, in a thread), each serving a slave whose holding
-    registers 0..9 hold known values, are driven by the **same client**, one request at a time: FC3,
-    read 10 holding registers, for ``--seconds`` seconds.  Round trips per second, best of
-    ``--repeat`` runs (runs alternate between the servers), and the ratio ours / pymodbus.  Two clients:
-    pymodbus' own ``ModbusTcpClient`` (what a user would run; its own cost is in every round trip)
-    and a bare socket client (pre-built request, reads the 29-byte answer: closer to the server's
-    own speed).  Every answer is checked once before timing.
+(a) **Modbus/TCP servers**, on 127.0.0.1, each in a process of its own: our
+    :class:`~modbus_edu.links.tcp.TcpServer`, pymodbus 3.16's ``ModbusTcpServer`` (its asyncio loop),
+    each serving a slave whose holding registers 0..9 hold known values, and a bare ``selectors`` loop
+    that answers every request with one fixed frame (what no Python server can beat).  One and four
+    raw-socket client processes (a pre-built request, the 29-byte answer read back, one request at a
+    time each) drive each server for ``--seconds`` seconds; round trips per second, added over the
+    clients, best of ``--repeat`` runs, and the ratios to pymodbus and to the bare loop.  Every
+    client checks one answer before timing.
 
 (b) **The virtual serial line** (:func:`~modbus_edu.links.loopback.loopback_serial`): a Master
     reading one holding register (FC3) from a Slave, RTU 8N1.
@@ -43,7 +43,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import pymodbus
-from pymodbus.client import ModbusTcpClient
 from pymodbus.server import ModbusTcpServer
 from pymodbus.simulator import DataType, SimData, SimDevice
 
@@ -109,21 +108,7 @@ def our_server() -> TcpServer:
     return TcpServer(slave)
 
 
-# --- the two clients ---------------------------------------------------------------------------------------
-def pymodbus_client_loop(address: tuple[str, int]) -> tuple[Callable[[], None], Callable[[], None]]:
-    client = ModbusTcpClient(address[0], port=address[1], timeout=5, retries=0)
-    if not client.connect():
-        raise RuntimeError(f"pymodbus client cannot connect to {address}")
-    answer = client.read_holding_registers(0, count=COUNT, device_id=1)
-    if answer.isError() or answer.registers != VALUES:
-        raise RuntimeError(f"wrong answer from {address}: {answer}")
-
-    def once() -> None:
-        client.read_holding_registers(0, count=COUNT, device_id=1)
-
-    return once, client.close
-
-
+# --- the client ---------------------------------------------------------------------------------------
 def socket_client_loop(address: tuple[str, int]) -> tuple[Callable[[], None], Callable[[], None]]:
     sock = socket.create_connection(address, timeout=5)
     sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
@@ -167,32 +152,112 @@ def rate(once: Callable[[], None], seconds: float) -> float:
 
 
 # --- (a) --------------------------------------------------------------------------------------------------
-@dataclass
-class TcpRow:
-    client: str
-    ours: float
-    theirs: float
-
-    @property
-    def ratio(self) -> float:
-        return self.ours / self.theirs
+SERVERS = ("TcpServer (ours)", "pymodbus 3.16", "bare selectors loop")
+#: The fixed answer the bare loop sends: what a Python server that does no Modbus work at all can do.
+_FIXED_ANSWER = TcpFrame(transaction_id=1, unit=1, pdu=ReadHoldingRegistersResponse(registers=tuple(VALUES))
+                         ).encode()
 
 
-def bench_tcp(seconds: float, repeat: int) -> list[TcpRow]:
-    rows = []
-    clients = (("pymodbus ModbusTcpClient", pymodbus_client_loop), ("bare socket client", socket_client_loop))
-    with our_server() as ours, PymodbusServer() as theirs:
-        for name, make in clients:
-            best = {"ours": 0.0, "theirs": 0.0}
-            for _ in range(repeat):
-                for key, address in (("ours", ours.address), ("theirs", theirs.address)):
-                    once, close = make(address)
-                    try:
-                        best[key] = max(best[key], rate(once, seconds))
-                    finally:
-                        close()
-            rows.append(TcpRow(name, best["ours"], best["theirs"]))
-    return rows
+def _bare_loop(listener: socket.socket) -> None:
+    """A selectors loop that answers every 12-byte request with the same 29-byte frame: no parsing, no
+    data bank, no checks.  The ceiling for a Python server on this machine."""
+    import selectors
+
+    selector = selectors.DefaultSelector()
+    listener.setblocking(False)
+    selector.register(listener, selectors.EVENT_READ)
+    pending: dict[socket.socket, int] = {}
+    while True:
+        for key, _ in selector.select():
+            sock = key.fileobj
+            if sock is listener:
+                conn, _ = listener.accept()
+                conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                conn.setblocking(False)
+                pending[conn] = 0
+                selector.register(conn, selectors.EVENT_READ)
+                continue
+            data = sock.recv(65536)
+            if not data:
+                selector.unregister(sock)
+                sock.close()
+                continue
+            got = pending[sock] + len(data)
+            pending[sock] = got % 12
+            sock.sendall(_FIXED_ANSWER * (got // 12))
+
+
+def _serve_in_process(kind: str, ports) -> None:
+    """The body of a server process: serve ``kind`` on 127.0.0.1 until terminated."""
+    logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
+    if kind == SERVERS[0]:
+        server = our_server()
+        server._bind()
+        ports.put(server.address[1])
+        server.serve_forever()
+    elif kind == SERVERS[1]:
+        async def main() -> None:
+            device = PymodbusServer().device
+            server = ModbusTcpServer(device, address=(HOST, 0))
+            await server.serve_forever(background=True)
+            ports.put(server.transport.sockets[0].getsockname()[1])
+            await server.serving
+
+        asyncio.run(main())
+    else:
+        listener = socket.create_server((HOST, 0))
+        ports.put(listener.getsockname()[1])
+        _bare_loop(listener)
+
+
+def _client_in_process(port: int, seconds: float, start_at: float, results) -> None:
+    """A raw-socket client process: FC3 round trips, one at a time, counted from ``start_at``."""
+    once, close = socket_client_loop((HOST, port))
+    for _ in range(200):
+        once()
+    while time.time() < start_at:
+        time.sleep(0.001)
+    done, end = 0, start_at + seconds
+    while time.time() < end:
+        for _ in range(50):
+            once()
+        done += 50
+    close()
+    results.put(done / (time.time() - start_at))
+
+
+def bench_servers(seconds: float, repeat: int, clients: tuple[int, ...] = (1, 4)
+                  ) -> dict[str, dict[int, float]]:
+    """Round trips per second of each server, each in its own process, driven by ``n`` raw-socket client
+    processes at once (their rates added); best of ``repeat`` runs."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("fork")
+    table: dict[str, dict[int, float]] = {kind: {} for kind in SERVERS}
+    for kind in SERVERS:
+        ports = context.Queue()
+        server = context.Process(target=_serve_in_process, args=(kind, ports), daemon=True)
+        server.start()
+        try:
+            port = ports.get(timeout=20)
+            for n in clients:
+                best = 0.0
+                for _ in range(repeat):
+                    results = context.Queue()
+                    start_at = time.time() + 1.0
+                    args = (port, seconds, start_at, results)
+                    workers = [context.Process(target=_client_in_process, args=args) for _ in range(n)]
+                    for worker in workers:
+                        worker.start()
+                    total = sum(results.get(timeout=seconds + 30) for _ in workers)
+                    for worker in workers:
+                        worker.join(10)
+                    best = max(best, total)
+                table[kind][n] = best
+        finally:
+            server.terminate()
+            server.join(10)
+    return table
 
 
 # --- (b) --------------------------------------------------------------------------------------------------
@@ -249,14 +314,19 @@ def main(argv: list[str] | None = None) -> int:
     print(f"modbus_edu roles bench - Python {sys.version.split()[0]}, pymodbus {pymodbus.__version__}")
     print(f"best of {repeat} run(s) of {seconds:g} s each\n")
 
-    print(f"(a) Modbus/TCP server round trips per second, FC3 read of {COUNT} registers, 127.0.0.1")
-    header = f"    {'client':<26} {'TcpServer (ours)':>17} {'pymodbus server':>16} {'ratio':>7}"
+    print(f"(a) Modbus/TCP servers, each in its own process: FC3 read of {COUNT} registers, round trips")
+    print("    per second from raw-socket client processes on 127.0.0.1 (one request at a time each)")
+    header = f"    {'server':<22} {'1 client':>10} {'4 clients':>10} {'vs pymodbus':>12} {'vs bare loop':>13}"
     print(header)
     print("    " + "-" * (len(header) - 4))
-    tcp_rows = bench_tcp(seconds, repeat)
-    for row in tcp_rows:
-        print(f"    {row.client:<26} {row.ours:>17,.0f} {row.theirs:>16,.0f} {row.ratio:>7.2f}")
-    print("    ratio = ours / pymodbus; above 1.00 our server answers faster\n")
+    table = bench_servers(seconds, repeat)
+    theirs, bare = table[SERVERS[1]], table[SERVERS[2]]
+    for kind in SERVERS:
+        row = table[kind]
+        versus = " / ".join(f"{row[n] / theirs[n]:.2f}" for n in (1, 4))
+        ceiling = " / ".join(f"{row[n] / bare[n]:.2f}" for n in (1, 4))
+        print(f"    {kind:<22} {row[1]:>10,.0f} {row[4]:>10,.0f} {versus:>12} {ceiling:>13}")
+    print("    ratios for 1 / 4 clients; the bare loop answers a fixed frame and does no Modbus at all\n")
 
     print("(b) virtual serial line (loopback_serial), Master -> Slave, FC3 read of 1 register, RTU 8N1")
     header = (f"    {'baud':>7} {'transactions/s (wall)':>22} {'per virtual s':>14} "
