@@ -44,8 +44,10 @@ def strip_widget_state(notebook) -> int:
 
     Saved state would draw dead panels in a notebook that has not run (controls that ignore input), and
     a widget view without its state draws "Error displaying widget".  So the notebook's widget metadata
-    goes, and each panel's output keeps only its text, which says what the panel is and "run this cell
-    to open the panel".  Returns how many widget views were removed.
+    goes, and so does each output's widget view; everything else of the output stays: a panel's
+    ``text/html``, the static picture of the panel as its cell left it under "run this cell to use it"
+    (what GitHub, nbviewer and JupyterLab before Run All show), and its ``text/plain``.  Returns how
+    many widget views were removed.
     """
     notebook.metadata.pop("widgets", None)
     removed = 0
