@@ -104,6 +104,7 @@ class CrcExplorer(StaticView, W.VBox):
         self.run_to_end = button("run to end", "fast-forward", "do every step")
         self.message = MessageLine()
         self.bytes_view = W.HTML()
+        self.bytes_view.add_class("mbe-crc-bytes")
         self.step_view = W.HTML(layout=W.Layout(overflow="auto"))  # long lines scroll, never clip
         self.step_view.add_class("mbe-crc-step")
         self.result_view = W.HTML()
