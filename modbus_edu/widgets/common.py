@@ -1,4 +1,5 @@
-"""What the panels share: colours, the message line, reading numbers typed by people, coloured frames.
+"""What the panels share: colours, the message line, reading numbers typed by people, coloured frames,
+and following the typing (:class:`Typing`).
 
 Nothing here knows Modbus.  The panels ask the library for every byte and every field boundary
 (:func:`modbus_edu.explain.explain` rows); this module only turns text into numbers and rows into
