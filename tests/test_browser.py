@@ -382,6 +382,11 @@ def test_an_unrun_notebook_shows_each_panel_s_picture_and_no_dead_controls(lab, 
         builder = drawn.filter(has_text="Frame builder panel")
         assert "01 03 00 00 00 01 84 0A" in builder.inner_text()    # the frame the cell built
         assert "quantity" in builder.inner_text() and "CRC mismatch" in text
+        # laid out as the panel is, even after the sanitizer of an untrusted notebook: the fields on
+        # their lines (mode, role, function on one; unit, address, quantity each on its own), not in a row
+        rows = builder.locator(".mbe-picture-field").evaluate_all(
+            "els => els.map(e => Math.round(e.getBoundingClientRect().top))")
+        assert len(rows) == 6 and len(set(rows)) == 4, rows
         for i in range(drawn.count()):
             box = drawn.nth(i).evaluate("el => [el.scrollWidth, el.clientWidth]")
             assert box[0] <= box[1] + 1, f"picture {i} overflows sideways: {box}"

@@ -29,6 +29,7 @@ _FIELD = ("display:inline-block;min-width:3em;padding:2px 6px;border:1px solid #
           "white-space:pre;overflow:hidden;text-overflow:ellipsis;vertical-align:middle;box-sizing:border-box")
 _BUTTON = ("display:inline-block;padding:2px 10px;margin:2px;border:1px solid #ced4da;border-radius:2px;"
            "background:#e9ecef;color:#495057;white-space:nowrap")
+_INLINE = "display:inline-block;vertical-align:middle;max-width:100%"
 _LABEL = "display:inline-block;text-align:right;padding-right:6px;white-space:nowrap;vertical-align:middle"
 
 
@@ -52,14 +53,23 @@ def _width(widget: W.Widget) -> str:
     return f"width:{esc(width)};max-width:100%;" if width else ""
 
 
+def _px(value: str | None) -> int | None:
+    """``"230px"`` -> 230; anything else (``"auto"``, ``"50%"``, ``None``) -> None."""
+    if value and value.endswith("px") and value[:-2].isdigit():
+        return int(value[:-2])
+    return None
+
+
 def _field(widget: W.Widget, text: str, placeholder: str = "") -> str:
     """A control's label and the text it holds (or its placeholder, greyed), in an inert box."""
     layout = widget.layout
     border = f"border:{esc(layout.border)};" if layout.border else ""
     shown = esc(text) if text else f'<span style="color:#adb5bd">{esc(placeholder)}</span>'
-    box = f'<span class="mbe-picture-field" style="{_FIELD};{border}flex:1 1 auto">{shown or "&nbsp;"}</span>'
-    return (f'<span style="display:inline-flex;align-items:center;margin:2px;{_width(widget)}">'
-            f"{_label(widget)}{box}</span>")
+    total = _px(layout.width)
+    label = _px(getattr(getattr(widget, "style", None), "description_width", None)) or 0
+    width = f"width:{total - label - 10}px;" if total and total - label > 40 else ""
+    box = f'<span class="mbe-picture-field" style="{_FIELD};{border}{width}">{shown or "&nbsp;"}</span>'
+    return f'<span style="{_INLINE};margin:2px;{_width(widget)}">{_label(widget)}{box}</span>'
 
 
 def _options(widget: W.Widget) -> list[tuple[str, Any]]:
@@ -68,18 +78,25 @@ def _options(widget: W.Widget) -> list[tuple[str, Any]]:
 
 
 def _box(widget: W.Box) -> str:
+    """A box of widgets: a column stacks them (blocks), a row lines them up and wraps (inline blocks).
+
+    Only plain block and inline-block layout: sanitizers (JupyterLab's for an untrusted notebook,
+    GitHub's) drop most flexbox properties, and the picture must still read in the right order."""
     layout = widget.layout
-    row = not isinstance(widget, W.VBox) and "column" not in (layout.flex_flow or "")
-    flow = "row wrap" if row else "column"  # a row wraps rather than run past the picture's edge
-    styles = [f"display:flex;flex-flow:{flow};align-items:{'center' if row else 'stretch'};max-width:100%"]
+    column = isinstance(widget, W.VBox) or "column" in (layout.flex_flow or "")
+    styles = ["max-width:100%"]
     for name in ("border", "padding", "margin", "width", "max_height"):
         value = getattr(layout, name, None)
         if value and not (name == "width" and value.endswith("%")):
             styles.append(f"{name.replace('_', '-')}:{esc(value)}")
     if layout.max_height:
         styles.append("overflow:hidden")
-    children = "".join(picture(child) for child in widget.children)
-    return f'<div style="{";".join(styles)}">{children}</div>'
+    children = [picture(child) for child in widget.children]
+    if column:
+        inner = "".join(f"<div>{c}</div>" for c in children if c)
+    else:
+        inner = "".join(f'<span style="{_INLINE}">{c}</span>' for c in children if c)
+    return f'<div style="{";".join(styles)}">{inner}</div>'
 
 
 def _tab(widget: W.Tab) -> str:
