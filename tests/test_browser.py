@@ -11,12 +11,16 @@ and the typing latency.
 
 Three tests share one JupyterLab and one chromium (1400 x 900, as a learner's screen):
 
-* the test notebook (tests/browser/widgets_test.ipynb): panels render and respond, an invalid field
-  shows its error beside the field, once, and typing latency is measured;
+* the test notebook (tests/browser/widgets_test.ipynb): panels render and respond; the frame builder,
+  frame decoder and CRC explorer follow the typing, key by key, without Enter (the latency from the
+  last key to the new frame on screen is measured); an incomplete or invalid field shows its error
+  beside the field, once;
 * every course notebook with a panel, after Kernel > Restart Kernel and Run All Cells: each panel is
-  controls, at most 700 px tall in every tab, nothing clipped, logs that scroll both ways;
+  controls (the live widget, not its static picture), at most 700 px tall in every tab, nothing
+  clipped, no sideways overflow, logs that scroll both ways;
 * a notebook executed by ``course.execute`` and opened without running: no widget state was saved, so
-  no dead controls are drawn; each panel's text says what it is and "run this cell to open the panel".
+  no dead controls are drawn; each panel shows its static HTML picture, labelled "run this cell to use
+  it".
 
 No JavaScript console errors anywhere.  Every wait has an absolute timeout.
 """
@@ -45,7 +49,8 @@ sys.path.insert(0, str(HERE))
 from browser import lab_driver, panels  # noqa: E402
 from browser.jupyter_harness import JupyterLab, copy_notebook  # noqa: E402
 
-FIGURES: dict = {"panels": [], "typing_latency_ms": []}
+FIGURES: dict = {"panels": [], "typing_latency_ms": {}}
+RUN_TO_USE = "run this cell to use it"
 
 
 def _panel_notebooks() -> list[Path]:
@@ -113,14 +118,29 @@ def _open(lab, nb: Path):
     return page, console
 
 
+def _type_keys(page, box, text: str) -> None:
+    """Select what ``box`` holds and type ``text`` over it key by key, as a learner does: no Enter, no Tab."""
+    box.click()
+    page.keyboard.press("Control+A")
+    page.keyboard.type(text, delay=40)  # 40 ms a key: quicker than the panels' pause, as fingers are
+
+
+def _shows(page, selector: str, want: str, timeout: int = 15_000) -> None:
+    page.wait_for_function("([sel, want]) => { const el = document.querySelector(sel);"
+                           " return !!el && el.innerText.trim() === want; }",
+                           arg=[selector, want], timeout=timeout)
+
+
 def _typing_latency_ms(page, box, text: str, selector: str, want: str) -> float:
-    """Type ``text`` into ``box`` and press Enter; milliseconds until ``selector`` shows ``want``."""
-    box.fill(text)
+    """Type ``text`` into ``box`` key by key, without Enter; milliseconds from the last key until
+    ``selector`` shows ``want``.  The field keeps the focus and exactly what was typed."""
+    _type_keys(page, box, text)
     start = time.perf_counter()
-    box.press("Enter")
-    page.wait_for_function("([sel, want]) => document.querySelector(sel).innerText.trim() === want",
-                           arg=[selector, want], timeout=15_000)
-    return (time.perf_counter() - start) * 1000
+    _shows(page, selector, want)
+    ms = (time.perf_counter() - start) * 1000
+    assert box.evaluate("el => el === document.activeElement"), "typing lost the focus"
+    assert box.input_value() == text, "the kernel overwrote what was being typed"
+    return ms
 
 
 def test_widgets_render_and_respond_in_jupyterlab(lab):
@@ -132,8 +152,7 @@ def test_widgets_render_and_respond_in_jupyterlab(lab):
     shot = ARTIFACTS / "browser_widgets.png"
     page, console = _open(lab, nb)
     try:
-        lab_driver.run_all_cells(page)
-        lab_driver.wait_all_cells_ran(page, timeout_s=90)
+        lab_driver.run_all(page, timeout_s=90, on_retry=console.forgive)
 
         errors = lab_driver.cell_errors(page)
         assert not errors, f"a cell raised:\n{errors}"
@@ -157,25 +176,65 @@ def test_widgets_render_and_respond_in_jupyterlab(lab):
         expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
         assert _frame_hex(page) == expected.hex(" ").upper()
 
-        # type a new address into the page, press Enter: the kernel rebuilds the frame and the page
-        # shows it (the typing latency: Enter to the new frame on screen)
-        address = fb.locator(".mbe-field-address input")
-        for i, value in enumerate((107, 108, 107)):
-            changed = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=value, count=1)).encode()
-            ms = _typing_latency_ms(page, address, str(value), ".mbe-framebuilder .mbe-frame-hex",
+        # the live panels, not their pictures: the widget view outranks the text/html beside it
+        assert RUN_TO_USE not in outputs and page.locator(".mbe-picture").count() == 0
+
+        # type into the page key by key, never Enter: the kernel rebuilds the frame a moment after the
+        # last key and the page shows it (the latency: the last key to the new frame on screen)
+        latency = FIGURES["typing_latency_ms"]
+        count = fb.locator(".mbe-field-count input")
+        for i, (value, n) in enumerate((("5", 5), ("12", 12), ("1", 1))):
+            changed = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=n)).encode()
+            ms = _typing_latency_ms(page, count, value, ".mbe-framebuilder .mbe-frame-hex",
                                     changed.hex(" ").upper())
             if i:  # the first change also warms up the comm
-                FIGURES["typing_latency_ms"].append(round(ms, 1))
+                latency.setdefault("frame builder", []).append(round(ms, 1))
+        address = fb.locator(".mbe-field-address input")
+        # half-typed: "0x" is not a number yet, and says so beside the field while the learner types on
+        _type_keys(page, address, "0x")
+        error = fb.locator(".mbe-field-error-address")
+        error.wait_for(state="visible", timeout=15_000)
+        assert "not a whole number" in error.inner_text()
+        assert fb.locator(".mbe-field-address.mbe-invalid").count() == 1
+        page.keyboard.type("6B", delay=40)
+        changed = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=107, count=1)).encode()
+        _shows(page, ".mbe-framebuilder .mbe-frame-hex", changed.hex(" ").upper())
+        error.wait_for(state="hidden", timeout=15_000)
+        assert address.input_value() == "0x6B"
+
+        # the decoder: a frame typed key by key is dissected without Enter
+        decoder = page.locator(".mbe-framedecoder")
+        text = decoder.locator(".mbe-decoder-input textarea")
+        for i, frame in enumerate(("11 03 00 6B 00 03 76 87", "01 03 00 00 00 01 84 0A")):
+            ms = _typing_latency_ms(page, text, frame, ".mbe-framedecoder .mbe-frame-hex", frame)
+            if i:
+                latency.setdefault("frame decoder", []).append(round(ms, 1))
+        assert "Read Holding Registers" in decoder.locator(".mbe-message-line").inner_text()
+        _type_keys(page, text, "01 0")  # half a byte: the message under the field says so
+        page.wait_for_function("() => document.querySelector('.mbe-framedecoder .mbe-message-line')"
+                               ".innerText.includes('hex')", timeout=15_000)
+        assert decoder.locator(".mbe-decoder-input.mbe-invalid").count() == 1
+
+        # the CRC explorer: the bytes typed key by key are the bytes it steps through
+        crc = page.locator(".mbe-crcexplorer")
+        crc_input = crc.locator(".mbe-crc-input input")
+        for i, data in enumerate(("11 03 00 6B", "01 03 00 00 00 01")):
+            ms = _typing_latency_ms(page, crc_input, data, ".mbe-crcexplorer .mbe-crc-bytes",
+                                    f"bytes: {data}")
+            if i:
+                latency.setdefault("CRC explorer", []).append(round(ms, 1))
+        crc.locator(".mbe-crc-run-to-end").click()
+        page.wait_for_function("() => document.querySelector('.mbe-crcexplorer .mbe-crc-result')"
+                               ".innerText.includes('CRC = 0x0A84')", timeout=15_000)
 
         # Tab moves from one field to the next
+        address = fb.locator(".mbe-field-address input")
         address.focus()
         page.keyboard.press("Tab")
         assert page.evaluate("() => !!document.activeElement.closest('.mbe-field-count')")
 
         # an invalid field: its error beside that field, once, the field marked, the frame kept
-        count = fb.locator(".mbe-field-count input")
-        count.fill("126")
-        count.press("Enter")
+        _type_keys(page, count, "126")
         error = fb.locator(".mbe-field-error-count")
         error.wait_for(state="visible", timeout=15_000)
         assert "quantity of registers is 126" in error.inner_text()
@@ -188,8 +247,7 @@ def test_widgets_render_and_respond_in_jupyterlab(lab):
         assert fb.locator(".mbe-field-count.mbe-invalid").count() == 1
         assert fb.locator(".mbe-stale .mbe-frame-hex").count() == 1  # the last good frame, greyed
         fb.screenshot(path=str(ARTIFACTS / "browser_framebuilder_error.png"))
-        count.fill("1")
-        count.press("Enter")
+        _type_keys(page, count, "1")
         error.wait_for(state="hidden", timeout=15_000)
 
         # switching to TCP shows the transaction id field, which RTU hides
@@ -256,8 +314,7 @@ def test_every_course_panel_fits_the_screen_after_restart_and_run_all(lab, noteb
     nb = copy_notebook(notebook, lab.root_dir, clear=True)
     page, console = _open(lab, nb)
     try:
-        lab_driver.restart_and_run_all(page)
-        lab_driver.wait_all_cells_ran(page, timeout_s=RUN_ALL_TIMEOUT_S)
+        lab_driver.run_all(page, timeout_s=RUN_ALL_TIMEOUT_S, restart=True, on_retry=console.forgive)
         # every view drawn (the widget manager renders the last outputs a moment after the kernel idles)
         page.wait_for_function(
             "sel => [...document.querySelectorAll(sel)].every("
@@ -275,6 +332,7 @@ def test_every_course_panel_fits_the_screen_after_restart_and_run_all(lab, noteb
             problems += result["problems"]
         outputs = " ".join(page.locator(".jp-OutputArea").all_inner_texts())
         assert "Error displaying widget" not in outputs and "Loading widget" not in outputs
+        assert RUN_TO_USE not in outputs  # every panel live: its picture stays in the saved file only
         assert not problems, "\n".join(problems)
         assert not console.errors, console.errors
     except Exception:
@@ -290,8 +348,9 @@ def test_every_course_panel_fits_the_screen_after_restart_and_run_all(lab, noteb
     assert elapsed < RUN_ALL_TIMEOUT_S + 120, f"{notebook.name}: {elapsed:.0f} s"
 
 
-def test_an_unrun_notebook_draws_no_dead_controls(lab, tmp_path):
-    """No widget state is saved: opened without running, each panel is its text, never dead controls."""
+def test_an_unrun_notebook_shows_each_panel_s_picture_and_no_dead_controls(lab, tmp_path):
+    """No widget state is saved: opened without running, each panel is its static HTML picture under
+    "run this cell to use it" (as on GitHub or nbviewer), never dead controls."""
     from modbus_edu.course import execute
 
     executed = tmp_path / "executed.ipynb"
@@ -299,6 +358,9 @@ def test_an_unrun_notebook_draws_no_dead_controls(lab, tmp_path):
     execute(executed, timeout=120)
     saved = json.loads(executed.read_text())
     assert "widgets" not in saved["metadata"]
+    pictures = [o["data"]["text/html"] for c in saved["cells"] for o in c.get("outputs", [])
+                if RUN_TO_USE in "".join(o.get("data", {}).get("text/html", ""))]
+    assert len(pictures) == 6
     nb = copy_notebook(executed, lab.root_dir)
     page, console = _open(lab, nb)
     try:
@@ -309,11 +371,25 @@ def test_an_unrun_notebook_draws_no_dead_controls(lab, tmp_path):
         assert "Error displaying widget" not in text and "Loading widget" not in text
         assert page.locator(".jp-OutputArea-output").locator("input, select, button, textarea").count() == 0
         assert page.locator(".jp-OutputArea-output .jupyter-widgets").count() == 0
+        # each panel drawn from its text/html: the label, then its fields and its frame
+        drawn = page.locator('.jp-OutputArea-output[data-mime-type="text/html"]', has_text=RUN_TO_USE)
+        assert drawn.count() == 6, text[:800]
         for what in ("Frame builder panel", "Frame decoder panel", "CRC explorer panel",
                      "Modbus test tool panel, RTU master", "Modbus test tool panel, RTU slave",
                      "Meter dashboard panel"):
             assert f"{what}" in text, (what, text[:800])
-        assert text.count("run this cell to open the panel") == 6
+        assert text.count(RUN_TO_USE) == 6
+        builder = drawn.filter(has_text="Frame builder panel")
+        assert "01 03 00 00 00 01 84 0A" in builder.inner_text()    # the frame the cell built
+        assert "quantity" in builder.inner_text() and "CRC mismatch" in text
+        # laid out as the panel is, even after the sanitizer of an untrusted notebook: the fields on
+        # their lines (mode, role, function on one; unit, address, quantity each on its own), not in a row
+        rows = builder.locator(".mbe-picture-field").evaluate_all(
+            "els => els.map(e => Math.round(e.getBoundingClientRect().top))")
+        assert len(rows) == 6 and len(set(rows)) == 4, rows
+        for i in range(drawn.count()):
+            box = drawn.nth(i).evaluate("el => [el.scrollWidth, el.clientWidth]")
+            assert box[0] <= box[1] + 1, f"picture {i} overflows sideways: {box}"
         page.screenshot(path=str(ARTIFACTS / "unrun_notebook.png"), full_page=True)
         assert not console.errors, console.errors
     finally:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import json
 import re
+from html import escape
 
 import pytest
 from hypothesis import given, settings
@@ -852,20 +853,65 @@ def test_the_test_tool_is_laid_out_in_tabs_and_every_button_says_what_it_does():
         assert b.tooltip and (b.tooltip != b.description or b in (tool.start_button, tool.stop_button)), b
 
 
-# --- a saved notebook keeps no widget state: each panel says what it is (issue 12) -----------------------
-@pytest.mark.parametrize("make", [FrameBuilder, FrameDecoder, CrcExplorer, MeterDashboard,
-                                  lambda: TestTool("tcp_server", name="meter")])
+# --- a saved notebook keeps no widget state: each panel shows its picture (issues 12 and 20) ------------
+PANELS = {
+    "builder": lambda: FrameBuilder(mode="rtu", unit=17, function=3, address=107, count=3),
+    "decoder": lambda: FrameDecoder("01 03 00 00 00 01 84 0B"),
+    "crc": lambda: CrcExplorer("01 03 00 00 00 01"),
+    "dashboard": lambda: MeterDashboard(),
+    "tool": lambda: TestTool("tcp_server", name="meter"),
+}
+
+
+@pytest.mark.parametrize("make", PANELS.values(), ids=PANELS.keys())
 def test_a_panel_output_says_what_it_is_and_to_run_the_cell(make):
     panel = make()
-    text = panel._repr_mimebundle_()["text/plain"]
-    assert "panel" in text and text.endswith("run this cell to open the panel]")
+    bundle = panel._repr_mimebundle_()
+    text = bundle["text/plain"]
+    assert "panel" in text and text.endswith("run this cell to use it]")
     assert type(panel).__name__ in repr(panel)  # repr() stays the live summary for code
+    html = bundle["text/html"]
+    assert html.count("run this cell to use it") == 1 and escape(panel.static_text()) in html
+    assert "application/vnd.jupyter.widget-view+json" in bundle  # the live panel, preferred when it exists
+    # a picture, inert: nothing to type into or click, no script
+    assert not re.search(r"<(input|select|textarea|button|script)\b", html, re.I), html[:300]
     if isinstance(panel, TestTool):
         assert "TCP server 'meter'" in text
         panel.disconnect(quiet=True)
 
 
-def test_executed_notebooks_keep_no_widget_state():
+def test_a_panel_picture_shows_its_fields_and_the_library_s_frame():
+    fb = PANELS["builder"]()
+    html = fb._repr_mimebundle_()["text/html"]
+    assert "11 03 00 6B 00 03 76 87" in html           # the frame of VECTORS.md, as the library built it
+    assert fb.dissection_view.value in html             # the library's dissection table, as on screen
+    for label, value in (("address", "107"), ("quantity", "3"), ("unit (slave id)", "17")):
+        field = rf">{re.escape(label)}</span><span class=\"mbe-picture-field\"[^>]*>{value}<"
+        assert re.search(field, html), label
+    assert "transaction id" not in html                 # hidden on RTU, so not in the picture either
+    assert "03 Read Holding Registers" in html          # a dropdown shows its choice
+    fb.mode.value = "tcp"                                # the picture is of the panel as it is now
+    html = fb._repr_mimebundle_()["text/html"]
+    assert "transaction id" in html and "00 01 00 00 00 06 11 03 00 6B 00 03" in html
+
+    cx = PANELS["crc"]()
+    cx.run_to_end.click()
+    html = cx._repr_mimebundle_()["text/html"]
+    assert "CRC = 0x0A84" in html and "84 0A" in html and "CRC-16 bit by bit" in html
+
+    fd = PANELS["decoder"]()
+    html = fd._repr_mimebundle_()["text/html"]
+    assert "01 03 00 00 00 01 84 0B" in html and "CrcError" in html
+
+    tool = TestTool("rtu_master", unit=7)
+    html = tool._repr_mimebundle_()["text/html"]
+    for title in ("connection", "data", "traffic", "settings"):
+        assert f">{title}</span>" in html                # the tab bar; the open tab's controls below
+    assert ">unit (slave id)</span>" in html and ">7<" in html
+
+
+@pytest.mark.parametrize("output_type", ["execute_result", "display_data"])
+def test_executed_notebooks_keep_no_widget_state_but_each_panel_s_picture(output_type):
     import nbformat
 
     from modbus_edu.course import WIDGET_VIEW, strip_widget_state
@@ -874,11 +920,109 @@ def test_executed_notebooks_keep_no_widget_state():
     nb = nbformat.v4.new_notebook()
     nb.metadata["widgets"] = {"application/vnd.jupyter.widget-state+json": {"state": {}}}
     cell = nbformat.v4.new_code_cell("FrameBuilder()")
-    cell.outputs = [nbformat.v4.new_output("execute_result", data=panel._repr_mimebundle_())]
+    bundle = panel._repr_mimebundle_()
+    cell.outputs = [nbformat.v4.new_output(output_type, data=dict(bundle))]
     nb.cells.append(cell)
     assert strip_widget_state(nb) == 1
-    assert "widgets" not in nb.metadata and WIDGET_VIEW not in cell.outputs[0]["data"]
-    assert "run this cell to open the panel" in cell.outputs[0]["data"]["text/plain"]
+    data = cell.outputs[0]["data"]
+    assert "widgets" not in nb.metadata and WIDGET_VIEW not in data
+    assert "run this cell to use it" in data["text/plain"]
+    assert data["text/html"] == bundle["text/html"] and "run this cell to use it" in data["text/html"]
+    nbformat.validate(nb)
+
+
+# --- the panels follow the typing (issue 20) -------------------------------------------------------------
+def _type(box, text: str) -> None:
+    """What the page sends while a learner types ``text``: the box's value after each key."""
+    for i in range(len(text) + 1):
+        box.set_state({"value": text[:i]})
+
+
+def _counting(panel) -> list:
+    calls: list = []
+    apply = panel.typing.apply
+
+    def counted():
+        calls.append(1)
+        apply()
+
+    panel.typing.apply = counted
+    return calls
+
+
+TYPED = [
+    ("builder", lambda: FrameBuilder(unit=1, function=3, address=0, count=1), "count", "5",
+     lambda p: p.frame.hex(" ").upper(), "01 03 00 00 00 05 85 C9"),
+    ("decoder", lambda: FrameDecoder(""), "text", "11 03 00 6B 00 03 76 87",
+     lambda p: p.dissection and p.dissection.summary,
+     "RTU request: unit 17, Read Holding Registers, address 107, count 3"),
+    ("crc", lambda: CrcExplorer(""), "text", "01 03 00 00 00 01",
+     lambda p: (len(p.steps), p.wire.hex(" ").upper()), (54, "84 0A")),
+]
+
+
+@pytest.mark.parametrize(("make", "field", "typed", "seen", "want"), [t[1:] for t in TYPED],
+                         ids=[t[0] for t in TYPED])
+def test_typing_in_the_page_updates_the_panel_after_a_pause(make, field, typed, seen, want):
+    from modbus_edu.widgets.common import TYPING_DELAY
+
+    async def learner():
+        panel = make()
+        box = getattr(panel, field)
+        assert box.continuous_update is True  # the page sends every keystroke
+        before = seen(panel)
+        calls = _counting(panel)
+        _type(box, typed)
+        assert panel.typing.pending and seen(panel) == before and not calls   # still typing
+        await asyncio.sleep(TYPING_DELAY * 3)   # the pause: its timer is due first, whatever the load
+        assert not panel.typing.pending and seen(panel) == want
+        assert len(calls) == 1                  # one update for the whole word, not one per key
+        return panel
+
+    asyncio.run(asyncio.wait_for(learner(), timeout=10))
+
+
+def test_an_incomplete_field_shows_its_message_beside_it_while_typing():
+    async def learner():
+        fb = FrameBuilder(unit=1, function=3, address=0, count=1)
+        _type(fb.address, "0x")
+        assert fb.typing.flush()                           # deterministic: apply what waits now
+        assert "address" in fb.field_errors and "'0x' is not a whole number" in fb.field_errors["address"]
+        label = fb._error_labels["address"]
+        assert label.layout.display != "none" and "not a whole number" in label.value
+        assert "mbe-invalid" in fb.address._dom_classes and fb.frame == b""
+        assert "mbe-stale" in fb.frame_view.value and "01 03 00 00 00 01 84 0A" in fb.frame_view.value
+        _type(fb.address, "0x6B")
+        assert fb.typing.flush() and not fb.typing.flush()  # nothing left to apply the second time
+        pdu = bytes.fromhex("01 03 00 6B 00 01")
+        assert fb.field_errors == {} and fb.frame == pdu + crc_bytes(pdu)
+
+        fd = FrameDecoder("")
+        _type(fd.text, "01 0")
+        fd.typing.flush()
+        assert fd.message.kind == "error" and "mbe-invalid" in fd.text._dom_classes
+        cx = CrcExplorer("")
+        _type(cx.text, "01 0G")
+        cx.typing.flush()
+        assert cx.message.kind == "error" and "mbe-invalid" in cx.text._dom_classes and cx.steps == []
+
+    asyncio.run(asyncio.wait_for(learner(), timeout=10))
+
+
+def test_a_value_set_from_code_or_chosen_in_a_list_applies_at_once():
+    async def learner():
+        fb = FrameBuilder(unit=1, function=3, address=0, count=1)
+        fb.count.value = "2"                  # code: no waiting, the next line sees the frame
+        assert not fb.typing.pending and fb.frame.hex(" ") == "01 03 00 00 00 02 c4 0b"
+        _type(fb.count, "3")
+        assert fb.typing.pending
+        fb.mode.set_state({"index": 2})       # TCP chosen in the page: at once, with the typed text
+        assert not fb.typing.pending and fb.frame.hex(" ") == "00 01 00 00 00 06 01 03 00 00 00 03"
+
+    asyncio.run(asyncio.wait_for(learner(), timeout=10))
+    fb = FrameBuilder(unit=1, function=3, address=0, count=1)
+    _type(fb.count, "4")                      # no running loop (a script): typed text applies at once
+    assert not fb.typing.pending and fb.frame.hex(" ") == "01 03 00 00 00 04 44 09"
 
 
 def test_frame_decoder_says_each_error_once_under_its_field():
@@ -895,11 +1039,13 @@ def test_frame_decoder_says_each_error_once_under_its_field():
     assert "mbe-invalid" not in fd.text._dom_classes and fd.dissection_view.value == good
 
 
-def test_text_fields_apply_on_enter_or_tab_not_at_every_keystroke():
+def test_panel_fields_follow_the_typing_and_the_test_tool_s_numbers_apply_on_enter():
     fb = FrameBuilder()
-    cx = CrcExplorer()
+    for box in (fb.unit, fb.transaction_id, fb.address, fb.count, fb.values, FrameDecoder().text,
+                CrcExplorer().text):
+        assert box.continuous_update is True, box.description
     tool = TestTool("rtu_master")
-    for box in (fb.unit, fb.address, fb.count, fb.values, cx.text, tool.address, tool.length, tool.unit):
+    for box in (tool.address, tool.length, tool.unit):   # a poll setting changes on Enter or Tab
         assert box.continuous_update is False, box.description
 
 

@@ -8,6 +8,8 @@
 
 Each panel is an ipywidgets widget: put it last in a cell to display it.  No panel holds protocol logic:
 every byte, check and decision comes from :mod:`modbus_edu`.
+Before its cell runs (a saved notebook on GitHub or nbviewer, or before Run All) a panel shows its
+static picture (:mod:`.picture`), labelled "run this cell to use it".
 """
 
 from __future__ import annotations

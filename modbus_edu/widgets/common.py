@@ -1,4 +1,5 @@
-"""What the panels share: colours, the message line, reading numbers typed by people, coloured frames.
+"""What the panels share: colours, the message line, reading numbers typed by people, coloured frames,
+and following the typing (:class:`Typing`).
 
 Nothing here knows Modbus.  The panels ask the library for every byte and every field boundary
 (:func:`modbus_edu.explain.explain` rows); this module only turns text into numbers and rows into
@@ -7,6 +8,7 @@ coloured HTML.
 
 from __future__ import annotations
 
+import asyncio
 import html
 import traceback
 from collections.abc import Callable, Iterable
@@ -38,11 +40,13 @@ __all__ = [
     "dropdown",
     "shown",
     "is_shown",
-    "RUN_TO_OPEN",
     "STALE_STYLE",
     "stale_html",
     "mark_invalid",
-    "StaticText",
+    "TYPING_DELAY",
+    "running_loop",
+    "from_the_page",
+    "Typing",
 ]
 
 #: Soft background colours, one per field of a frame (cycled when a frame has more fields).
@@ -312,12 +316,12 @@ def text_field(description: str, value: str = "", css: str | None = None, width:
                placeholder: str = "", tooltip: str = "") -> W.Text:
     """A labelled text box (``css`` adds a class for browser tests, e.g. ``mbe-field-address``).
 
-    It applies its text when Enter is pressed or focus leaves it (Tab), not at every keystroke, so a
-    half-typed ``0x`` is never reported as an error."""
+    It sends its text at every keystroke (``continuous_update``); the panel applies it a moment after
+    the last one (:class:`Typing`), so the frame follows the typing without Enter or Tab."""
     box = W.Text(value=value if isinstance(value, str) else shown_value(value), description=description,
                  placeholder=placeholder,
                  style={"description_width": "110px"}, layout=W.Layout(width=width),
-                 continuous_update=False)  # Enter (or leaving the field with Tab) applies it
+                 continuous_update=True)
     if tooltip:
         box.tooltip = tooltip
     if css:
@@ -346,25 +350,80 @@ def is_shown(widget: W.DOMWidget) -> bool:
     return widget.layout.display != "none"
 
 
-# --- what a notebook that has not run shows --------------------------------------------------------------
-RUN_TO_OPEN = "run this cell to open the panel"
+# --- following the typing ----------------------------------------------------------------------------
+TYPING_DELAY = 0.2
+"""Seconds after the last keystroke before a panel applies what was typed (one rebuild per pause, not
+one per key; short enough that the frame seems to follow the fingers)."""
 
 
-class StaticText:
-    """Mixin for a panel: the text its output keeps in a saved notebook.
+def running_loop() -> asyncio.AbstractEventLoop | None:
+    """The kernel's asyncio loop when there is one (in Jupyter), else None (a script, a test)."""
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None
 
-    No widget state is saved with the course's notebooks (:func:`modbus_edu.course.strip_widget_state`),
-    so a notebook that has not run shows each panel's ``text/plain``: what the panel is, and
-    "run this cell to open the panel" -- never controls that ignore input.  ``repr()`` stays the live
-    summary for code and tests.
+
+def from_the_page(change: dict[str, Any]) -> bool:
+    """Whether a value change came from the page (the learner) rather than from code.
+
+    ipywidgets applies a change sent by the browser inside ``set_state``, with the trait named in the
+    widget's property lock (the lock that keeps the kernel from echoing the value back); a value set
+    from Python is not locked."""
+    owner = change.get("owner")
+    return change.get("name") in (getattr(owner, "_property_lock", None) or {})
+
+
+class Typing:
+    """Apply a panel's fields a moment (:data:`TYPING_DELAY`) after the learner's last keystroke.
+
+    ``changed`` is the observer of the panel's inputs.  Text typed in the page waits for a pause in the
+    typing, on the kernel's asyncio loop; any other change -- a value set from code, a dropdown chosen --
+    applies at once, together with anything still waiting.  Without a running loop (a script, a
+    headless test) typed text applies at once too.  Deterministic for tests: :meth:`flush` applies what
+    waits now, and :attr:`pending` says whether anything does.  ``apply`` holds no protocol logic of its
+    own: it is the panel's ``update``.
     """
 
-    def static_text(self) -> str:
-        """What this panel is, in a few words (each panel says its own)."""
-        return type(self).__name__
+    def __init__(self, apply: Callable[[], Any], delay: float = TYPING_DELAY) -> None:
+        self.apply = apply
+        self.delay = delay
+        self._timer: asyncio.TimerHandle | None = None
 
-    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
-        data = super()._repr_mimebundle_(**kwargs)  # type: ignore[misc]
-        if isinstance(data, dict) and "text/plain" in data:
-            data["text/plain"] = f"[{self.static_text()}: {RUN_TO_OPEN}]"
-        return data
+    @property
+    def pending(self) -> bool:
+        """True while typed text waits for the pause."""
+        return self._timer is not None
+
+    def changed(self, change: dict[str, Any]) -> None:
+        if from_the_page(change) and isinstance(change.get("owner"), (W.Text, W.Textarea)):
+            self.schedule()
+        else:
+            self.cancel()
+            self.apply()
+
+    def schedule(self) -> None:
+        """(Re)start the wait: the panel applies ``delay`` seconds from now, unless typing goes on."""
+        self.cancel()
+        loop = running_loop()
+        if loop is None:
+            self.apply()
+            return
+        self._timer = loop.call_later(self.delay, self._fire)
+
+    def _fire(self) -> None:
+        self._timer = None
+        self.apply()
+
+    def cancel(self) -> None:
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+
+    def flush(self) -> bool:
+        """Apply what waits now; returns whether anything did."""
+        if self._timer is None:
+            return False
+        self.cancel()
+        self.apply()
+        return True

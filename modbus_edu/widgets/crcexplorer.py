@@ -20,7 +20,8 @@ from ..crc import (
 from ..errors import ModbusError
 from ..framing import parse_hex
 from ..plotstyle import figure
-from .common import MONO, MessageLine, StaticText, esc, guarded, hex_text, mark_invalid, stale_html
+from .common import MONO, MessageLine, Typing, esc, guarded, hex_text, mark_invalid, stale_html
+from .picture import StaticView
 
 __all__ = ["CrcExplorer"]
 
@@ -50,11 +51,13 @@ def _bin8(value: int) -> str:
 LABEL_WIDTH = 19
 
 
-class CrcExplorer(StaticText, W.VBox):
+class CrcExplorer(StaticView, W.VBox):
     """Step through the error check of a frame: the CRC-16 of RTU (bit by bit, or by table) and the LRC.
 
-    Type the bytes (hex, any common spacing).  **Bit by bit** follows the specification's algorithm,
-    from :func:`modbus_edu.crc.crc16_trace`: the register starts at 0xFFFF; each byte is XORed into its
+    Type the bytes (hex, any common spacing); the steps follow the typing, a moment after the last
+    keystroke (``typing``, a :class:`~modbus_edu.widgets.common.Typing`).  **Bit by bit** follows the
+    specification's algorithm, from :func:`modbus_edu.crc.crc16_trace`: the register starts at 0xFFFF;
+    each byte is XORed into its
     low half, then eight times the register shifts right and, when the bit that fell out (the LSB) was
     1, is XORed with 0xA001.  Each step shows the register in binary and hex, the shift and the XOR.
     **By table** (:func:`~modbus_edu.crc.crc16_table_trace`) does a byte per step and shows the table
@@ -85,7 +88,7 @@ class CrcExplorer(StaticText, W.VBox):
         self.position = 0
         text = data if isinstance(data, str) else hex_text(bytes(data))
         self.text = W.Text(value=text, description="bytes (hex)", style={"description_width": "90px"},
-                           layout=W.Layout(width="560px"), continuous_update=False)  # Enter applies
+                           layout=W.Layout(width="560px"), continuous_update=True)
         self.text.add_class("mbe-crc-input")
         self.method = W.ToggleButtons(options=METHODS, value=method, tooltips=METHOD_TIPS)
         self.method.add_class("mbe-crc-method")
@@ -102,6 +105,7 @@ class CrcExplorer(StaticText, W.VBox):
         self.run_to_end = button("run to end", "fast-forward", "do every step")
         self.message = MessageLine()
         self.bytes_view = W.HTML()
+        self.bytes_view.add_class("mbe-crc-bytes")
         self.step_view = W.HTML(layout=W.Layout(overflow="auto"))  # long lines scroll, never clip
         self.step_view.add_class("mbe-crc-step")
         self.result_view = W.HTML()
@@ -119,8 +123,10 @@ class CrcExplorer(StaticText, W.VBox):
             self.history_view,
         ]
         self._load = guarded(self.message, self.load)
-        self.text.observe(lambda _c: self._load(), names="value")
-        self.method.observe(lambda _c: self._load(), names="value")
+        self.typing = Typing(self._load)
+        """Applies typed bytes a moment after the last keystroke; ``typing.flush()`` applies them now."""
+        self.text.observe(self.typing.changed, names="value")
+        self.method.observe(self.typing.changed, names="value")
         self.next_bit.on_click(guarded(self.message, lambda _b: self.step(1)))
         self.next_byte.on_click(guarded(self.message, lambda _b: self.finish_byte()))
         self.back.on_click(guarded(self.message, lambda _b: self.step(-1)))

@@ -17,7 +17,8 @@ from ..links.loopback import loopback_serial
 from ..master import Master
 from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
 from ..slave import Slave
-from .common import MONO, MessageLine, StaticText, esc, guarded
+from .common import MONO, MessageLine, esc, guarded
+from .picture import StaticView
 
 __all__ = ["MeterDashboard"]
 
@@ -29,7 +30,7 @@ def _group_title(unit: str) -> str:
     return _GROUP_TITLES.get(unit, unit or "values")
 
 
-class MeterDashboard(StaticText, W.VBox):
+class MeterDashboard(StaticView, W.VBox):
     """Read a power meter every few seconds, show the scaled values in a table and plot their trends.
 
     ``source`` is a device (a :class:`~modbus_edu.devices.PowerMeter`, or any slave with the same

@@ -14,7 +14,7 @@ from ..framing import Frame, make_frame, parse_hex
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu, request_class, response_class
 from .common import (
     MessageLine,
-    StaticText,
+    Typing,
     dissection_html,
     dropdown,
     esc,
@@ -30,6 +30,7 @@ from .common import (
     stale_html,
     text_field,
 )
+from .picture import StaticView
 
 __all__ = ["FrameBuilder"]
 
@@ -140,7 +141,7 @@ def _text(value: Any) -> str:
     return str(value)
 
 
-class FrameBuilder(StaticText, W.VBox):
+class FrameBuilder(StaticView, W.VBox):
     """Build a Modbus frame from its fields and see every byte, coloured by the field it belongs to.
 
     Choose the mode (RTU, ASCII, TCP), the role (request, response, or an exception response), the
@@ -155,8 +156,9 @@ class FrameBuilder(StaticText, W.VBox):
     ``.encode()``; the colours and the table below are :func:`modbus_edu.explain.explain`'s rows.
     Invalid input (a quantity of 126 for function 3, a unit of 300 on RTU, ``abc`` as an address) shows
     the library's error message in red beside that field (marked red), once, and never raises; the
-    frame and the table keep their place with the last good frame greyed out.  A field applies when
-    you press Enter or leave it (Tab).
+    frame and the table keep their place with the last good frame greyed out.  The frame follows the
+    typing: a field applies a moment after the last keystroke (``typing``, a
+    :class:`~modbus_edu.widgets.common.Typing`), no Enter needed; a value set from code applies at once.
 
     Attributes after every change:
 
@@ -250,6 +252,8 @@ class FrameBuilder(StaticText, W.VBox):
             self.dissection_view,
         ]
         self._update = guarded(self.message, self.update)
+        self.typing = Typing(self._update)
+        """Applies typed text a moment after the last keystroke; ``typing.flush()`` applies it now."""
         kind = self._values_kind_now() or "registers"
         if values is not None:
             self._values_text[kind] = _text(values)
@@ -257,8 +261,13 @@ class FrameBuilder(StaticText, W.VBox):
         self._values_kind = kind
         for box in [self.mode, self.role, self.function, self.unit, self.transaction_id,
                     *self._field_inputs]:
-            box.observe(lambda _change: None if self._quiet else self._update(), names="value")
+            box.observe(self._changed, names="value")
         self._update()
+
+    def _changed(self, change: dict[str, Any]) -> None:
+        """Any input changed: typed text waits for a pause in the typing, the rest applies at once."""
+        if not self._quiet:
+            self.typing.changed(change)
 
     # -- the inputs, each with its error beside it ------------------------------------------------------
     def _make_input(self, name: str, initial: Any) -> W.DOMWidget:
@@ -354,8 +363,7 @@ class FrameBuilder(StaticText, W.VBox):
                     setattr(self, f.name, self._make_input(f.name, "" if kind == "hex" else 0))
                     self.right.children = [*self.right.children, self._rows[f.name]]
                     self._quiet = True
-                    getattr(self, f.name).observe(
-                        lambda _change: None if self._quiet else self._update(), names="value")
+                    getattr(self, f.name).observe(self._changed, names="value")
                     self._quiet = False
                 out[f.name] = getattr(self, f.name)
         return out

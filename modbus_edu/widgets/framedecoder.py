@@ -11,7 +11,7 @@ from ..explain import Dissection, explain
 from ..framing import parse_hex
 from .common import (
     MessageLine,
-    StaticText,
+    Typing,
     dissection_html,
     dropdown,
     esc,
@@ -22,6 +22,7 @@ from .common import (
     mark_invalid,
     stale_html,
 )
+from .picture import StaticView
 
 __all__ = ["FrameDecoder"]
 
@@ -30,7 +31,7 @@ ROLE_OPTIONS = [("auto", "auto"), ("request", "request"), ("response", "response
 _NAMES = {"rtu": "RTU", "ascii": "ASCII", "tcp": "TCP"}
 
 
-class FrameDecoder(StaticText, W.VBox):
+class FrameDecoder(StaticView, W.VBox):
     """Paste a frame as hex (or an ASCII frame with its ``:``) and see what every byte means.
 
     Hex may be written the usual ways: ``01 03 00 00 00 01 84 0A``, ``010300000001840A``,
@@ -39,6 +40,8 @@ class FrameDecoder(StaticText, W.VBox):
     unless you choose it; the role (request or response) is the one that decodes unless you choose it.
     The dissection is :func:`modbus_edu.explain.explain`'s: a wrong CRC or LRC is shown with the value
     it should have had, and any rule the frame breaks is said in red, in place; nothing raises.
+    The dissection follows the typing: the text is read a moment after the last keystroke (``typing``,
+    a :class:`~modbus_edu.widgets.common.Typing`); a half-typed byte says so under the field.
 
     Attributes after every change: ``frame`` (the parsed bytes, ``b""`` when the text is not hex),
     ``dissection`` (the :class:`~modbus_edu.explain.Dissection`, or ``None``), ``error`` (the
@@ -62,7 +65,7 @@ class FrameDecoder(StaticText, W.VBox):
 
         self.text = W.Textarea(value=text, placeholder="01 03 00 00 00 01 84 0A   or   :050310000002E6",
                                description="frame", style={"description_width": "60px"},
-                               layout=W.Layout(width="640px", height="64px"))
+                               layout=W.Layout(width="640px", height="64px"), continuous_update=True)
         self.text.add_class("mbe-decoder-input")
         self.mode = dropdown("mode", MODE_OPTIONS, mode, css="mbe-field-mode", width="220px")
         self.role = dropdown("role", ROLE_OPTIONS, role, css="mbe-field-role", width="220px")
@@ -82,8 +85,10 @@ class FrameDecoder(StaticText, W.VBox):
             self.dissection_view,
         ]
         self._update = guarded(self.message, self.update)
+        self.typing = Typing(self._update)
+        """Applies typed text a moment after the last keystroke; ``typing.flush()`` applies it now."""
         for box in (self.text, self.mode, self.role):
-            box.observe(lambda _change: self._update(), names="value")
+            box.observe(self.typing.changed, names="value")
         self._update()
 
     def update(self) -> None:

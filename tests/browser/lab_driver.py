@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 import time
+from collections.abc import Callable
 
 BROWSER_ARGS = [
     "--no-sandbox",
@@ -82,6 +83,30 @@ def run_all_cells(page, attempts: int = 4) -> None:
     raise TimeoutError("Run > Run All Cells did not start the cells")
 
 
+class NothingRan(TimeoutError):
+    """Run All was accepted, yet no cell ran: the first kernel died while starting (on a loaded
+    machine its start can be cut short) and the cells queued for it went with it."""
+
+
+def run_all(page, timeout_s: float, restart: bool = False, attempts: int = 3,
+            on_retry: Callable[[], object] | None = None) -> list[str]:
+    """Run > Run All Cells (or Kernel > Restart Kernel and Run All Cells) and wait for every cell; when
+    no cell ran at all (:class:`NothingRan`), call ``on_retry`` and ask again, at most ``attempts``
+    times."""
+    deadline = time.monotonic() + timeout_s
+    for attempt in range(attempts):
+        (restart_and_run_all if restart else run_all_cells)(page)
+        try:
+            return wait_all_cells_ran(page, max(10.0, deadline - time.monotonic()))
+        except NothingRan:
+            if attempt == attempts - 1:
+                raise
+            wait_kernel_idle(page)
+            if on_retry is not None:
+                on_retry()
+    raise AssertionError("unreachable")
+
+
 def wait_all_cells_ran(page, timeout_s: float = 60.0) -> list[str]:
     """Wait until every code cell shows an execution count ("[n]:"), then for the kernel to be idle.
 
@@ -104,6 +129,8 @@ def wait_all_cells_ran(page, timeout_s: float = 60.0) -> list[str]:
             if time.monotonic() - idle_since > 3:
                 if prompts and numbered[-1]:
                     return prompts
+                if prompts and all(p == "[ ]:" for p in prompts) and time.monotonic() - idle_since > 6:
+                    raise NothingRan(f"the kernel is idle and no cell ran; prompts: {prompts}")
                 errors = cell_errors(page)
                 if errors:  # Run All stopped at a cell that raised: say which, do not wait out the clock
                     raise RuntimeError("a cell raised, so Run All stopped:\n" + "\n".join(errors)[-3000:])
@@ -149,8 +176,16 @@ class ConsoleErrors:
 
     def __init__(self, page) -> None:
         self.errors: list[str] = []
+        self.forgiven: list[str] = []
         page.on("console", self._console)
         page.on("pageerror", lambda exc: self.errors.append(f"uncaught: {exc}"))
+
+    def forgive(self) -> None:
+        """Set aside the errors so far: they belong to a kernel that died while starting (its
+        websocket answered 500, then 404), before Run All was asked again; printed, not failed on."""
+        self.forgiven += self.errors
+        print(f"kernel start failed and Run All was asked again; its console errors: {self.errors}")
+        self.errors = []
 
     def _console(self, msg) -> None:
         if msg.type == "error" and not any(p.search(msg.text) for p in self.IGNORE):

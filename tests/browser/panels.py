@@ -2,8 +2,9 @@
 
 * rendered as controls (inputs, selects or buttons, not the text fallback);
 * at most :data:`MAX_HEIGHT` px tall, in each of its tabs;
-* nothing wider than the box that holds it unless that box scrolls (no clipped frames or logs), and the
-  panel within the output area;
+* nothing wider than the box that holds it unless that box scrolls (no clipped frames or logs), the
+  panel within the output area, and the panel and its tabs never scrolling sideways (their content
+  fits their width);
 * logs that scroll inside their own box, both ways.
 """
 
@@ -39,11 +40,19 @@ _MEASURE = r"""
         + `${describe(box)} (${Math.round(b.left)}..${Math.round(b.right)}), which does not scroll`);
     }
   }
+  // the panel and its tabs never scroll sideways: their content fits the width they have
+  for (const el of [panel, ...panel.querySelectorAll('.jupyter-widget-tab, .widget-tab-contents')]) {
+    if (el.offsetParent !== null && el.scrollWidth > el.clientWidth + 1) {
+      problems.push(`${describe(el)} overflows sideways: ${el.scrollWidth} px of content in `
+        + `${el.clientWidth} px`);
+    }
+  }
   const p = panel.getBoundingClientRect(), o = outer.getBoundingClientRect();
   if (p.right > o.right + 1) {
     problems.push(`the panel (right ${p.right}) runs past the output area (${o.right})`);
   }
-  return {height: p.height, width: p.width, outputWidth: o.width,
+  return {height: p.height, width: p.width, outputWidth: o.width, contentWidth: panel.scrollWidth,
+          innerWidth: panel.clientWidth,
           controls: panel.querySelectorAll('input, select, textarea, button').length,
           problems: problems.slice(0, 10)};
 }
@@ -93,6 +102,7 @@ def check_panel(page, panel, name: str, artifacts: Path) -> dict:
         result["heights"].append((title or "-", round(m["height"])))
         result["output_width"] = round(m["outputWidth"])
         result["width"] = round(m["width"])
+        result.setdefault("content_widths", []).append((title or "-", m["contentWidth"], m["innerWidth"]))
         if m["controls"] == 0:
             result["problems"].append(f"{label}: no controls rendered")
         if m["height"] > MAX_HEIGHT:

@@ -3,7 +3,6 @@ factories (a labelled control of a given width, a button with a tooltip, a row t
 
 from __future__ import annotations
 
-import asyncio
 from dataclasses import dataclass, fields
 
 import ipywidgets as W
@@ -12,6 +11,7 @@ from ...datamodel import table_kind
 from ...errors import ModbusError
 from ...pdu import FunctionCode
 from ...values import FORMATS
+from ..common import running_loop  # the loop polling runs on, shared with the panels' typing
 
 __all__ = ["Role", "ROLES", "ROLE_OPTIONS", "FUNCTION_OPTIONS", "BAUD_RATES", "FORMAT_OPTIONS", "MAX_CELLS",
            "COLUMNS", "LOG_LINES", "TAB_TITLES", "GRID_HEIGHT", "LOG_HEIGHT", "CONFIG_KEYS",
@@ -99,14 +99,6 @@ CONFIG_KEYS = tuple(item.name for item in fields(TestToolSettings))
 """The settings' names, in the order :meth:`~modbus_edu.widgets.TestTool.config` gives them."""
 
 
-
-
-def running_loop() -> asyncio.AbstractEventLoop | None:
-    """The kernel's asyncio loop when there is one (in Jupyter), else None (a script, a test)."""
-    try:
-        return asyncio.get_running_loop()
-    except RuntimeError:
-        return None
 
 
 def small(widget: W.DOMWidget, width: str = "210px", label: str = "95px") -> W.DOMWidget:

@@ -24,7 +24,8 @@ from ...errors import ConfigError, ModbusError
 from ...master import Master
 from ...slave import Slave
 from ...traffic import TrafficLog
-from ..common import MessageLine, StaticText, esc, guarded, shown
+from ..common import MessageLine, esc, guarded, shown
+from ..picture import StaticView
 from .config import ConfigMixin
 from .connection import ConnectionMixin
 from .controls import (
@@ -49,7 +50,7 @@ from .traffic import TrafficMixin
 __all__ = ["TestTool"]
 
 
-class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin, W.VBox):
+class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin, W.VBox):
     """The robot test-tool paper's Modbus test tool in a notebook: RTU master, RTU slave, TCP client or TCP
     server.
 
@@ -336,7 +337,7 @@ class TestTool(StaticText, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
             row(self.config_path, self.save_button, self.load_button),
         ])
         self.tabs = W.Tab(children=[connection_tab, data_tab, traffic_tab, settings_tab],
-                          titles=TAB_TITLES, layout=W.Layout(width="100%"))
+                          titles=TAB_TITLES)  # stretched by the panel (width 100% + margins overflowed)
         self.tabs.add_class("mbe-tt-tabs")
         self.children = [
             self.title,
