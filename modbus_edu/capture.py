@@ -535,26 +535,26 @@ class _Reader:
             return None
         try:
             packet = layer(data)
-            if scapy.IP in packet:
-                ip = packet[scapy.IP]
-                if ip.frag or ip.flags.MF or ip.proto != 6:
+            tcp = packet.getlayer(scapy.TCP)
+            if tcp is None:
+                return None
+            ip = tcp.underlayer
+            if isinstance(ip, scapy.IP):
+                if ip.frag or ip.flags.MF:
                     return None
-                ip_payload = bytes(ip)[ip.ihl * 4: ip.len]
-                src_ip, dst_ip = ip.src, ip.dst
-            elif scapy.IPv6 in packet:
-                ip = packet[scapy.IPv6]
-                if ip.nh != 6:
-                    return None
-                ip_payload = bytes(ip)[40: 40 + ip.plen]
-                src_ip, dst_ip = ip.src, ip.dst
+                # the IP length ends the segment (Ethernet pads short frames); 0 where the capturing
+                # host's network card was left to fill it in (segmentation offload)
+                end = ip.len - ip.ihl * 4 if ip.len else None
+            elif isinstance(ip, scapy.IPv6):
+                end = ip.plen or None
             else:
                 return None
-            tcp = scapy.TCP(ip_payload)
+            segment = bytes(tcp)
             header = tcp.dataofs * 4
-            if header < 20 or header > len(ip_payload):
+            if header < 20 or header > len(segment):
                 return None
-            return ((src_ip, tcp.sport), (dst_ip, tcp.dport), tcp.seq, int(tcp.flags),
-                    ip_payload[header:])
+            return ((ip.src, tcp.sport), (ip.dst, tcp.dport), tcp.seq, int(tcp.flags),
+                    segment[header:end])
         except Exception:  # scapy could not dissect it: not a TCP packet this reader can use
             return None
 
