@@ -25,9 +25,14 @@ Wireshark's own "Modbus RTU" dissector (``mbrtu``) reads once the user link-type
 
     tshark -o 'uat:user_dlts:"User 0 (DLT=147)","mbrtu","0","","0",""' -r meter.pcap
 
-(in Wireshark: Edit > Preferences > Protocols > DLT_USER > Edit, add "User 0 (DLT=147)" with payload
-dissector ``mbrtu``).  Wireshark has no Modbus ASCII dissector: ASCII frames use ``DLT_USER1`` (148),
-shown as lines of text with the payload dissector ``data-text-lines``::
+(in Wireshark: Edit > Preferences > Protocols > DLT_USER > Encapsulations Table: Edit, then "+" and
+DLT "User 0 (DLT=147)" with payload dissector ``mbrtu``; add ``-o mbrtu.crc_verification:TRUE`` to have
+it check each CRC).  What tshark 4.0 then shows: every frame of 5 bytes or more as Modbus RTU, with its
+unit and function; a serial line carries no direction, so it tells a request from a response by length
+alone, which works for FC 1-4, 15, 16 and exception responses, and calls the others "unable to
+classify"; the 4-byte requests of FC 7, 11, 12 and 17 are shorter than it accepts and stay plain bytes.
+Wireshark has no Modbus ASCII dissector: ASCII frames use ``DLT_USER1`` (148), shown as lines of text
+with the payload dissector ``data-text-lines``::
 
     tshark -o 'uat:user_dlts:"User 1 (DLT=148)","data-text-lines","0","","0",""' -r ascii.pcap
 
