@@ -36,9 +36,12 @@ with the payload dissector ``data-text-lines``::
 
     tshark -o 'uat:user_dlts:"User 1 (DLT=148)","data-text-lines","0","","0",""' -r ascii.pcap
 
-(:data:`TSHARK_RTU` and :data:`TSHARK_ASCII` hold these settings.)  A frame's timestamp is the time its
-log gives it: on a loopback wire the virtual clock's, to the nanosecond (the file stores nanoseconds), so
-the 3.5-character silences between frames show in Wireshark's time column as they were on the wire.
+(:data:`TSHARK_RTU` and :data:`TSHARK_ASCII` hold these settings; :func:`tshark` runs tshark on a capture
+with the setting its link type needs, and gives None where tshark is not installed.)
+
+A frame's timestamp is the time its log gives it: on a loopback wire the virtual clock's, to the
+nanosecond (the file stores nanoseconds), so the 3.5-character silences between frames show in
+Wireshark's time column as they were on the wire.
 A serial capture does not say who sent a frame: :func:`read_pcap` works it out (see there).
 
 The packets and the file are made and read by **scapy** (imported only when a capture is written or
@@ -70,6 +73,7 @@ __all__ = [
     "TSHARK_ASCII",
     "TSHARK_RTU",
     "read_pcap",
+    "tshark",
     "write_pcap",
 ]
 
@@ -614,6 +618,38 @@ def _serial_role(data: bytes, mode: str, previous: Traffic | None) -> str | None
 def _label(endpoint: tuple[str, int]) -> str:
     host, port = endpoint
     return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+
+# --- Wireshark's view -------------------------------------------------------------------------------------
+def tshark(path: str | os.PathLike[str], *options: str, timeout: float = 60.0) -> str | None:
+    """What Wireshark's command-line tshark prints for the capture at ``path``; None if tshark is missing.
+
+    The setting that serial captures need (:data:`TSHARK_RTU` or :data:`TSHARK_ASCII`) is added from the
+    file's link type; ``options`` go to tshark as they are (``"-V"`` for every field, ``"-Y", "modbus"`` to
+    show only Modbus frames, ``"-T", "fields", "-e", "modbus.func_code"`` for one column).  tshark gets
+    ``timeout`` seconds; a failure raises :class:`CaptureError` with what tshark said.
+    """
+    import shutil
+    import subprocess
+
+    program = shutil.which("tshark")
+    if program is None:
+        return None
+    linktypes = {linktype for _, linktype, _ in _records(Path(path))}
+    settings = []
+    if LINKTYPE_RTU in linktypes:
+        settings += ["-o", TSHARK_RTU, "-o", "mbrtu.crc_verification:TRUE"]
+    if LINKTYPE_ASCII in linktypes:
+        settings += ["-o", TSHARK_ASCII]
+    try:
+        result = subprocess.run([program, *settings, "-r", str(path), *options], capture_output=True,
+                                text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        raise CaptureError(f"tshark did not finish reading {Path(path).name} within {timeout} s") from None
+    if result.returncode != 0:
+        said = " ".join(line for line in result.stderr.splitlines() if "dangerous" not in line)
+        raise CaptureError(f"tshark could not read {Path(path).name}: {said.strip()[:300]}")
+    return result.stdout
 
 
 # --- scapy, imported when needed ---------------------------------------------------------------------

@@ -266,6 +266,17 @@ def test_tshark_dissects_an_rtu_capture_with_the_documented_setting(tshark, rtu_
         == ""
 
 
+def test_the_tshark_helper_adds_the_serial_setting_and_says_when_tshark_is_missing(tshark, rtu_monitor,
+                                                                                   tmp_path, monkeypatch):
+    path = mb.write_pcap(rtu_monitor, tmp_path / "rtu.pcap")
+    shown = mb.capture.tshark(path, "-Y", "modbus.func_code == 3")
+    assert shown.count("Modbus RTU") == 2 and "Read Holding Registers" in shown
+    with pytest.raises(mb.CaptureError, match="tshark could not read"):
+        mb.capture.tshark(path, "-Y", "no such field ((")
+    monkeypatch.setenv("PATH", str(tmp_path))
+    assert mb.capture.tshark(path) is None
+
+
 def test_the_rtu_silences_show_in_the_capture(rtu_monitor, tmp_path):
     back = mb.read_pcap(mb.write_pcap(rtu_monitor, tmp_path / "rtu.pcap"))
     character = 10 / 9600
