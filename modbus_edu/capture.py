@@ -346,9 +346,12 @@ def _records(path: Path) -> list[tuple[float, int, bytes]]:
                         raise CaptureError(_cut_short(path, len(records), where, meta.caplen, len(data)))
                     time = meta.sec + meta.usec / (1e9 if nano else 1e6)
                     records.append((time, linktype, data))
+                elif meta.tshigh is None or not meta.tsresol:
+                    # a simple packet block has no timestamp: it keeps the time of the packet before it
+                    records.append((records[-1][0] if records else 0.0, meta.linktype, data))
                 else:
                     ticks = (meta.tshigh << 32) | meta.tslow
-                    records.append((ticks / meta.tsresol if meta.tsresol else 0.0, meta.linktype, data))
+                    records.append((ticks / meta.tsresol, meta.linktype, data))
             stopped = handle.tell()
         if stopped < size:
             raise CaptureError(

@@ -11,6 +11,7 @@ import shutil
 import signal
 import struct
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -229,6 +230,13 @@ def test_a_slaves_log_is_written_from_the_clients_side(tmp_path):
     assert [(e.role, e.source, e.dest) for e in back] == [
         ("request", "127.0.0.1:49152", "127.0.0.2:502"), ("response", "127.0.0.2:502", "127.0.0.1:49152")]
     assert [e.data for e in back] == [e.data for e in slave.log]
+
+
+def test_importing_the_library_leaves_scapy_unloaded():
+    code = "import sys, modbus_edu; print('scapy' in sys.modules)"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                            env={**os.environ, "PYTHONPATH": str(Path(mb.__file__).parent.parent)})
+    assert result.stdout.strip() == "False", result.stderr
 
 
 # --- serial ---------------------------------------------------------------------------------------------
