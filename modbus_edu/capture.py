@@ -126,12 +126,15 @@ def write_pcap(source: TrafficLog | Iterable[Any], path: str | os.PathLike[str],
             f"type: write each mode to its own file, e.g. [t for t in log if t.mode == 'tcp']"
         )
     mode = modes[0]
-    path = Path(path)
+    path = _path(path)
     scapy = _scapy()
     with _quiet_scapy():
         try:
             if mode == "tcp":
-                packets = _tcp_packets(entries, _endpoint(client, "client"), _endpoint(server, "server"))
+                client, server = _endpoint(client, "client"), _endpoint(server, "server")
+                if client == server:
+                    raise CaptureError(f"client and server are both {client}: a TCP connection has two ends")
+                packets = _tcp_packets(entries, client, server)
                 _write(scapy, path, LINKTYPE_ETHERNET, packets)
             else:
                 linktype = LINKTYPE_RTU if mode == "rtu" else LINKTYPE_ASCII
@@ -204,6 +207,12 @@ def _endpoint(value: Any, name: str) -> tuple[str, int]:
     if not isinstance(port, int) or not 1 <= port <= 65535:
         raise CaptureError(f"{name} port must be 1..65535, got {port!r}")
     return host, port
+
+
+def _path(path: Any) -> Path:
+    if not isinstance(path, (str, os.PathLike)):
+        raise CaptureError(f"a capture's path is a str or a Path, got {type(path).__name__}")
+    return Path(path)
 
 
 def _nanoseconds(time: float) -> tuple[int, int]:
@@ -299,7 +308,7 @@ def read_pcap(path: str | os.PathLike[str], *, port: int | None = None) -> Traff
     """
     if port is not None and (not isinstance(port, int) or isinstance(port, bool) or not 1 <= port <= 65535):
         raise CaptureError(f"port must be a TCP port 1..65535 (or None), got {port!r}")
-    records = _records(Path(path))
+    records = _records(_path(path))
     reader = _Reader(port)
     for index, (time, linktype, data) in enumerate(records):
         if linktype in _SERIAL_LINKTYPES:
@@ -640,7 +649,8 @@ def tshark(path: str | os.PathLike[str], *options: str, timeout: float = 60.0) -
     program = shutil.which("tshark")
     if program is None:
         return None
-    linktypes = {linktype for _, linktype, _ in _records(Path(path))}
+    path = _path(path)
+    linktypes = {linktype for _, linktype, _ in _records(path)}
     settings = []
     if LINKTYPE_RTU in linktypes:
         settings += ["-o", TSHARK_RTU, "-o", "mbrtu.crc_verification:TRUE"]
@@ -650,10 +660,10 @@ def tshark(path: str | os.PathLike[str], *options: str, timeout: float = 60.0) -
         result = subprocess.run([program, *settings, "-r", str(path), *options], capture_output=True,
                                 text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
-        raise CaptureError(f"tshark did not finish reading {Path(path).name} within {timeout} s") from None
+        raise CaptureError(f"tshark did not finish reading {path.name} within {timeout} s") from None
     if result.returncode != 0:
         said = " ".join(line for line in result.stderr.splitlines() if "dangerous" not in line)
-        raise CaptureError(f"tshark could not read {Path(path).name}: {said.strip()[:300]}")
+        raise CaptureError(f"tshark could not read {path.name}: {said.strip()[:300]}")
     return result.stdout
 
 

@@ -405,7 +405,7 @@ def test_tcp_frames_split_over_segments_out_of_order_and_retransmitted_are_put_b
     pieces = [(0, 5), (5, 12), (17, 30), (12, 20), (30, 60)]     # the fourth overlaps and fills a gap
 
     def packet(seq, data, flags="PA"):
-        return (Ether() / IP(src="10.0.0.1", dst="10.0.0.2") /
+        return (Ether() / IP(src="127.0.0.11", dst="127.0.0.12") /
                 TCP(sport=40000, dport=1502, seq=seq, flags=flags) / data)
 
     packets = [packet(99, b"", "S")]
@@ -416,7 +416,7 @@ def test_tcp_frames_split_over_segments_out_of_order_and_retransmitted_are_put_b
     back = mb.read_pcap(tmp_path / "pieces.pcap")
     assert [e.data for e in back] == frames
     assert [e.time for e in back] == [3.0, 5.0, 6.0, 6.0, 6.0]   # the packet that completed each frame
-    assert {(e.source, e.dest, e.role) for e in back} == {("10.0.0.1:40000", "10.0.0.2:1502", "request")}
+    assert {(e.source, e.dest, e.role) for e in back} == {("127.0.0.11:40000", "127.0.0.12:1502", "request")}
     # a gap the capture never filled: the frames after it are read, the note says what was missed
     wrpcap(str(tmp_path / "gap.pcap"), [p for i, p in enumerate(packets) if i != 2])
     back = mb.read_pcap(tmp_path / "gap.pcap", port=1502)
@@ -543,6 +543,26 @@ def test_a_cut_short_capture_and_a_huge_length_say_where(tcp_log, tmp_path):
 def test_write_pcap_refuses_with_a_reason(tmp_path, source, words):
     with pytest.raises(mb.CaptureError, match=words):
         mb.write_pcap(source, tmp_path / "x.pcap")
+
+
+def test_bad_paths_ports_and_endpoints_are_named(tmp_path):
+    frames = [(0.0, "tx", "tcp", b"\x00\x01\x00\x00\x00\x02\x01\x07")]
+    with pytest.raises(mb.CaptureError, match="path is a str or a Path"):
+        mb.write_pcap(frames, None)
+    with pytest.raises(mb.CaptureError, match="path is a str or a Path"):
+        mb.read_pcap(3)
+    with pytest.raises(mb.CaptureError, match="cannot write"):
+        mb.write_pcap(frames, tmp_path / "no such folder" / "x.pcap")
+    with pytest.raises(mb.CaptureError, match="two ends"):
+        mb.write_pcap(frames, tmp_path / "x.pcap", client=("127.0.0.2", 502))
+    with pytest.raises(mb.CaptureError, match="IPv4 address, port"):
+        mb.write_pcap(frames, tmp_path / "x.pcap", server=("localhost", 502))
+    with pytest.raises(mb.CaptureError, match="port must be"):
+        mb.read_pcap(mb.write_pcap(frames, tmp_path / "x.pcap"), port=70000)
+    # another pair of addresses is another connection, and port= names the server
+    back = mb.read_pcap(mb.write_pcap(frames, tmp_path / "y.pcap", client=("127.1.1.1", 40000),
+                                      server=("127.1.1.2", 1502)), port=1502)
+    assert [(e.source, e.dest, e.role) for e in back] == [("127.1.1.1:40000", "127.1.1.2:1502", "request")]
 
 
 def test_reading_is_linear_in_the_size_of_the_file(tmp_path):
