@@ -8,6 +8,7 @@ architecture section)::
     mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
 """
 
+from .capture import read_pcap, write_pcap  # noqa: F401
 from .clock import RealClock, VirtualClock  # noqa: F401
 from .crc import (  # noqa: F401
     CRC_TABLE,
