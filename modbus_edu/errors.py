@@ -15,6 +15,7 @@ from .codes import exception_meaning
 
 __all__ = [
     "ModbusError",
+    "CaptureError",
     "FrameError",
     "ChecksumError",
     "CrcError",
