@@ -298,7 +298,8 @@ def tk_slave(server) -> object:
 
 
 @contextmanager
-def modbus_tk_tcp_server() -> Iterator[tuple[int, object]]:
+def modbus_tk_tcp_server() -> Iterator[tuple[object, object]]:
+    """modbus-tk's TcpServer on a free port, and our TCP link to it."""
     port = free_port()
     server = TkTcpServer(port=port, address=HOST)
     slave = tk_slave(server)
@@ -313,7 +314,8 @@ def modbus_tk_tcp_server() -> Iterator[tuple[int, object]]:
                 if time.monotonic() > deadline:
                     raise
                 time.sleep(0.02)
-        yield port, slave
+        with tcp_link(HOST, port) as link:
+            yield link, slave
     finally:
         server.stop()
 
@@ -341,6 +343,21 @@ def modbus_tk_rtu_server() -> Iterator[tuple[SerialLink, object]]:
         link.close()
 
 
+def eight_functions(master: Master, unit: int, discrete: list[bool], inputs: list[int]) -> None:
+    """FC 1-6, 15, 16 from our Master to a peer whose coils 0-4 hold 1 0 0 1 1 and holding register 30
+    holds 1234; ``discrete``: its discrete inputs 9-13, ``inputs``: its input registers 97-99.  The
+    caller checks the writes on the peer's side: coil 7 on, register 8 = 40000, coils 40-48 =
+    1 1 0 1 0 0 0 0 1, registers 50-53 = 1 2 3 65535."""
+    assert master.read_coils(unit, 0, 5) == [True, False, False, True, True]                  # FC 1
+    assert master.read_discrete_inputs(unit, 9, 5) == discrete                                # FC 2
+    assert master.read_input_registers(unit, 97, 3) == inputs                                 # FC 4
+    assert master.read_holding_registers(unit, 30, 1) == [1234]                               # FC 3
+    master.write_single_coil(unit, 7, True)                                                   # FC 5
+    master.write_single_register(unit, 8, 40000)                                              # FC 6
+    master.write_multiple_coils(unit, 40, [True, True, False, True, False, False, False, False, True])
+    master.write_multiple_registers(unit, 50, [1, 2, 3, 0xFFFF])                              # FC 16
+
+
 def drive_modbus_tk(master: Master, slave, unit: int = 1) -> None:
     """Every function code modbus-tk's server speaks (1-7, 15, 16, 22, 23), read back on its side, and
     the exceptions it answers (02 past its blocks, 01 for what it does not implement)."""
@@ -348,14 +365,7 @@ def drive_modbus_tk(master: Master, slave, unit: int = 1) -> None:
     slave.set_values("discrete", 10, [0, 1, 1])
     slave.set_values("input", 97, [7, 8, 65535])
     slave.set_values("holding", 30, [1234])
-    assert master.read_coils(unit, 0, 5) == [True, False, False, True, True]                  # FC 1
-    assert master.read_discrete_inputs(unit, 9, 5) == [False, False, True, True, False]       # FC 2
-    assert master.read_input_registers(unit, 97, 3) == [7, 8, 65535]                          # FC 4
-    assert master.read_holding_registers(unit, 30, 1) == [1234]                               # FC 3
-    master.write_single_coil(unit, 7, True)                                                   # FC 5
-    master.write_single_register(unit, 8, 40000)                                              # FC 6
-    master.write_multiple_coils(unit, 40, [True, True, False, True, False, False, False, False, True])
-    master.write_multiple_registers(unit, 50, [1, 2, 3, 0xFFFF])                              # FC 16
+    eight_functions(master, unit, [False, False, True, True, False], [7, 8, 65535])
     assert slave.get_values("coils", 7, 1) == (1,)
     assert slave.get_values("holding", 8, 1) == (40000,)
     assert slave.get_values("coils", 40, 9) == (1, 1, 0, 1, 0, 0, 0, 0, 1)                    # FC 15
@@ -380,18 +390,6 @@ def drive_modbus_tk(master: Master, slave, unit: int = 1) -> None:
     assert (info.value.function, info.value.code) == (17, 1)
     assert master.read_holding_registers(unit, 8, 1) == [40000]                               # still in step
     assert master.stats.timeouts == 0 and master.stats.bad_responses == 0
-
-
-def test_our_master_drives_modbus_tk_tcp_server():
-    with modbus_tk_tcp_server() as (port, slave), tcp_link(HOST, port) as link:
-        drive_modbus_tk(Master(link, timeout=2.0), slave)
-
-
-def test_our_master_drives_modbus_tk_rtu_server():
-    with modbus_tk_rtu_server() as (link, slave):
-        master = Master(link, timeout=2.0)
-        drive_modbus_tk(master, slave)
-        assert master.stats.checksum_errors == 0
 
 
 # --- our Master against uModbus's servers -------------------------------------------------------------------
@@ -423,14 +421,16 @@ class _ReusableTcpServer(TCPServer):
 
 
 @contextmanager
-def umodbus_server_tcp() -> Iterator[tuple[int, UmodbusStore]]:
+def umodbus_server_tcp() -> Iterator[tuple[object, UmodbusStore]]:
+    """uModbus's TCP server (a socketserver.TCPServer, one client at a time), and our TCP link to it."""
     server = umodbus_tcp_server(_ReusableTcpServer, (HOST, 0), RequestHandler)
     store = UmodbusStore()
     store.route(server)
     thread = threading.Thread(target=server.serve_forever, kwargs={"poll_interval": 0.05}, daemon=True)
     thread.start()
     try:
-        yield server.server_address[1], store
+        with tcp_link(HOST, server.server_address[1]) as link:
+            yield link, store
     finally:
         server.shutdown()  # returns once serve_forever has: our client has closed its connection by then
         server.server_close()
@@ -464,14 +464,7 @@ def drive_umodbus(master: Master, store: UmodbusStore, unit: int = 1) -> None:
     """FC 1-6, 15, 16 (all uModbus serves), read back on its side; exceptions 02 and 01."""
     store.coils[0:5] = [1, 0, 0, 1, 1]
     store.holding[30] = 1234
-    assert master.read_coils(unit, 0, 5) == [True, False, False, True, True]                  # FC 1
-    assert master.read_discrete_inputs(unit, 9, 5) == [True, False, True, False, True]        # FC 2
-    assert master.read_input_registers(unit, 97, 3) == [2097, 2098, 2099]                     # FC 4
-    assert master.read_holding_registers(unit, 30, 1) == [1234]                               # FC 3
-    master.write_single_coil(unit, 7, True)                                                   # FC 5
-    master.write_single_register(unit, 8, 40000)                                              # FC 6
-    master.write_multiple_coils(unit, 40, [True, True, False, True, False, False, False, False, True])
-    master.write_multiple_registers(unit, 50, [1, 2, 3, 0xFFFF])                              # FC 16
+    eight_functions(master, unit, [True, False, True, False, True], [2097, 2098, 2099])
     assert store.coils[7] == 1 and store.holding[8] == 40000
     assert store.coils[40:49] == [1, 1, 0, 1, 0, 0, 0, 0, 1]                                  # FC 15
     assert store.holding[50:54] == [1, 2, 3, 0xFFFF]
@@ -492,17 +485,21 @@ def drive_umodbus(master: Master, store: UmodbusStore, unit: int = 1) -> None:
     assert master.stats.timeouts == 0 and master.stats.bad_responses == 0
 
 
-def test_our_master_drives_umodbus_tcp_server():
-    with umodbus_server_tcp() as (port, store):
-        with tcp_link(HOST, port) as link:
-            drive_umodbus(Master(link, timeout=2.0), store)
+THEIR_SERVERS = {
+    "modbus-tk-tcp": (modbus_tk_tcp_server, drive_modbus_tk),
+    "modbus-tk-rtu": (modbus_tk_rtu_server, drive_modbus_tk),
+    "umodbus-tcp": (umodbus_server_tcp, drive_umodbus),
+    "umodbus-rtu": (umodbus_server_rtu, drive_umodbus),
+}
 
 
-def test_our_master_drives_umodbus_rtu_server():
-    with umodbus_server_rtu() as (link, store):
+@pytest.mark.parametrize("peer", THEIR_SERVERS)
+def test_our_master_drives_their_servers(peer):
+    serve, drive = THEIR_SERVERS[peer]
+    with serve() as (link, data):
         master = Master(link, timeout=2.0)
-        drive_umodbus(master, store)
-        assert master.stats.checksum_errors == 0
+        drive(master, data)
+        assert master.stats.checksum_errors == 0 and master.stats.mismatches == 0
 
 
 # --- Wireshark's dissector on a live capture of our server answering modbus-tk ------------------------------
