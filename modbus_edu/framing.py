@@ -742,8 +742,9 @@ class RtuSplitter(_Splitter):
     precedes checks out, worked out byte by byte as they come (linear), or at a silence.  With
     ``open_ended=True`` (a server on a socket, where every byte is meant as Modbus) the same goes for
     a function code this library does not implement and for a byte count that disagrees with its
-    quantity: the frame is cut, and the slave answers it with exception 01 or 03 as the specification
-    says, instead of the bytes being skipped as junk.
+    quantity (whether the data that follows has as many bytes as that count says, or as the quantity
+    says, or neither): the frame is cut, and the slave answers it with exception 01 or 03 as the
+    specification says, instead of the bytes being skipped as junk.
     """
 
     mode: ClassVar[str] = "rtu"
@@ -811,8 +812,12 @@ class RtuSplitter(_Splitter):
             return None
         if size == _pdu.OPEN_LENGTH:
             return _OPEN
-        if not 1 <= size <= _pdu.MAX_PDU_SIZE or not (self.open_ended or cls.plausible(head)):
+        if not 1 <= size <= _pdu.MAX_PDU_SIZE:
             return -1
+        if not cls.plausible(head):
+            # a byte count at odds with its quantity: junk in a stream, but on a socket (open_ended) a
+            # request the slave answers with 03, and its byte count cannot be trusted to say where it ends
+            return _OPEN if self.open_ended else -1
         return 1 + size + 2
 
     def _cut(self, final: bool = False) -> list[bytes]:
