@@ -165,7 +165,7 @@ class _DefaultCount(int):
 
 _DEFAULT_POLLS = _DefaultCount(10)
 
-_POLL_SETTINGS = "interval, count (the number of polls), function, unit, address, quantity, with_time"
+_POLL_SETTINGS = "interval, polls (the number of polls), function, unit, address, quantity, with_time"
 
 
 def _check_seconds(name: str, value: Any) -> float:
@@ -463,7 +463,7 @@ class Master:
     def poll(
         self,
         interval: float = 1.0,
-        count: int = _DEFAULT_POLLS,
+        polls: int = _DEFAULT_POLLS,
         *,
         function: int = 3,
         unit: int = 1,
@@ -472,7 +472,7 @@ class Master:
         with_time: bool = False,
         **older: Any,
     ) -> list:
-        """Read ``count`` times, one poll every ``interval`` seconds on the link's clock.
+        """Read ``polls`` times, one poll every ``interval`` seconds on the link's clock.
 
         Each poll reads ``quantity`` registers (function 3 or 4) or coils / discrete inputs (1 or 2)
         from ``address`` of ``unit`` -- the spec's "quantity of registers".  Returns one result per
@@ -482,19 +482,23 @@ class Master:
         would start late (the previous poll took longer than the interval) starts at once.  On a virtual
         clock this takes no real time at all::
 
-            master.poll(0.5, 20, unit=1, address=0, quantity=2)   # 20 polls of 2 registers, every 0.5 s
+            master.poll(0.5, polls=20, unit=1, address=0, quantity=2)   # 20 polls of 2 registers, 0.5 s apart
+
+        ``count`` is not a setting of its own here: everywhere else in the library it is a quantity of
+        registers or coils, so the number of polls is ``polls`` and the quantity is ``quantity``.  Two
+        older spellings still work and warn: ``poll(..., count=<number of polls>)`` (a
+        :class:`DeprecationWarning`) and ``poll(..., count=<quantity>, polls=<number of polls>)`` (a
+        :class:`PendingDeprecationWarning`).
 
         Settings that cannot work (function 5, ``quantity=0``, a read of unit 0 on a serial line) raise
         :class:`~modbus_edu.errors.ConfigError` or a :class:`~modbus_edu.errors.PduError` before the first
-        poll.  The older spelling ``poll(function=3, unit=1, address=0, count=<quantity>,
-        interval=1.0, polls=<number of polls>)`` still works (``count`` then keeps its older meaning,
-        the quantity) and warns with a :class:`PendingDeprecationWarning`.
+        poll.
         """
         if older:
-            count, quantity = self._older_poll_spelling(count, quantity, older)
+            polls, quantity = self._older_poll_spelling(polls, quantity, older)
         interval = _check_seconds("interval", interval)
-        if isinstance(count, bool) or not isinstance(count, int) or count < 0:
-            raise ConfigError(f"count (the number of polls) must be a whole number >= 0, got {count!r}")
+        if isinstance(polls, bool) or not isinstance(polls, int) or polls < 0:
+            raise ConfigError(f"polls (the number of polls) must be a whole number >= 0, got {polls!r}")
         if isinstance(quantity, bool) or not isinstance(quantity, int):
             raise ConfigError(
                 f"quantity (registers or coils read by each poll) must be a whole number, got {quantity!r}"
@@ -507,7 +511,7 @@ class Master:
         clock = self.link.clock
         start = clock.now
         results: list = []
-        for i in range(count):
+        for i in range(polls):
             due = start + i * interval
             if due > clock.now:
                 clock.sleep(due - clock.now)
@@ -520,27 +524,31 @@ class Master:
         return results
 
     @staticmethod
-    def _older_poll_spelling(count: int, quantity: int, older: dict[str, Any]) -> tuple[Any, Any]:
-        """(count, quantity) from ``poll(..., count=<quantity>, polls=<number of polls>)``, the older form."""
-        unknown = sorted(set(older) - {"polls"})
+    def _older_poll_spelling(polls: int, quantity: int, older: dict[str, Any]) -> tuple[Any, Any]:
+        """(polls, quantity) from the older spellings: ``count=<number of polls>``, or, older still,
+        ``count=<quantity>, polls=<number of polls>``."""
+        unknown = sorted(set(older) - {"count"})
         if unknown:
             raise ConfigError(
                 f"poll() has no setting {', '.join(unknown)}; its settings are {_POLL_SETTINGS}"
             )
-        if count is not _DEFAULT_POLLS:  # the older form's count was the quantity
-            if quantity != 1:
-                raise ConfigError(
-                    "poll(): with the older polls= spelling, count is the quantity; give either "
-                    "count= and polls= (older) or quantity= and count= (the number of polls)"
-                )
-            quantity = count
+        count = older["count"]
+        if polls is _DEFAULT_POLLS:  # poll(count=N): N was the number of polls
+            warnings.warn("poll(count=<number of polls>) is now poll(polls=<number of polls>): count is a "
+                          "quantity of registers everywhere else", DeprecationWarning, stacklevel=3)
+            return count, quantity
+        if quantity != 1:  # the oldest form: count was the quantity
+            raise ConfigError(
+                "poll(): with polls= given, an older count= is the quantity; give either count= and "
+                "polls= (older) or polls= and quantity="
+            )
         warnings.warn(
             "poll(count=<quantity>, polls=<number of polls>) is the older spelling: write "
-            "poll(interval, count=<number of polls>, quantity=<registers or coils per poll>)",
+            "poll(interval, polls=<number of polls>, quantity=<registers or coils per poll>)",
             PendingDeprecationWarning,
             stacklevel=3,
         )
-        return older["polls"], quantity
+        return polls, count
 
     # -- the general path ----------------------------------------------------------------------------
     def execute(self, unit: int, request: Pdu, *, check: bool = True) -> Pdu | None:

@@ -98,7 +98,7 @@ def test_error_rates_are_seeded_and_reproducible():
         slave, link, master = rig(seed=seed)
         link.faults.bit_error_rate = 0.01
         link.faults.drop_rate = 0.005
-        results = master.poll(interval=0.2, count=300)
+        results = master.poll(interval=0.2, polls=300)
         return master.stats.as_dict(), [type(r).__name__ for r in results], link.clock.now
 
     first, again, other = run(1), run(1), run(2)
@@ -126,7 +126,7 @@ def test_delay_a_slave():
 def test_silence_a_slave_for_some_requests():
     slave, link, master = rig()
     link.faults.silence(1, requests=2)
-    results = master.poll(interval=0.5, count=4)
+    results = master.poll(interval=0.5, polls=4)
     assert [type(r).__name__ for r in results] == ["ModbusTimeoutError"] * 2 + ["list"] * 2
     assert slave.counters.requests == 2  # it never heard the first two
     assert master.stats.timeouts == 2 and master.stats.valid_responses == 2

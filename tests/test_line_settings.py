@@ -79,7 +79,7 @@ def test_every_mismatch_of_speed_or_parity_garbles_a_request(fmt):
 def poll(slave: Slave, polls: int = 3, **line) -> tuple[list, object]:
     link = loopback_serial(slave, **line)
     master = Master(link, timeout=0.2)
-    outcomes = master.poll(count=polls, function=3, unit=1, address=0, quantity=1)
+    outcomes = master.poll(polls=polls, function=3, unit=1, address=0, quantity=1)
     return outcomes, link
 
 

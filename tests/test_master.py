@@ -343,7 +343,7 @@ def test_poll_ten_minutes_instantly_with_errors_in_the_results():
     link = loopback_serial(slave)
     master = Master(link, timeout=0.5)
     link.faults.silence(1, requests=2)
-    results = master.poll(interval=1.0, count=600, function=3, unit=1, address=0, quantity=1)
+    results = master.poll(interval=1.0, polls=600, function=3, unit=1, address=0, quantity=1)
     assert len(results) == 600
     assert all(isinstance(r, ModbusTimeoutError) for r in results[:2])
     assert results[2:5] == [[0], [1], [2]]
@@ -356,13 +356,13 @@ def test_poll_ten_minutes_instantly_with_errors_in_the_results():
     assert master.read_once(3, 1, 0, 1) == [601]
 
 
-def test_poll_count_is_the_number_of_polls_and_quantity_the_registers():
+def test_poll_polls_is_the_number_of_polls_and_quantity_the_registers():
     slave = Slave(unit=2)
     slave.bank.input_registers.write(4, [40, 41, 42])
     slave.bank.coils.write(0, [True, False, True])
     master = Master(loopback_serial(slave))
     assert master.poll(0.5, 2, function=4, unit=2, address=4, quantity=3) == [[40, 41, 42]] * 2
-    assert master.poll(count=1, function=1, unit=2, quantity=3) == [[True, False, True]]
+    assert master.poll(polls=1, function=1, unit=2, quantity=3) == [[True, False, True]]
     defaults = master.poll()  # 10 polls, 1 s apart, of holding register 0 of unit 1: nobody here
     assert len(defaults) == 10 and all(isinstance(r, ModbusTimeoutError) for r in defaults)
 
@@ -374,8 +374,9 @@ def test_poll_older_spelling_still_works_and_warns():
     with pytest.warns(PendingDeprecationWarning, match="older spelling"):
         older = master.poll(function=3, unit=1, address=0, count=2, interval=1.0, polls=3)
     assert older == [[7, 8]] * 3
-    with pytest.warns(PendingDeprecationWarning):
-        assert master.poll(interval=0.1, polls=2) == [[7]] * 2  # count left out: one register
+    assert master.poll(interval=0.1, polls=2) == [[7]] * 2  # the spelling of today: no warning
+    with pytest.warns(DeprecationWarning, match="now poll\\(polls="):
+        assert master.poll(interval=0.1, count=2) == [[7]] * 2  # count= was the number of polls
     with pytest.raises(ConfigError, match="either"):
         master.poll(count=2, quantity=2, polls=3)
     with pytest.raises(ConfigError, match="no setting registers"):
@@ -385,9 +386,9 @@ def test_poll_older_spelling_still_works_and_warns():
 @pytest.mark.parametrize(
     "kwargs, error, message",
     [
-        ({"count": -1}, ConfigError, "count"),
-        ({"count": 2.5}, ConfigError, "count"),
-        ({"count": True}, ConfigError, "count"),
+        ({"polls": -1}, ConfigError, "polls"),
+        ({"polls": 2.5}, ConfigError, "polls"),
+        ({"polls": True}, ConfigError, "polls"),
         ({"interval": "x"}, ConfigError, "interval"),
         ({"interval": -1}, ConfigError, "interval"),
         ({"quantity": "2"}, ConfigError, "quantity"),
