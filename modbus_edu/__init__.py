@@ -10,6 +10,7 @@ architecture section)::
 
 from __future__ import annotations
 
+from .capture import read_pcap, write_pcap  # noqa: F401
 from .clock import RealClock, VirtualClock  # noqa: F401
 from .crc import (  # noqa: F401
     CRC_TABLE,

@@ -190,3 +190,7 @@ def guard_numbers(function: Callable[..., T]) -> Callable[..., T]:
                               f"({type(exc).__name__}: {str(exc)[:70]})") from None
 
     return guarded
+
+
+class CaptureError(ModbusError):
+    """A capture file (pcap, pcapng) cannot be written or read: not a capture, damaged, cut short."""
