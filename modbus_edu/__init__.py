@@ -10,6 +10,7 @@ architecture section)::
 
 from __future__ import annotations
 
+from . import security  # noqa: F401  (mb.security.make_test_pki, server_context, client_context)
 from .capture import read_pcap, write_pcap  # noqa: F401
 from .clock import RealClock, VirtualClock  # noqa: F401
 from .crc import (  # noqa: F401
