@@ -1119,8 +1119,9 @@ class TcpLink(Link):
                     return None  # time is up (one last look was taken), whatever is still arriving
                 else:
                     looked = True
+                    sock.settimeout(0)  # TLS: what is readable may be a record without data (a ticket)
                 data = sock.recv(_RECV_SIZE)
-            except (TimeoutError, BlockingIOError, InterruptedError):
+            except (TimeoutError, *WOULD_BLOCK):
                 return None
             except ssl.SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake
                 self._lost("")
