@@ -9,8 +9,13 @@ the server's defences (handshake deadline, slow and idle clients, connection lim
 from __future__ import annotations
 
 import datetime
+import os
+import select
+import signal
 import socket
 import ssl
+import subprocess
+import sys
 import time
 import warnings
 
@@ -347,3 +352,78 @@ def test_our_tls_link_reads_pymodbus_tls_server(pki):
             assert master.read_holding_registers(unit=1, address=1, count=1) == [99]
         finally:
             link.close()
+
+
+# --- the command line ------------------------------------------------------------------------------------
+def _cli(*args: str) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "modbus_edu", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+
+
+def _bound_port(proc: subprocess.Popen, seconds: float = 20) -> tuple[str, int]:
+    ready, _, _ = select.select([proc.stdout], [], [], seconds)
+    assert ready, "the command printed nothing in time"
+    line = proc.stdout.readline()
+    assert "127.0.0.1:" in line, line + proc.stderr.read()
+    return line, int(line.split("127.0.0.1:")[1].split(" ")[0].rstrip(";"))
+
+
+def _stop(proc: subprocess.Popen) -> str:
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=15)
+    assert proc.returncode == 0 and "Traceback" not in err, err
+    return out
+
+
+def _tls_args(pair_cert, pair_key, ca) -> list[str]:
+    return ["--tls-cert", str(pair_cert), "--tls-key", str(pair_key), "--tls-ca", str(ca)]
+
+
+def test_cli_serve_and_poll_speak_modbus_tcp_security(pki, capsys):
+    from modbus_edu.cli import main
+
+    proc = _cli("serve", "bank", "--tcp", "0", *_tls_args(pki.server_cert, pki.server_key, pki.ca_cert))
+    try:
+        line, port = _bound_port(proc)
+        assert "Modbus/TCP Security (TLS)" in line
+        client = _tls_args(pki.roles["viewer"].cert, pki.roles["viewer"].key, pki.ca_cert)
+        status = main(["poll", "--tcp", f"127.0.0.1:{port}", "--address", "2", "--count", "3",
+                       "--polls", "1", *client])
+        out = capsys.readouterr().out
+        assert status == 0 and "[2] 2  [3] 3  [4] 4" in out, out      # bank: register n holds n
+        with pytest.raises(LinkError, match="showed none"):        # a client without a certificate
+            master = mb.Master(mb.tcp_link("127.0.0.1", port, tls=security.client_context(
+                pki, certificate=False)), timeout=2)
+            master.read_holding_registers(unit=1, address=0, count=1)
+    finally:
+        if proc.poll() is None:
+            _stop(proc)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--tls-cert", "x.crt"], "--tls-key, --tls-ca missing"),
+    (["--serial", "loop://", "--tls-cert", "a", "--tls-key", "b", "--tls-ca", "c"], "not a serial line"),
+])
+def test_cli_tls_options_go_together(args, message, capsys):
+    from modbus_edu.cli import main
+
+    assert main(["serve", "bank", *args]) != 0
+    assert message in capsys.readouterr().err
+
+
+def test_cli_gateway_serves_tls_in_front_of_a_serial_line(pki):
+    from modbus_edu.links.serial import SerialServer, TcpSerialPort
+
+    with SerialServer(_slave(), TcpSerialPort("127.0.0.1", 0)) as behind:
+        serial_url = f"socket://127.0.0.1:{behind.port.address[1]}"
+        proc = _cli("gateway", "--tcp", "127.0.0.1:0", "--serial", serial_url,
+                    *_tls_args(pki.server_cert, pki.server_key, pki.ca_cert))
+        try:
+            line, port = _bound_port(proc)
+            assert "Modbus/TCP Security (TLS)" in line
+            master = _master(type("S", (), {"address": ("127.0.0.1", port)}), pki, role="viewer")
+            assert master.read_holding_registers(unit=1, address=0, count=2) == [11, 22]
+            master.link.close()
+        finally:
+            if proc.poll() is None:
+                _stop(proc)
