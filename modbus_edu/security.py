@@ -119,8 +119,15 @@ def _parse_role_value(data: bytes) -> str:
         raise SecurityError(f"the role extension's text is not UTF-8 (byte {start + exc.start})") from None
 
 
-def _load_certificate(certificate: Any) -> Any:
+def load_x509() -> Any:
+    """``cryptography.x509``, imported on first use (it takes a moment: a server loads it at start)."""
     from cryptography import x509
+
+    return x509
+
+
+def _load_certificate(certificate: Any) -> Any:
+    x509 = load_x509()
 
     if isinstance(certificate, x509.Certificate):
         return certificate
@@ -147,7 +154,7 @@ def role_of(certificate: Any) -> str | None:
     ``certificate``: what ``ssl.SSLSocket.getpeercert(binary_form=True)`` gives (DER bytes), PEM
     bytes, a path to a PEM file, or a ``cryptography`` certificate.
     """
-    from cryptography import x509
+    x509 = load_x509()
 
     cert = _load_certificate(certificate)
     try:

@@ -27,6 +27,11 @@ to whichever serial slave happens to have the number.
 Modbus/TCP has no authentication and no encryption: anybody who can reach the port can read and write
 every register. That is why the server binds to the loopback address 127.0.0.1 unless told otherwise,
 and logs a warning when it is told otherwise.
+
+``tls=`` (an ``ssl.SSLContext`` from :mod:`modbus_edu.security`) turns both ends into *Modbus/TCP
+Security*: the same frames inside mutual TLS, each client known by its certificate and its role, and
+``authorization=`` on the server deciding what each role may do (:mod:`modbus_edu.links.tls` holds the
+handshakes).
 """
 
 from __future__ import annotations
@@ -822,6 +827,10 @@ class TcpServer:
         self.tls = check_context(tls, "server")
         if self.tls is not None and framing != "tcp":
             raise ConfigError("Modbus/TCP Security carries MBAP frames: tls= needs framing=\"tcp\"")
+        if self.tls is not None:
+            from ..security import load_x509
+
+            load_x509()  # cryptography loads now, not during the first client's handshake
         if handshake_timeout is None:
             handshake_timeout = request_timeout
         self.handshake_timeout = _positive_seconds(
@@ -1173,5 +1182,5 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str =
 def _why(exc: OSError) -> str:
     """What a failed send or receive means; a TLS failure in words (:func:`tls_failure`)."""
     if isinstance(exc, ssl.SSLError):
-        return tls_failure(exc, "our")
+        return tls_failure(exc, "our", "the server")
     return str(exc.strerror or exc)

@@ -43,25 +43,25 @@ _VERIFY = {
 _ALERTS = {
     "TLSV13_ALERT_CERTIFICATE_REQUIRED": "the server requires a client certificate and we showed none",
     "PEER_DID_NOT_RETURN_A_CERTIFICATE": "the client showed no certificate; Modbus/TCP Security requires one",
-    "SSLV3_ALERT_CERTIFICATE_EXPIRED": "the other side refused our certificate: it has expired",
-    "TLSV1_ALERT_UNKNOWN_CA": "the other side refused our certificate: it does not trust the authority "
-                              "that signed it",
-    "SSLV3_ALERT_BAD_CERTIFICATE": "the other side refused our certificate",
-    "SSLV3_ALERT_CERTIFICATE_UNKNOWN": "the other side refused our certificate",
+    "SSLV3_ALERT_CERTIFICATE_EXPIRED": "{other} refused our certificate: it has expired",
+    "TLSV1_ALERT_UNKNOWN_CA": "{other} refused our certificate: it does not trust the authority that "
+                              "signed it",
+    "SSLV3_ALERT_BAD_CERTIFICATE": "{other} refused our certificate",
+    "SSLV3_ALERT_CERTIFICATE_UNKNOWN": "{other} refused our certificate",
     "TLSV1_ALERT_PROTOCOL_VERSION": "the two sides share no TLS version (Modbus/TCP Security needs 1.2+)",
     "UNSUPPORTED_PROTOCOL": "the two sides share no TLS version (Modbus/TCP Security needs 1.2+)",
-    "WRONG_VERSION_NUMBER": "the other side does not speak TLS (plain Modbus/TCP on a TLS port, or the "
+    "WRONG_VERSION_NUMBER": "{other} does not speak TLS (plain Modbus/TCP on a TLS port, or the "
                             "reverse?)",
-    "HTTP_REQUEST": "the other side does not speak TLS",
-    "UNEXPECTED_EOF_WHILE_READING": "the other side closed the connection in the middle of the handshake",
+    "HTTP_REQUEST": "{other} does not speak TLS",
+    "UNEXPECTED_EOF_WHILE_READING": "{other} closed the connection in the middle of the handshake",
 }
 
 
-def tls_failure(exc: BaseException, whose: str = "the other side's") -> str:
+def tls_failure(exc: BaseException, whose: str = "the other side's", other: str = "the other side") -> str:
     """What an ``ssl.SSLError`` (or another OSError during TLS) means, in one sentence.
 
     ``whose``: whose certificate a verification failure is about ("the server's" on the client,
-    "the client's" on the server).
+    "the client's" on the server); ``other``: who sent an alert ("the server", "the client").
     """
     if isinstance(exc, ssl.SSLCertVerificationError):
         meaning = _VERIFY.get(getattr(exc, "verify_code", None))
@@ -72,7 +72,7 @@ def tls_failure(exc: BaseException, whose: str = "the other side's") -> str:
     if isinstance(exc, ssl.SSLError):
         reason = exc.reason or ""
         if reason in _ALERTS:
-            return f"{_ALERTS[reason]} ({reason.lower().replace('_', ' ')})"
+            return f"{_ALERTS[reason].format(other=other)} ({reason.lower().replace('_', ' ')})"
         return f"TLS failed: {reason.lower().replace('_', ' ') or exc}"
     if isinstance(exc, OSError):
         return f"the connection failed during TLS: {exc.strerror or exc}"
@@ -133,7 +133,7 @@ class ServerHandshake:
         except (BlockingIOError, InterruptedError):  # pragma: no cover - OpenSSL reports these as wants
             return "read"
         except (ssl.SSLError, OSError) as exc:
-            raise TlsRefused(tls_failure(exc, "the client's")) from exc
+            raise TlsRefused(tls_failure(exc, "the client's", "the client")) from exc
         return "done"
 
     def peer_certificate(self) -> bytes | None:
@@ -164,6 +164,6 @@ def client_handshake(context: ssl.SSLContext, sock: socket.socket, host: str, ti
                         "Modbus/TCP Security server (port 802 by convention)?") from None
     except (ssl.SSLError, OSError) as exc:
         tls.close()
-        why = tls_failure(exc, "the server's")
+        why = tls_failure(exc, "the server's", "the server")
         raise LinkError(f"TLS handshake with {where} failed: {why}") from None
     return tls
