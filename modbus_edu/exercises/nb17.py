@@ -109,7 +109,8 @@ build_exercise(
     edge_cases=[(_request(3, 0, 1), "viewer"), (_request(6, 5, 1), "viewer"),
                 (_request(6, 99, 1), "operator"), (_request(6, 100, 1), "operator"),
                 (_request(16, 98, 2), "operator"), (_request(16, 98, 3), "operator"),
-                (_request(15, 0, 100), "operator"), (_request(16, 60000, 10), "engineer"), (_request(4, 0, 1), "guest")],
+                (_request(15, 0, 100), "operator"), (_request(16, 60000, 10), "engineer"),
+                (_request(4, 0, 1), "guest")],
     hint="pdu[0] is the function code; the address is pdu[1:3] and, for 15 and 16, the quantity is "
          "pdu[3:5], both big-endian (int.from_bytes(..., 'big')). A viewer reads (1-4); an operator reads, "
          "and writes (5, 6, 15, 16) within 0..99; an engineer does everything; anyone else nothing. "
