@@ -873,14 +873,14 @@ class TcpServer:
         else:
             self.counters.tls_refused += 1
         self.tls_log.append(f"{conn.peer[0]}:{conn.peer[1]}: {why}")
-        self._warn("tls", "TLS: client %s refused: %s", conn.peer, why)
-        self._drop(conn, None)
+        self._drop(conn, f"TLS: {why}")  # logged as info: the counters and tls_log keep the record
 
     def _tls_authorize(self, conn: _Connection, frame: bytes) -> bytes | None:
         """The exception 01 a refused request gets (counted), or None to let the slave answer."""
         if self.authorization is None or len(frame) <= MBAP_HEADER_SIZE:
             return None
-        decision = self.authorization.check(frame[MBAP_HEADER_SIZE:], conn.role, conn.peer)
+        peer = f"{conn.peer[0]}:{conn.peer[1]}"
+        decision = self.authorization.check(frame[MBAP_HEADER_SIZE:], conn.role, peer)
         if decision.allowed:
             return None
         self.counters.requests += 1
