@@ -427,3 +427,14 @@ def test_cli_gateway_serves_tls_in_front_of_a_serial_line(pki):
         finally:
             if proc.poll() is None:
                 _stop(proc)
+
+
+def test_a_refused_client_does_not_connect_again_by_itself(pki):
+    # the server's alert is already waiting when the first request goes: the link says so, once
+    with mb.TcpServer(_slave(), tls=security.server_context(pki)) as server:
+        link = mb.tcp_link(*server.address, tls=security.client_context(pki, certificate=False), timeout=3)
+        time.sleep(0.2)
+        with pytest.raises(LinkError, match="showed none"):
+            mb.Master(link, timeout=2).write_single_register(unit=1, address=0, value=1)
+        assert link.reconnects == 0
+    assert server.counters.tls_refused == 1

@@ -1062,6 +1062,11 @@ class TcpLink(Link):
             "request connects again"
         )
 
+    def _refused(self, exc: ssl.SSLError) -> LinkError:
+        """The error for a TLS alert after the handshake: the server refused our certificate."""
+        self._lost("")
+        return LinkError(f"{self.host}:{self.port} refused this TLS connection: {_why(exc)}")
+
     def _drop_stale(self) -> None:
         """Throw away what arrived before this request: frames already cut, and the bytes waiting in
         the socket, read in large chunks without parsing them.  After a flood there may be megabytes
@@ -1088,6 +1093,8 @@ class TcpLink(Link):
                 return
         except WOULD_BLOCK:  # TLS: a record that held no data (a session ticket)
             return
+        except ssl.SSLError as exc:  # an alert: the server refused this connection (do not try again)
+            raise self._refused(exc) from exc
         except OSError:
             pass
         _close_socket(sock)
@@ -1133,8 +1140,7 @@ class TcpLink(Link):
             except (TimeoutError, *WOULD_BLOCK):
                 return None
             except ssl.SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake
-                self._lost("")
-                raise LinkError(f"{self.host}:{self.port} refused this TLS connection: {_why(exc)}") from exc
+                raise self._refused(exc) from exc
             except OSError as exc:
                 raise self._lost(f"receiving failed ({_why(exc)})") from exc
             if not data:
