@@ -34,16 +34,18 @@ from __future__ import annotations
 
 import datetime
 import ipaddress
-import ssl
 import threading
 from collections import Counter, deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from .errors import ConfigError, ModbusError, SecurityError
 from .pdu import ExceptionCode, ExceptionResponse, decode_pdu
+
+if TYPE_CHECKING:  # pragma: no cover - typing only (ssl is imported where a context is made)
+    import ssl
 
 __all__ = [
     "ROLE_OID",
@@ -325,6 +327,8 @@ def make_test_pki(directory: str | Path, *, roles: Iterable[str] = COURSE_ROLES,
 # TLS contexts
 # --------------------------------------------------------------------------------------------------
 def _load(context: ssl.SSLContext, cert: Any, key: Any, ca: Any, what: str) -> ssl.SSLContext:
+    import ssl
+
     context.minimum_version = ssl.TLSVersion.TLSv1_2
     try:
         if cert is not None:
@@ -364,6 +368,8 @@ def server_context(pki: Pki | None = None, *, cert: Any = None, key: Any = None,
             raise ConfigError("server_context needs the server's certificate and key: pass a Pki or "
                               "cert=PATH, key=PATH")
         cert, key = pki.server_cert, pki.server_key
+    import ssl
+
     context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
     context.verify_mode = ssl.CERT_REQUIRED
     return _load(context, cert, key, ca, "server_context")
@@ -390,6 +396,8 @@ def client_context(pki: Pki | None = None, role: str | None = None, *, cert: Any
         cert, key = pair.cert, pair.key
     elif role is not None:
         raise ConfigError("client_context: give a role or a cert, not both (the role is in the certificate)")
+    import ssl
+
     context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)  # checks the host name and the chain
     return _load(context, cert if certificate else None, key, ca, "client_context")
 

@@ -42,7 +42,6 @@ import logging
 import select
 import selectors
 import socket
-import ssl
 import struct
 import threading
 import time
@@ -59,6 +58,7 @@ from .base import Link
 from .tls import (
     WOULD_BLOCK,
     ServerHandshake,
+    SSLError,
     TlsRefused,
     check_context,
     client_handshake,
@@ -1062,7 +1062,7 @@ class TcpLink(Link):
             "request connects again"
         )
 
-    def _refused(self, exc: ssl.SSLError) -> LinkError:
+    def _refused(self, exc: OSError) -> LinkError:
         """The error for a TLS alert after the handshake: the server refused our certificate."""
         self._lost("")
         return LinkError(f"{self.host}:{self.port} refused this TLS connection: {_why(exc)}")
@@ -1093,7 +1093,7 @@ class TcpLink(Link):
                 return
         except WOULD_BLOCK:  # TLS: a record that held no data (a session ticket)
             return
-        except ssl.SSLError as exc:  # an alert: the server refused this connection (do not try again)
+        except SSLError as exc:  # an alert: the server refused this connection (do not try again)
             raise self._refused(exc) from exc
         except OSError:
             pass
@@ -1139,7 +1139,7 @@ class TcpLink(Link):
                 data = sock.recv(_RECV_SIZE)
             except (TimeoutError, *WOULD_BLOCK):
                 return None
-            except ssl.SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake
+            except SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake
                 raise self._refused(exc) from exc
             except OSError as exc:
                 raise self._lost(f"receiving failed ({_why(exc)})") from exc
@@ -1187,6 +1187,6 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str =
 
 def _why(exc: OSError) -> str:
     """What a failed send or receive means; a TLS failure in words (:func:`tls_failure`)."""
-    if isinstance(exc, ssl.SSLError):
+    if isinstance(exc, SSLError):
         return tls_failure(exc, "our", "the server")
     return str(exc.strerror or exc)

@@ -17,17 +17,24 @@ authority the other side does not trust, is missing, names another host...
 from __future__ import annotations
 
 import socket
-import ssl
 import time
 from typing import Any
 
 from ..errors import ConfigError, LinkError
 
-__all__ = ["WOULD_BLOCK", "ServerHandshake", "TlsRefused", "check_context", "client_handshake",
+try:
+    import ssl
+except ImportError:  # pragma: no cover - Pyodide ships ssl apart; without it there is no TLS (nor sockets)
+    ssl = None  # type: ignore[assignment]
+
+__all__ = ["SSLError", "WOULD_BLOCK", "ServerHandshake", "TlsRefused", "check_context", "client_handshake",
            "pending", "tls_failure"]
 
+#: ``ssl.SSLError`` (a stand-in that nothing raises where Python has no ssl module).
+SSLError: type[OSError] = ssl.SSLError if ssl is not None else type("SSLError", (OSError,), {})
 #: What a non-blocking socket raises when it has to wait, TLS or not.
-WOULD_BLOCK = (BlockingIOError, InterruptedError, ssl.SSLWantReadError, ssl.SSLWantWriteError)
+WOULD_BLOCK = (BlockingIOError, InterruptedError) + (
+    (ssl.SSLWantReadError, ssl.SSLWantWriteError) if ssl is not None else ())
 
 # OpenSSL's certificate verification codes (X509_V_ERR_*) that a learner meets, and what they mean.
 _VERIFY = {
@@ -87,6 +94,8 @@ def check_context(context: Any, side: str) -> ssl.SSLContext | None:
     """``context`` if it is an ``ssl.SSLContext`` fit for ``side`` ("server" or "client"), or None."""
     if context is None:
         return None
+    if ssl is None:  # pragma: no cover - Pyodide without its ssl package
+        raise ConfigError("TLS is not available in this Python (it has no ssl module)")
     if not isinstance(context, ssl.SSLContext):
         raise ConfigError(f"tls= takes an ssl.SSLContext (modbus_edu.security.{side}_context(...)), "
                           f"got {type(context).__name__}")
@@ -105,7 +114,7 @@ def check_context(context: Any, side: str) -> ssl.SSLContext | None:
 
 def pending(sock: socket.socket) -> int:
     """Bytes already decrypted and waiting inside a TLS socket (a selector does not see them)."""
-    return sock.pending() if isinstance(sock, ssl.SSLSocket) else 0
+    return sock.pending() if ssl is not None and isinstance(sock, ssl.SSLSocket) else 0
 
 
 class ServerHandshake:
