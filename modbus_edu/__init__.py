@@ -8,6 +8,7 @@ architecture section)::
     mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
 """
 
+from . import security  # noqa: F401  (mb.security.make_test_pki, server_context, client_context)
 from .capture import read_pcap, write_pcap  # noqa: F401
 from .clock import RealClock, VirtualClock  # noqa: F401
 from .crc import (  # noqa: F401

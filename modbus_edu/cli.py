@@ -495,6 +495,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         device.log = _EchoLog(sys.stderr)
     _install_stop_signals()
     if args.serial is not None:
+        _tls_context(args, "serial")  # refuses --tls-* on a serial line
         server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=args.parity,
                                    stopbits=args.stopbits, mode=args.mode)
         bits = 7 if args.mode == "ascii" else 8  # what SerialServer opens: ASCII carries 7 data bits
@@ -502,7 +503,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
                  f"{args.mode.upper()}")
     else:
         host, port = parse_endpoint(args.tcp or f"{DEFAULT_HOST}:{DEFAULT_PORT}")
-        server = TcpServer(device, host=host, port=port)
+        server = TcpServer(device, host=host, port=port, tls=_tls_context(args, "server"))
         where = None
     counter = _Counter(device, sys.stderr)
     started = False
@@ -511,7 +512,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
         started = True
         if where is None:
             bound_host, bound_port = server.address[:2]
-            where = f"Modbus/TCP {bound_host}:{bound_port}"
+            where = f"{_tcp_name(server)} {bound_host}:{bound_port}"
         print(f"serving {device.name} (unit {device.unit}) on {where}; Ctrl-C to stop", flush=True)
         counter.show(force=True)
         while True:
@@ -549,7 +550,7 @@ def _open_link(args: argparse.Namespace) -> Any:
         raise ConfigError("which device? give --tcp HOST:PORT or --serial URL")
 
     host, port = parse_endpoint(args.tcp)
-    return tcp_link(host, port, timeout=args.timeout)
+    return tcp_link(host, port, timeout=args.timeout, tls=_tls_context(args, "client"))
 
 
 def cmd_identify(args: argparse.Namespace) -> int:
@@ -700,15 +701,16 @@ def cmd_gateway(args: argparse.Namespace) -> int:
         raise ConfigError("a gateway needs both sides: --tcp HOST:PORT to listen on and --serial URL behind")
 
     host, port = parse_endpoint(args.tcp)
+    tls = _tls_context(args, "server")
     link = serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
                        stopbits=args.stopbits, mode=args.mode)
     _install_stop_signals()
-    gateway = TcpGateway(link, host=host, port=port, timeout=args.timeout)
+    gateway = TcpGateway(link, host=host, port=port, timeout=args.timeout, tls=tls)
     try:
         gateway.start()
         bound_host, bound_port = gateway.address[:2]
-        print(f"gateway: Modbus/TCP {bound_host}:{bound_port} -> {link.description}; Ctrl-C to stop",
-              flush=True)
+        print(f"gateway: {_tcp_name(gateway.server)} {bound_host}:{bound_port} -> {link.description}; "
+              "Ctrl-C to stop", flush=True)
         while True:
             time.sleep(0.2)
     except KeyboardInterrupt:
@@ -772,6 +774,37 @@ def _wire_options(parser: argparse.ArgumentParser, serve: bool) -> None:
     wire.add_argument("--stopbits", type=int, choices=[1, 2], default=1, help="serial stop bits (default 1)")
     wire.add_argument("--mode", choices=["rtu", "ascii"], default="rtu",
                       help="serial framing (default rtu)")
+
+
+def _tls_options(parser: argparse.ArgumentParser, serve: bool) -> None:
+    """--tls-cert/--tls-key/--tls-ca: Modbus/TCP Security (mutual TLS) on the TCP side."""
+    whose = "the server's" if serve else "the client's"
+    other = "clients" if serve else "the server"
+    tls = parser.add_argument_group("Modbus/TCP Security (TLS 1.2+, port 802 by convention)")
+    tls.add_argument("--tls-cert", metavar="PEM", help=f"{whose} certificate; turns TLS on")
+    tls.add_argument("--tls-key", metavar="PEM", help=f"{whose} private key")
+    tls.add_argument("--tls-ca", metavar="PEM", help=f"the certificate authority that signs {other}")
+
+
+def _tls_context(args: argparse.Namespace, side: str) -> Any:
+    """The TLS context the --tls-* options ask for (None without them); all three or none."""
+    given = {name: getattr(args, f"tls_{name}", None) for name in ("cert", "key", "ca")}
+    if not any(given.values()):
+        return None
+    if side == "serial":
+        raise ConfigError("--tls-cert/--tls-key/--tls-ca secure Modbus/TCP (--tcp), not a serial line")
+    missing = [f"--tls-{name}" for name, value in given.items() if not value]
+    if missing:
+        raise ConfigError(f"Modbus/TCP Security is mutual: give --tls-cert, --tls-key and --tls-ca "
+                          f"together ({', '.join(missing)} missing)")
+    from . import security
+
+    make = security.server_context if side == "server" else security.client_context
+    return make(**given)
+
+
+def _tcp_name(server: Any) -> str:
+    return "Modbus/TCP Security (TLS)" if getattr(server, "tls", None) is not None else "Modbus/TCP"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -883,6 +916,7 @@ def _options_serve(subs: Any) -> argparse.ArgumentParser:
     p.add_argument("device", choices=["meter", "arduino", "bank"], help="what to simulate")
     p.add_argument("--unit", default="1", help="unit identifier (default 1)")
     _wire_options(p, serve=True)
+    _tls_options(p, serve=True)
     p.add_argument("--trial", type=int, choices=[1, 2], default=1, help="meter: Table 6 trial (default 1)")
     p.add_argument("--live", action="store_true", help="meter: values drift with time (seeded)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulated values (default 0)")
@@ -899,6 +933,7 @@ def _options_poll(subs: Any) -> argparse.ArgumentParser:
                                     "modbus-edu poll --tcp 127.0.0.1:5020 --unit 1 --function 3 --address 0 "
                                     "--count 4 --format uint32_ABCD --polls 5")
     _wire_options(p, serve=False)
+    _tls_options(p, serve=False)
     p.add_argument("--unit", default="1", help="unit identifier / slave address (default 1)")
     p.add_argument("--function", default="3", help="1, 2, 3 or 4 (default 3, read holding registers)")
     p.add_argument("--address", default="0", help="starting address, 0-based (default 0)")
@@ -934,6 +969,7 @@ def _options_gateway(subs: Any) -> argparse.ArgumentParser:
                                     "Example: modbus-edu gateway --tcp 127.0.0.1:5020 --serial /dev/ttyUSB0 "
                                     "--baud 19200 --parity E")
     _wire_options(p, serve=False)
+    _tls_options(p, serve=True)
     p.add_argument("--timeout", type=float, default=0.5, help="wait for a slave, seconds (default 0.5)")
     return p
 

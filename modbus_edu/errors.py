@@ -228,3 +228,7 @@ def guard_numbers(function: Callable[..., T]) -> Callable[..., T]:
 
 class CaptureError(ModbusError):
     """A capture file (pcap, pcapng) cannot be written or read: not a capture, damaged, cut short."""
+
+
+class SecurityError(ModbusError):
+    """Modbus/TCP Security cannot go on: a certificate, a key or a role that is missing or not valid."""

@@ -16,7 +16,7 @@ from contextlib import contextmanager
 
 from pymodbus.constants import ExcCodes
 from pymodbus.framer import FramerType
-from pymodbus.server import ModbusTcpServer
+from pymodbus.server import ModbusTcpServer, ModbusTlsServer
 from pymodbus.simulator import DataType, SimData, SimDevice
 
 HOST = "127.0.0.1"
@@ -63,12 +63,15 @@ class PymodbusServer:
     """A pymodbus ``ModbusTcpServer`` on its own asyncio loop in a thread: ``with PymodbusServer() as s``.
 
     ``framer``: ``"tcp"`` (MBAP), ``"rtu"`` or ``"ascii"`` (serial framing carried over TCP, which our
-    ``serial_link("socket://...")`` speaks).  ``s.port`` is the port it listens on.
+    ``serial_link("socket://...")`` speaks).  ``sslctx``: a server TLS context, for a ``ModbusTlsServer``
+    (Modbus/TCP Security).  ``s.port`` is the port it listens on.
     """
 
-    def __init__(self, devices: SimDevice | list[SimDevice] | None = None, framer: str = "tcp") -> None:
+    def __init__(self, devices: SimDevice | list[SimDevice] | None = None, framer: str = "tcp",
+                 sslctx=None) -> None:
         self.devices = devices if devices is not None else pymodbus_device()
         self.framer = FRAMERS[framer]
+        self.sslctx = sslctx
         self.port = 0
         self._ready = threading.Event()
         self._error: BaseException | None = None
@@ -78,7 +81,10 @@ class PymodbusServer:
 
     def _run(self) -> None:
         async def main() -> None:
-            self._server = ModbusTcpServer(self.devices, address=(HOST, 0), framer=self.framer)
+            if self.sslctx is not None:
+                self._server = ModbusTlsServer(self.devices, address=(HOST, 0), sslctx=self.sslctx)
+            else:
+                self._server = ModbusTcpServer(self.devices, address=(HOST, 0), framer=self.framer)
             await self._server.serve_forever(background=True)
             self.port = self._server.transport.sockets[0].getsockname()[1]
             self._loop = asyncio.get_running_loop()

@@ -27,6 +27,11 @@ to whichever serial slave happens to have the number.
 Modbus/TCP has no authentication and no encryption: anybody who can reach the port can read and write
 every register. That is why the server binds to the loopback address 127.0.0.1 unless told otherwise,
 and logs a warning when it is told otherwise.
+
+``tls=`` (an ``ssl.SSLContext`` from :mod:`modbus_edu.security`) turns both ends into *Modbus/TCP
+Security*: the same frames inside mutual TLS, each client known by its certificate and its role, and
+``authorization=`` on the server deciding what each role may do (:mod:`modbus_edu.links.tls` holds the
+handshakes).
 """
 
 from __future__ import annotations
@@ -58,6 +63,16 @@ from .routing import (  # noqa: F401 (routing's names, re-exported where they we
     exception_reply,
     normalize_slaves,
     route_unit,
+)
+from .tls import (
+    WOULD_BLOCK,
+    ServerHandshake,
+    SSLError,
+    TlsRefused,
+    check_context,
+    client_handshake,
+    pending,
+    tls_failure,
 )
 
 __all__ = [
@@ -116,6 +131,12 @@ class TcpServerCounters:
     ``held_back``  times a connection was not read because its unanswered input or unsent output was
     at its bound (a client that pipelines without reading);  ``late_replies``  answers of an
     asynchronous slave (a gateway) that came after their connection had gone, and were dropped.
+
+    With ``tls=`` (Modbus/TCP Security): ``tls_handshakes``  clients that completed the handshake;
+    ``tls_refused``  clients refused during it (no certificate, an expired one, another authority's:
+    the server's ``tls_log`` says which and why);  ``tls_timeouts``  clients that did not finish it
+    within ``handshake_timeout``;  ``unauthorized``  requests their role may not send (answered with
+    exception 01, see :class:`~modbus_edu.security.RoleTable`).
     """
 
     connections: int = 0
@@ -128,6 +149,10 @@ class TcpServerCounters:
     evicted: int = 0
     held_back: int = 0
     late_replies: int = 0
+    tls_handshakes: int = 0
+    tls_refused: int = 0
+    tls_timeouts: int = 0
+    unauthorized: int = 0
 
     def as_dict(self) -> dict[str, int]:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -137,7 +162,7 @@ class _Connection:
     """One accepted client: its socket, what it sent that is not yet a whole frame, what we owe it."""
 
     __slots__ = ("sock", "fd", "peer", "outbuf", "last_activity", "last_byte", "partial_since", "events",
-                 "splitter", "frames", "served", "junk_mark", "awaiting")
+                 "splitter", "frames", "served", "junk_mark", "awaiting", "handshake", "role")
 
     def __init__(self, sock: socket.socket, peer: Any, now: float, splitter: Any) -> None:
         self.sock = sock
@@ -153,6 +178,8 @@ class _Connection:
         self.served = 0  # requests answered: a client that has never completed one is the first to go
         self.junk_mark = 0  # the splitter's discarded count when the last whole request came
         self.awaiting = False  # an asynchronous slave (a gateway) has this connection's request
+        self.handshake: ServerHandshake | None = None  # TLS: the handshake under way
+        self.role: str | None = None  # TLS: the role in the client's certificate
 
 
 class TcpServer:
@@ -240,6 +267,9 @@ class TcpServer:
         logger: logging.Logger | None = None,
         framing: str = "tcp",
         quiet_gap: float = 0.03,
+        tls: Any = None,
+        handshake_timeout: float | None = None,
+        authorization: Any = None,
     ) -> None:
         self.slaves = normalize_slaves(slaves)
         if framing not in FRAMINGS:
@@ -283,6 +313,7 @@ class TcpServer:
         self._submit = getattr(only, "submit", None)
         self._replies: deque[tuple[_Connection, bytes | None]] = deque()
         self.counters = TcpServerCounters()
+        self._tls_setup(tls, handshake_timeout, authorization, framing, request_timeout)
         self.lock = threading.RLock()
         self._listener: socket.socket | None = None
         self._selector: selectors.BaseSelector | None = None
@@ -323,7 +354,7 @@ class TcpServer:
             elif exc.errno == errno.EACCES:
                 hint = " - ports below 1024 (such as 502) need administrator rights; try 5020"
             raise LinkError(f"cannot listen on {self.host}:{self.port}: {exc.strerror}{hint}") from exc
-        if not is_loopback_host(self.host):  # said once it really listens, never for a failed bind
+        if not is_loopback_host(self.host) and self.tls is None:  # said once it really listens
             self.log.warning(
                 "Modbus/TCP server listening on %s, which is reachable from other computers: "
                 "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
@@ -482,11 +513,12 @@ class TcpServer:
             self._cleanup()
 
     def _deadlines(self, conn: _Connection) -> float:
-        """When something must happen to ``conn`` if nothing changes: its idle timeout, its unfinished
-        request's deadline, or (RTU over TCP) the quiet gap that ends an unfinished frame."""
-        due = float("inf")
+        """When something must happen to ``conn`` if nothing changes: its TLS handshake's deadline, its
+        idle timeout, its unfinished request's deadline, or (RTU over TCP) the quiet gap that ends an
+        unfinished frame."""
+        due = float("inf") if conn.handshake is None else conn.handshake.deadline
         if self.idle_timeout is not None and not conn.awaiting:
-            due = conn.last_activity + self.idle_timeout
+            due = min(due, conn.last_activity + self.idle_timeout)
         if conn.partial_since is not None:
             due = min(due, conn.partial_since + self.request_timeout)
             if self.framing == "rtu":
@@ -508,7 +540,9 @@ class TcpServer:
             if self._selector is not None and self._listener is not None:
                 self._selector.register(self._listener, selectors.EVENT_READ, None)
         for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
-            if (self.framing == "rtu" and conn.partial_since is not None
+            if conn.handshake is not None and now >= conn.handshake.deadline:
+                self._tls_refuse(conn, f"no TLS handshake within {self.handshake_timeout:g} s", timeout=True)
+            elif (self.framing == "rtu" and conn.partial_since is not None
                     and now >= conn.last_byte + self.quiet_gap):
                 # a quiet gap: what has come is all there is of this frame (a socket's silence)
                 conn.frames.extend(conn.splitter.flush())
@@ -559,6 +593,9 @@ class TcpServer:
             sock.setblocking(False)
             sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
             conn = _Connection(sock, peer, time.monotonic(), self._splitter())
+            if self.tls is not None:
+                conn.handshake = ServerHandshake(self.tls, sock, time.monotonic() + self.handshake_timeout)
+                conn.sock = sock = conn.handshake.sock
             self._connections[sock.fileno()] = conn
             self._selector.register(sock, selectors.EVENT_READ, conn)
             self.counters.connections += 1
@@ -600,9 +637,14 @@ class TcpServer:
         conn.events = events
 
     def _read(self, conn: _Connection) -> None:
+        if conn.handshake is not None:
+            self._tls_step(conn)
+            return
         try:
             data = conn.sock.recv(_READ_SIZE if self.framing == "tcp" else _SERIAL_READ_SIZE)
-        except (BlockingIOError, InterruptedError):
+            if pending(conn.sock):  # TLS: the rest of a record already decrypted
+                data += conn.sock.recv(pending(conn.sock))
+        except WOULD_BLOCK:
             return
         except OSError as exc:
             self._drop(conn, f"receive failed: {exc.strerror or exc}")
@@ -623,6 +665,9 @@ class TcpServer:
         requests the server stops reading that client until it has caught up, so that no client can
         make the server buffer without end.
         """
+        if conn.handshake is not None:
+            self._tls_step(conn)
+            return
         if not self._process(conn) or not self._send(conn):
             return
         full = len(conn.outbuf) >= _MAX_PENDING_OUTPUT or len(conn.frames) >= _MAX_QUEUED
@@ -647,7 +692,10 @@ class TcpServer:
             conn.served += 1
             if self._implemented(frame):  # junk that happens to pass a CRC check does not count
                 conn.junk_mark = splitter.discarded
-            if self._submit is not None:
+            refused = self._tls_authorize(conn, frame)  # Modbus/TCP Security: the client's role decides
+            if refused:
+                conn.outbuf += refused
+            elif self._submit is not None:
                 self._hand_over(conn, frame)
             else:
                 reply = self._dispatch(frame) if self.framing == "tcp" else self._dispatch_serial(frame)
@@ -747,12 +795,82 @@ class TcpServer:
             self.counters.responses += 1
         return reply
 
+    # ---------------------------------------------------------------- Modbus/TCP Security (tls=)
+    def _tls_setup(self, tls: Any, handshake_timeout: float | None, authorization: Any, framing: str,
+                   request_timeout: Any) -> None:
+        """Check the TLS settings: ``tls`` a server context requiring client certificates,
+        ``handshake_timeout`` (default: ``request_timeout``), ``authorization`` an object with
+        ``check(pdu, role, peer) -> decision`` such as :class:`~modbus_edu.security.RoleTable`."""
+        self.tls = check_context(tls, "server")
+        if self.tls is not None and framing != "tcp":
+            raise ConfigError("Modbus/TCP Security carries MBAP frames: tls= needs framing=\"tcp\"")
+        if self.tls is not None:
+            from ..security import load_x509
+
+            load_x509()  # cryptography loads now, not during the first client's handshake
+        if handshake_timeout is None:
+            handshake_timeout = request_timeout
+        self.handshake_timeout = _positive_seconds(
+            "handshake_timeout", handshake_timeout, "(the time a client has to finish the TLS handshake)")
+        if authorization is not None and not callable(getattr(authorization, "check", None)):
+            raise ConfigError("authorization= takes a RoleTable (modbus_edu.security.course_roles()), "
+                              f"got {type(authorization).__name__}")
+        self.authorization = authorization
+        self.tls_log: deque[str] = deque(maxlen=100)
+        """The last 100 TLS refusals and timeouts: who, and why."""
+
+    def _tls_step(self, conn: _Connection) -> None:
+        """One step of a client's handshake; when done, its role is read from its certificate."""
+        handshake = conn.handshake
+        assert handshake is not None
+        try:
+            want = handshake.step()
+        except TlsRefused as exc:
+            self._tls_refuse(conn, str(exc))
+            return
+        if want != "done":
+            self._set_events(conn, selectors.EVENT_READ if want == "read" else selectors.EVENT_WRITE)
+            return
+        from ..security import role_of
+
+        conn.handshake = None
+        try:
+            conn.role = role_of(handshake.peer_certificate())
+        except Exception as exc:  # a role extension that is not a UTF8String: refuse the client
+            self._tls_refuse(conn, f"the client's certificate has a broken role: {exc}")
+            return
+        self.counters.tls_handshakes += 1
+        self.log.debug("client %s: TLS handshake done, role %r", conn.peer, conn.role)
+        self._set_events(conn, selectors.EVENT_READ)
+        self._read(conn)  # a request may have come with the end of the handshake
+
+    def _tls_refuse(self, conn: _Connection, why: str, timeout: bool = False) -> None:
+        if timeout:
+            self.counters.tls_timeouts += 1
+        else:
+            self.counters.tls_refused += 1
+        self.tls_log.append(f"{conn.peer[0]}:{conn.peer[1]}: {why}")
+        self._drop(conn, f"TLS: {why}")  # logged as info: the counters and tls_log keep the record
+
+    def _tls_authorize(self, conn: _Connection, frame: bytes) -> bytes | None:
+        """The exception 01 a refused request gets (counted), or None to let the slave answer."""
+        if self.authorization is None or self.framing != "tcp" or len(frame) <= MBAP_HEADER_SIZE:
+            return None
+        peer = f"{conn.peer[0]}:{conn.peer[1]}"
+        decision = self.authorization.check(frame[MBAP_HEADER_SIZE:], conn.role, peer)
+        if decision.allowed:
+            return None
+        self.counters.requests += 1
+        self.counters.unauthorized += 1
+        self.counters.responses += 1
+        return exception_reply(frame, 0x01)
+
     def _send(self, conn: _Connection) -> bool:
         """Send as much of the output buffer as the socket takes. False if the connection died."""
         if conn.outbuf:
             try:
                 sent = conn.sock.send(conn.outbuf)
-            except (BlockingIOError, InterruptedError):
+            except WOULD_BLOCK:
                 sent = 0
             except OSError as exc:
                 self._drop(conn, f"send failed: {exc.strerror or exc}")
@@ -811,6 +929,9 @@ class TcpLink(Link):
     is the master's job. If the server closes the connection (idle timeout, too many clients, a frame
     it could not parse), :meth:`receive` says so with a :class:`~modbus_edu.errors.LinkError`, and the
     next :meth:`send` connects again (counted in :attr:`reconnects`).
+
+    With ``tls=`` (a client context, :func:`modbus_edu.security.client_context`) each connection is
+    Modbus/TCP Security: TLS is negotiated right after connecting, within the connect ``timeout``.
     """
 
     mode = "tcp"
@@ -823,7 +944,9 @@ class TcpLink(Link):
         timeout: float = 3.0,
         clock: Clock | None = None,
         framing: str = "tcp",
+        tls: Any = None,
     ) -> None:
+        self.tls = check_context(tls, "client")
         if framing not in FRAMINGS:
             raise ConfigError(f"framing must be one of {', '.join(FRAMINGS)}, got {framing!r}")
         self.mode = framing
@@ -848,6 +971,8 @@ class TcpLink(Link):
     def description(self) -> str:
         if self.mode != "tcp":
             return f"{self.mode.upper()} over TCP to {self.host}:{self.port}"
+        if self.tls is not None:
+            return f"Modbus/TCP Security (TLS) to {self.host}:{self.port}"
         return f"Modbus/TCP to {self.host}:{self.port}"
 
     @property
@@ -887,6 +1012,8 @@ class TcpLink(Link):
         except OSError as exc:
             raise LinkError(f"cannot connect to {where}: {exc.strerror or exc}") from exc
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        if self.tls is not None:
+            sock = client_handshake(self.tls, sock, self.host, self.timeout)
         self._sock = sock
         self._splitter.reset()
         self._frames.clear()
@@ -901,6 +1028,11 @@ class TcpLink(Link):
             "request connects again"
         )
 
+    def _refused(self, exc: OSError) -> LinkError:
+        """The error for a TLS alert after the handshake: the server refused our certificate."""
+        self._lost("")
+        return LinkError(f"{self.host}:{self.port} refused this TLS connection: {_why(exc)}")
+
     def _drop_stale(self) -> None:
         """Throw away what arrived before this request: frames already cut, and the bytes waiting in
         the socket, read in large chunks without parsing them.  After a flood there may be megabytes
@@ -909,14 +1041,14 @@ class TcpLink(Link):
         A connection the server closed meanwhile is made again by :meth:`send`."""
         self._frames.clear()
         sock = self._sock
-        if sock is None or not select.select([sock], [], [], 0)[0]:
+        if sock is None or not (pending(sock) or select.select([sock], [], [], 0)[0]):
             return
         self._splitter.reset()
         end = time.monotonic() + DRAIN_SECONDS
         try:
             sock.settimeout(0)
             # a short wait between chunks: on a busy connection more is usually already on its way
-            while select.select([sock], [], [], _DRAIN_PAUSE)[0]:
+            while pending(sock) or select.select([sock], [], [], _DRAIN_PAUSE)[0]:
                 data = sock.recv(_DRAIN_SIZE)
                 if not data:  # the server closed the connection
                     break
@@ -925,8 +1057,10 @@ class TcpLink(Link):
                     return
             else:
                 return
-        except (BlockingIOError, InterruptedError):
+        except WOULD_BLOCK:  # TLS: a record that held no data (a session ticket)
             return
+        except SSLError as exc:  # an alert: the server refused this connection (do not try again)
+            raise self._refused(exc) from exc
         except OSError:
             pass
         _close_socket(sock)
@@ -945,7 +1079,7 @@ class TcpLink(Link):
             self._sock.settimeout(self.timeout)
             self._sock.sendall(frame)
         except OSError as exc:
-            raise self._lost(f"sending failed ({exc.strerror or exc})") from exc
+            raise self._lost(f"sending failed ({_why(exc)})") from exc
 
     def receive(self, timeout: float) -> bytes | None:
         """The next complete frame from the server, or None if none is complete within ``timeout`` s."""
@@ -963,15 +1097,18 @@ class TcpLink(Link):
             try:
                 if remaining > 0:
                     sock.settimeout(remaining)
-                elif looked or not select.select([sock], [], [], 0)[0]:
+                elif looked or not (pending(sock) or select.select([sock], [], [], 0)[0]):
                     return None  # time is up (one last look was taken), whatever is still arriving
                 else:
                     looked = True
+                    sock.settimeout(0)  # TLS: what is readable may be a record without data (a ticket)
                 data = sock.recv(_RECV_SIZE)
-            except (TimeoutError, BlockingIOError, InterruptedError):
+            except (TimeoutError, *WOULD_BLOCK):
                 return None
+            except SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake
+                raise self._refused(exc) from exc
             except OSError as exc:
-                raise self._lost(f"receiving failed ({exc.strerror or exc})") from exc
+                raise self._lost(f"receiving failed ({_why(exc)})") from exc
             if not data:
                 if remaining <= 0:  # a look for stale frames: the next send() reconnects quietly
                     _close_socket(sock)
@@ -991,7 +1128,8 @@ class TcpLink(Link):
 
 
 @guard_numbers
-def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str = "tcp") -> TcpLink:
+def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str = "tcp", tls: Any = None
+             ) -> TcpLink:
     """Connect to a Modbus/TCP server and return a :class:`TcpLink` (mode ``"tcp"``, real clock).
 
     ``timeout`` bounds the connection attempt; each request's own timeout is the master's.
@@ -1005,5 +1143,16 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str =
 
     On TCP the IP address chooses the device: a device reached directly usually answers unit 0xFF (the
     recommended value), 0, or its own number; behind a gateway the unit is the serial slave's address.
+
+    ``tls``: a client context (:func:`modbus_edu.security.client_context`) for Modbus/TCP Security
+    (port 802 by convention); a handshake that fails (the server's certificate expired, another
+    authority's, another host's; ours refused) raises :class:`~modbus_edu.errors.LinkError` saying why.
     """
-    return TcpLink(host, port, timeout=timeout, framing=framing)
+    return TcpLink(host, port, timeout=timeout, framing=framing, tls=tls)
+
+
+def _why(exc: OSError) -> str:
+    """What a failed send or receive means; a TLS failure in words (:func:`tls_failure`)."""
+    if isinstance(exc, SSLError):
+        return tls_failure(exc, "our", "the server")
+    return str(exc.strerror or exc)

@@ -1,0 +1,119 @@
+"""Exercises of notebook 17: Captures and security."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .build import build_exercise
+from .core import exercise, int_answer, show
+
+#: The request of exercise 17.1, as a capture shows it.
+CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
+
+
+@exercise("17.1", "the value a captured Modbus/TCP write sets",
+          hint="after the 7-byte MBAP header comes the PDU: function code 06, then the register address "
+               "(2 bytes) and the value (2 bytes), each high byte first. mb.explain(frame, 'tcp', "
+               "'request') shows every field.",
+          wrong=10)
+def _check_17_1(answer: Any) -> str | None:
+    got = int_answer(answer, "a register value")
+    if isinstance(got, str):
+        return got
+    if got == 500:
+        return None
+    if got == 10:
+        return "10 (00 0A) is the register's address; the value is the two bytes after it."
+    if got == 0xF401:
+        return "that is the value read low byte first; Modbus sends the high byte first: 01 F4."
+    if got in (6, 7):
+        return f"{got} is {'the function code' if got == 6 else 'the transaction id'}, not the value."
+    return f"{show(got)} is not the value: read the last two bytes of the frame, high byte first."
+
+
+@exercise("17.2", "an operator's write of 3 registers at address 98",
+          hint="the course's role table lets an operator write addresses 0..99 only; a write of 3 "
+               "registers from 98 touches 98, 99 and 100. A refused request gets exception 01.",
+          wrong=0)
+def _check_17_2(answer: Any) -> str | None:
+    got = int_answer(answer, "an exception code (or 0 for allowed)")
+    if isinstance(got, str):
+        return got
+    if got == 1:
+        return None
+    if got == 0:
+        return "the write touches 98, 99 and 100: address 100 is past the operator's 0..99, so it is refused."
+    if got == 2:
+        return ("02 (illegal data address) is what a slave answers for an address it does not have; the "
+                "role check answers before the slave sees the request, with 01.")
+    if got == 0x90:
+        return ("0x90 is the function code of the exception response (16 + 0x80); the code is the byte "
+                "after it.")
+    return f"{show(got)} is not the answer: 0 if allowed, else the exception code the server sends."
+
+
+#: The function codes and roles the build exercise 17.3 draws from.
+_FUNCTIONS = (1, 2, 3, 4, 5, 6, 15, 16)
+_ROLES = ("viewer", "operator", "engineer", "guest")
+
+
+def _reference(pdu: bytes, role: str) -> bytes | None:
+    from ..security import course_roles
+
+    return course_roles().decide(pdu, role).response
+
+
+def _request(function: int, address: int, count: int) -> bytes:
+    from .. import pdu as p
+
+    if function in (1, 2, 3, 4):
+        cls = {1: p.ReadCoilsRequest, 2: p.ReadDiscreteInputsRequest, 3: p.ReadHoldingRegistersRequest,
+               4: p.ReadInputRegistersRequest}[function]
+        return cls(address=address, count=count).encode()
+    if function == 5:
+        return p.WriteSingleCoilRequest(address=address, value=bool(count % 2)).encode()
+    if function == 6:
+        return p.WriteSingleRegisterRequest(address=address, value=count).encode()
+    if function == 15:
+        return p.WriteMultipleCoilsRequest(address=address, values=[True] * count).encode()
+    return p.WriteMultipleRegistersRequest(address=address, values=list(range(count))).encode()
+
+
+def _draw(rng: Any) -> tuple[bytes, str]:
+    function = rng.choice(_FUNCTIONS)
+    address = rng.choice((rng.randrange(0, 100), rng.randrange(90, 110), rng.randrange(0, 60000)))
+    count = rng.randrange(1, 11)
+    return _request(function, address, count), rng.choice(_ROLES)
+
+
+def _diagnose(args: Any, expected: Any, got: Any) -> str | None:
+    pdu, role = args
+    if isinstance(got, int) and not isinstance(got, bool):
+        return "return the whole exception PDU as bytes (function code + 0x80, then 01), not a number."
+    if expected is None and got is not None:
+        return f"{role} may send this request: return None."
+    if expected is not None and got is None:
+        if role == "operator" and pdu[0] in (15, 16):
+            return ("an operator may write 0..99 only, and a multiple write touches address .. address + "
+                    "quantity - 1: check the last address too.")
+        return f"{role} may not send this request: return bytes([function | 0x80, 0x01])."
+    if isinstance(got, (bytes, bytearray)) and len(got) == 2 and got[1] != 1:
+        return "a refused request gets exception 01, illegal function (the role may not use it)."
+    return None
+
+
+build_exercise(
+    "17.3", "decide a request against the course's role table",
+    reference=_reference,
+    inputs=_draw,
+    edge_cases=[(_request(3, 0, 1), "viewer"), (_request(6, 5, 1), "viewer"),
+                (_request(6, 99, 1), "operator"), (_request(6, 100, 1), "operator"),
+                (_request(16, 98, 2), "operator"), (_request(16, 98, 3), "operator"),
+                (_request(15, 0, 100), "operator"), (_request(16, 60000, 10), "engineer"),
+                (_request(4, 0, 1), "guest")],
+    hint="pdu[0] is the function code; the address is pdu[1:3] and, for 15 and 16, the quantity is "
+         "pdu[3:5], both big-endian (int.from_bytes(..., 'big')). A viewer reads (1-4); an operator reads, "
+         "and writes (5, 6, 15, 16) within 0..99; an engineer does everything; anyone else nothing. "
+         "Refused: bytes([pdu[0] | 0x80, 0x01]).",
+    diagnose=_diagnose,
+    wrong=lambda pdu, role: None if role != "viewer" or pdu[0] <= 4 else bytes([pdu[0] | 0x80, 1]))
