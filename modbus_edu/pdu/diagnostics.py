@@ -186,7 +186,8 @@ class ReportServerIdResponse(Pdu):
         raw = self.encode()
         end = 2 + len(self.server_id)
         rows = [self._function_field(raw), Field(1, raw[1:2], "byte count", raw[1],
-                                                 "server ID + run indicator + additional data")]
+                                                 "server ID + run indicator + additional data" if raw[1]
+                                                 else "0: no server ID, no run indicator")]
         if self.run_indicator is None:
             rows.append(Field(2, raw[2:], "server ID, not split", _hex(self.server_id),
                               f"no 0x00/0xFF run indicator after the first byte: the device's own layout; "
