@@ -33,7 +33,7 @@ from typing import Any, NoReturn, TextIO
 from . import __version__
 from . import pdu as _pdu
 from .clock import RealClock
-from .codes import _hex
+from .codes import _hex, _printable
 from .crc import crc16, crc16_table_trace, crc_bytes, lrc
 from .datamodel import DataBank
 from .devices.arduino import ArduinoSlave
@@ -573,14 +573,6 @@ def cmd_identify(args: argparse.Namespace) -> int:
     finally:
         link.close()
     return 0
-
-
-def _printable(text: str) -> str:
-    """A device's text for a terminal: printable characters as they are, every other one (a control
-    character, an escape sequence's ESC, a line break, a bidirectional override) and the backslash
-    escaped as Python writes them (``\\x1b``, ``\\n``, ``\\u202e``), so a device can neither clear the
-    screen nor forge a line of this output."""
-    return "".join(char if char.isprintable() and char != "\\" else repr(char)[1:-1] for char in text)
 
 
 def _server_id_text(report: _pdu.ReportServerIdResponse) -> str:

@@ -322,3 +322,10 @@ def test_a_udp_server_beyond_loopback_warns_and_on_loopback_does_not(caplog, mon
     assert len(caplog.records) == 1
     message = caplog.records[0].getMessage()
     assert "no authentication" in message and "21.6 times" in message
+
+
+def test_explain_shows_a_device_identification_object_escaped():
+    pdu = P.ReadDeviceIdentificationResponse(1, 0x81, False, 0, ((0, b"ACME\x1b[2J\n"), (1, b"PM-9")))
+    rows = explain(mb.RtuFrame(1, pdu).encode(), "rtu", "response").rows
+    assert [row.value for row in rows if row.field in ("VendorName", "ProductCode")] == ["ACME\\x1b[2J\\n",
+                                                                                        "PM-9"]

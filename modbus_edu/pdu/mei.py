@@ -8,6 +8,7 @@ from typing import ClassVar
 
 from ..codes import (
     MAX_PDU_SIZE,
+    _printable,
 )
 from ..errors import (
     TrailingBytesError,
@@ -211,7 +212,8 @@ class ReadDeviceIdentificationResponse(Pdu):
         at = 7
         for object_id, value in self.objects:
             label = DEVICE_ID_OBJECTS.get(object_id, f"object 0x{object_id:02X}")
-            rows.append(Field(at, raw[at:at + 2 + len(value)], label, value.decode("ascii", "replace"),
+            text = _printable(value.decode("ascii", "replace"))  # never a control character
+            rows.append(Field(at, raw[at:at + 2 + len(value)], label, text,
                               f"object id {object_id}, {len(value)} bytes"))
             at += 2 + len(value)
         return rows
