@@ -20,8 +20,10 @@ as methods.  For each request it:
      why a serial master's timeout must be longer than the slowest answer of its slaves;
    * an **exception response** (``stats.exceptions``) raises
      :class:`~modbus_edu.errors.ModbusExceptionError` (``.code``, ``.meaning``); it is not retried;
-   * a well-formed response that does not fit the request (wrong byte count, a write echo that differs)
-     ends the attempt (``stats.bad_responses``);
+   * a well-formed response that does not fit the request (its request's
+     :meth:`~modbus_edu.pdu.Pdu.misfit`: the wrong number of values or records, a write echo that
+     differs, another FC 8 sub-function, another FC 43 read code) ends the attempt
+     (``stats.bad_responses``);
    * nothing in time: ``stats.timeouts``;
 
 5. **retries** a failed attempt up to ``retries`` times, then raises the last error
