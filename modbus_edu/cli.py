@@ -33,7 +33,7 @@ from typing import Any, NoReturn, TextIO
 from . import __version__
 from . import pdu as _pdu
 from .clock import RealClock
-from .codes import _hex
+from .codes import _hex, _printable
 from .crc import crc16, crc16_table_trace, crc_bytes, lrc
 from .datamodel import DataBank
 from .devices.arduino import ArduinoSlave
@@ -566,17 +566,25 @@ def cmd_identify(args: argparse.Namespace) -> int:
                 raise
             print(f"unit {unit} does not answer Read Device Identification (FC 43/14): exception 01; "
                   "asking Report Server ID (FC 17)")
-            report = master.report_server_id(unit)
-            text = report.server_id.decode("ascii", "replace")
-            print(f"server ID: {report.server_id.hex(' ').upper()} ({text!r}), run indicator: "
-                  f"{'ON' if report.run_indicator else 'OFF'}")
+            print(_server_id_text(master.report_server_id(unit)))
             return 0
         for object_id, value in sorted(objects.items()):
             name = _pdu.DEVICE_ID_OBJECTS.get(object_id, f"object 0x{object_id:02X}")
-            print(f"{object_id:#04x}  {name:<20} {value}")
+            print(f"{object_id:#04x}  {name:<20} {_printable(value)}")
     finally:
         link.close()
     return 0
+
+
+def _server_id_text(report: _pdu.ReportServerIdResponse) -> str:
+    """FC 17's answer on one line: each field in hex and as escaped text."""
+    def both(data: bytes) -> str:
+        return f"{_hex(data)} ({data!r})"
+
+    if report.run_indicator is None:
+        return f"server ID (no run indicator found, not split): {both(report.server_id)}"
+    text = f"server ID: {both(report.server_id)}, run indicator: {'ON' if report.run_indicator else 'OFF'}"
+    return text + (f", additional data: {both(report.additional_data)}" if report.additional_data else "")
 
 
 def _stats_line(stats: Any) -> str:
@@ -699,6 +707,7 @@ class _Parser(argparse.ArgumentParser):
 def cmd_gateway(args: argparse.Namespace) -> int:
     if args.serial is None or args.tcp is None:
         raise ConfigError("a gateway needs both sides: --tcp HOST:PORT to listen on and --serial URL behind")
+    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
 
     host, port = parse_endpoint(args.tcp)
     tls = _tls_context(args, "server")
@@ -724,13 +733,41 @@ def cmd_gateway(args: argparse.Namespace) -> int:
     return 0
 
 
+def _units(text: str) -> range:
+    """``--units FIRST-LAST`` (or one unit) as a range, first <= last, within 1..247."""
+    first, _, last = text.partition("-")
+    low = _int(first, "--units: the first unit", 1, 247)
+    high = _int(last, "--units: the last unit", 1, 247) if last else low
+    if low > high:
+        raise CliError(f"--units {text}: the first unit, {low}, comes after the last, {high}: write "
+                       f"FIRST-LAST, e.g. --units {high}-{low}")
+    return range(low, high + 1)
+
+
+def _line_settings(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """Every (baud rate, parity) pair ``scan --bauds --parities`` asks for: all checked first."""
+    bauds = [args.baud or 9600]
+    if args.bauds:
+        try:
+            bauds = [_baud(item) for item in _split_values(args.bauds)]
+        except argparse.ArgumentTypeError as exc:
+            raise CliError(f"--bauds: {exc}") from None
+    parities = [args.parity]
+    if args.parities:
+        parities = [item.upper() for item in _split_values(args.parities)]
+        wrong = [item for item in parities if item not in ("N", "E", "O")]
+        if wrong:
+            raise CliError(f"--parities: {wrong[0]!r} is not a parity: use N (none), E (even) or O (odd), "
+                           "e.g. --parities N,E")
+    return [{"baudrate": b, "parity": p} for b in bauds for p in parities]
+
+
 def cmd_scan(args: argparse.Namespace) -> int:
-    first, _, last = args.units.partition("-")
-    units = range(_int(first, "first unit", 1, 247), _int(last or first, "last unit", 1, 247) + 1)
+    units = _units(args.units)
+    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
+    _check_seconds(args.budget, "--budget", 0.001, 86_400)
     if args.serial is not None and args.tcp is None:
-        bauds = [_baud(b) for b in _split_values(args.bauds)] if args.bauds else [args.baud or 9600]
-        parities = [p.upper() for p in _split_values(args.parities)] if args.parities else [args.parity]
-        settings = [{"baudrate": b, "parity": p} for b in bauds for p in parities]
+        settings = _line_settings(args)
 
         def opener(**setting: Any) -> Any:
             return serial_link(args.serial, stopbits=args.stopbits, mode=args.mode, **setting)

@@ -140,3 +140,11 @@ def function_title(function: int) -> str:
 def _hex(data: bytes | bytearray | memoryview) -> str:
     """``01 03 00`` style hex of some bytes: upper case, a space between bytes."""
     return bytes(data).hex(" ").upper()
+
+
+def _printable(text: str) -> str:
+    """A device's text for a reader: printable characters as they are, every other one (a control
+    character, an escape sequence's ESC, a line break, a bidirectional override) and the backslash
+    escaped as Python writes them (``\\x1b``, ``\\n``, ``\\u202e``), so a device can neither clear a
+    terminal nor forge a line of output."""
+    return "".join(char if char.isprintable() and char != "\\" else repr(char)[1:-1] for char in text)

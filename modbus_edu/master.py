@@ -20,8 +20,10 @@ as methods.  For each request it:
      why a serial master's timeout must be longer than the slowest answer of its slaves;
    * an **exception response** (``stats.exceptions``) raises
      :class:`~modbus_edu.errors.ModbusExceptionError` (``.code``, ``.meaning``); it is not retried;
-   * a well-formed response that does not fit the request (wrong byte count, a write echo that differs)
-     ends the attempt (``stats.bad_responses``);
+   * a well-formed response that does not fit the request (its request's
+     :meth:`~modbus_edu.pdu.Pdu.misfit`: the wrong number of values or records, a write echo that
+     differs, another FC 8 sub-function, another FC 43 read code) ends the attempt
+     (``stats.bad_responses``);
    * nothing in time: ``stats.timeouts``;
 
 5. **retries** a failed attempt up to ``retries`` times, then raises the last error
@@ -80,6 +82,13 @@ MAX_LATENCIES = 10_000
 
 MAX_STALE = 256
 """The most stale frames discarded before a request is sent; the rest are discarded while it waits."""
+
+MAX_IDENTIFICATION_OBJECTS = 256
+"""The most FC 43/14 objects :meth:`Master.read_device_identification` takes over all of its parts (there
+are 256 object ids): a device whose 'more follows' goes on past them is refused."""
+
+IDENTIFICATION_TIMEOUTS = 10
+"""How many timeouts :meth:`Master.read_device_identification` may take over all of its parts."""
 
 MAX_MISMATCH_NOTES = 3
 """How many foreign frames a :class:`TransactionMismatchError` describes; it counts them all."""
@@ -386,15 +395,33 @@ class Master:
 
         ``read_code`` 1 basic, 2 regular, 3 extended (streams from ``object_id``), 4 that one object.  A
         stream that does not fit one response comes in parts ('more follows'); this follows them to the
-        end (at most 256 requests, never backwards)."""
+        end, never backwards, and within bounds a device cannot stretch: at most
+        :data:`MAX_IDENTIFICATION_OBJECTS` objects in all, and no new request once
+        :data:`IDENTIFICATION_TIMEOUTS` times the timeout has passed since the first (a
+        :class:`~modbus_edu.errors.PduError` says what the device did)."""
+        request = _pdu.ReadDeviceIdentificationRequest(read_code, object_id)  # a bad code: raise it now
+        clock = self.link.clock
+        start = clock.now
+        deadline = start + IDENTIFICATION_TIMEOUTS * self.timeout
         objects: dict[int, str] = {}
-        for _ in range(256):
-            response = self._ask(unit, _pdu.ReadDeviceIdentificationRequest(read_code, object_id))
+        received = parts = 0
+        while True:
+            response = self._ask(unit, request)
+            parts += 1
+            received += len(response.objects)
+            if received > MAX_IDENTIFICATION_OBJECTS:
+                raise PduError(
+                    f"unit {unit} sent {received} identification objects in {parts} responses, each saying "
+                    f"'more follows': more than the {MAX_IDENTIFICATION_OBJECTS} object ids there are")
             objects.update((i, value.decode("utf-8", "replace")) for i, value in response.objects)
-            if not response.more_follows or response.next_object_id <= object_id:
-                break
-            object_id = response.next_object_id
-        return objects
+            if not response.more_follows or response.next_object_id <= request.object_id:
+                return objects
+            if clock.now >= deadline:
+                raise PduError(
+                    f"unit {unit} still said 'more follows' after {parts} responses and "
+                    f"{clock.now - start:.3f} s: {IDENTIFICATION_TIMEOUTS} x the {self.timeout:g} s timeout "
+                    f"is the most a device identification may take")
+            request = _pdu.ReadDeviceIdentificationRequest(read_code, response.next_object_id)
 
     def diagnostics(self, unit: int, sub_function: int, data: bytes | int = 0) -> int | bytes:
         """FC 8 (serial lines): a diagnostics sub-function (:class:`~modbus_edu.pdu.DiagnosticSubFunction`).

@@ -12,6 +12,7 @@ terminal and in Jupyter alike).
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -87,8 +88,11 @@ def scan(
         settings = [{}]
     if isinstance(link, Link) and settings != [{}]:
         raise ConfigError("to try line settings, pass a function that opens a link for each setting")
-    if budget <= 0 or timeout <= 0:
-        raise ConfigError(f"timeout and budget must be > 0 seconds, got {timeout!r} and {budget!r}")
+    if not units:
+        raise ConfigError("no unit ids to scan: give at least one, e.g. range(1, 248)")
+    for name, value in (("timeout", timeout), ("budget", budget)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < math.inf:
+            raise ConfigError(f"{name} must be a number of seconds above 0 (and finite), got {value!r}")
     from tqdm.auto import tqdm
 
     report = ScanReport()

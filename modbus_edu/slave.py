@@ -82,6 +82,18 @@ program NAK (07)."""
 
 _WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 0x16})
 
+_RESETS_EVENT_COUNT = frozenset({0x01, 0x0A})
+"""FC 8's Restart Communications and Clear Counters reset FC 11's event counter (spec, section 6.9)."""
+
+
+def _counts_as_event(response: Pdu) -> bool:
+    """Whether a normal response adds one to FC 11's event counter: not FC 11 and FC 12 themselves (the
+    spec's fetch commands), nor the FC 8 sub-functions that just reset it."""
+    code = response.function_code
+    if code == 0x08:
+        return response.sub_function not in _RESETS_EVENT_COUNT  # type: ignore[attr-defined]
+    return code not in (0x0B, 0x0C)
+
 
 @dataclass
 class SlaveCounters:
@@ -172,6 +184,7 @@ class Slave:
         name: str | None = None,
         server_id: bytes | None = None,
         run_indicator: bool = True,
+        additional_data: bytes = b"",
         exception_status: int = 0,
         identity: dict[int, str | bytes] | None = None,
     ) -> None:
@@ -206,16 +219,23 @@ class Slave:
         self.on_read = on_read
         self.on_write = on_write
         self.name = name or (f"slave {unit}" if unit is not None else "slave (any unit)")
-        self.server_id = bytes(server_id) if server_id is not None else f"modbus_edu {self.name}".encode()
-        """What Report Server ID (FC 17) answers: device-specific bytes (default: the slave's name)."""
+        if not isinstance(run_indicator, bool):  # None is what a decoder says of a device's own layout
+            raise ConfigError(f"run_indicator must be True (0xFF, the device runs) or False (0x00), got "
+                              f"{run_indicator!r}")
+        report = _pdu.ReportServerIdResponse(  # checks all three (a ValueRangeError)
+            server_id if server_id is not None else f"modbus_edu {self.name}".encode(), run_indicator,
+            additional_data)
+        self.server_id = report.server_id
+        """What Report Server ID (FC 17) answers first: device-specific bytes (default: the slave's name)."""
         self.run_indicator = run_indicator
         """FC 17's run indicator: True (0xFF, the device runs) or False (0x00)."""
+        self.additional_data = report.additional_data
+        """What FC 17 sends after the run indicator: device-specific bytes (a version text, say)."""
         self.exception_status = exception_status
         """FC 7's eight status bits, 0..255, which the device defines (0 by default: nothing to report)."""
         self.identity = _identity(identity if identity is not None else {
             0x00: "modbus_edu", 0x01: "simulated slave", 0x02: "1.0", 0x04: self.name})
         """FC 43/14's objects: id -> bytes (0-2 basic, 3-6 regular, 0x80-0xFF extended)."""
-        _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)  # checks both (a ValueRangeError)
         _pdu.ReadExceptionStatusResponse(self.exception_status)
         self.counters = SlaveCounters()
         self.listen_only = False
@@ -347,6 +367,10 @@ class Slave:
             if function == 0 or function >= 0x80:
                 counters.bad_frames += 1
                 return None, None, f"dropped: function code {function} cannot be requested"
+            if self.listen_only:  # not even an exception response
+                counters.requests += 1
+                self.events.appendleft(0xA0)
+                return None, None, f"listen-only mode (FC 8/04): heard, not answered ({exc})"
             if isinstance(exc, UnknownFunctionError):
                 code = ExceptionCode.ILLEGAL_FUNCTION
             elif isinstance(exc, AddressRangeError):
@@ -358,32 +382,30 @@ class Slave:
             response = ExceptionResponse(function, int(code))
             return self._answer(mode, unit, response, data), response, f"refused: {exc}"
         unit = decoded.unit
-        if direct:
-            counters.requests += 1
-            response = self.process(decoded.pdu)
-            if response is None:
-                return None, None, "no answer, as the request asks"
-            note = "" if self.accepts(unit) else f"unit {unit} on Modbus/TCP: this device itself"
-            return self._answer(mode, unit, response, data), response, note
-        if unit == 0:
+        pdu = decoded.pdu
+        if unit == 0 and not direct:
             counters.broadcasts += 1
             counters.requests += 1
-            if decoded.pdu.function_code in _WRITE_FUNCTIONS:
-                self.process(decoded.pdu)
+            if self.listen_only:  # the spec: messages are monitored, no action is taken
+                return None, None, "broadcast in listen-only mode (FC 8/04): heard, not carried out"
+            if pdu.function_code in _WRITE_FUNCTIONS:
+                self.process(pdu)
                 return None, None, "broadcast: carried out, no answer"
             return None, None, "broadcast read: ignored (a broadcast can only write)"
-        if not self.accepts(unit) or (unit > 247 and unit != self.unit and mode != "tcp"):
+        if not direct and (not self.accepts(unit) or (unit > 247 and unit != self.unit and mode != "tcp")):
             counters.other_unit += 1  # a reserved serial address is answered only by a slave set to it
             return None, None, f"for unit {unit}: ignored"
         counters.requests += 1
-        restart = decoded.pdu.function_code == 0x08 and decoded.pdu.sub_function == 0x01
         self.events.appendleft(0x80 | (0x20 if self.listen_only else 0))
-        if self.listen_only and not restart:
+        # listen-only mode silences the slave whatever the unit reached it (0 and 0xFF on TCP too), until
+        # Restart Communications (FC 8/01)
+        if self.listen_only and not (pdu.function_code == 0x08 and pdu.sub_function == 0x01):
             return None, None, "listen-only mode (FC 8/04): heard, not answered"
-        response = self.process(decoded.pdu)
+        response = self.process(pdu)
         if response is None:
             return None, None, "no answer, as the request asks"
-        return self._answer(mode, unit, response, data), response, ""
+        note = "" if self.accepts(unit) else f"unit {unit} on Modbus/TCP: this device itself"
+        return self._answer(mode, unit, response, data), response, note
 
     def _answer(self, mode: str, unit: int, response: Pdu, request: bytes) -> bytes:
         counters = self.counters
@@ -394,7 +416,7 @@ class Slave:
             self.events.appendleft(0x40 | _SEND_EVENT.get(code, 0))
         else:
             self.events.appendleft(0x40)
-            if response.function_code not in (0x0B, 0x0C):
+            if _counts_as_event(response):
                 self.event_count = (self.event_count + 1) & 0xFFFF
         tid = int.from_bytes(request[0:2], "big") if mode == "tcp" else 0
         return make_frame(mode, unit, response, tid).encode()
@@ -482,8 +504,8 @@ class Slave:
         return _pdu.ReadExceptionStatusResponse(self.exception_status)
 
     def _report_server_id(self, request: Any) -> Pdu:
-        """FC 17: the server ID and the run indicator."""
-        return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator)
+        """FC 17: the server ID, the run indicator and the additional data, in the spec's order."""
+        return _pdu.ReportServerIdResponse(self.server_id, self.run_indicator, self.additional_data)
 
     def diagnostic_counters(self) -> dict[int, int]:
         """FC 8's counters by sub-function, since the last restart or clear (16 bits each).
@@ -522,6 +544,7 @@ class Slave:
             was_listening = self.listen_only
             self.listen_only = False
             self._diagnostics_base = dataclasses.replace(self.counters)
+            self.event_count = 0
             if request.value == 0xFF00:
                 self.events.clear()
             self.events.appendleft(0x00)
@@ -535,6 +558,7 @@ class Slave:
         if sub == 0x0A:
             self._diagnostics_base = dataclasses.replace(self.counters)
             self.diagnostic_register = 0
+            self.event_count = 0
             return echo
         if request.value != 0:
             raise ModbusExceptionError(0x08, int(ExceptionCode.ILLEGAL_DATA_VALUE))

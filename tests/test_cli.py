@@ -624,3 +624,55 @@ def test_identify_asks_device_identification_and_falls_back_to_report_server_id(
 ])
 def test_build_knows_diagnostics_events_and_file_records(args, expected):
     assert ok(*args).splitlines()[0] == expected
+
+
+SCAN_AND_GATEWAY_REFUSALS = register(("scan", "--serial", "loop://"), [
+    (("--bauds", "12"), 2, "--bauds: 12 is not a serial speed"),
+    (("--bauds", "9600,fast"), 2, "--bauds: baud rate must be a whole number"),
+    (("--parities", "X"), 2, "--parities: 'X' is not a parity"),
+    (("--units", "5-1"), 2, "the first unit, 5, comes after the last, 1"),
+    (("--units", "0-3"), 1, "--units: the first unit must be 1..247"),
+    (("--budget", "nan"), 1, "--budget must be a number of seconds"),
+    (("--budget", "-5"), 1, "--budget must be a number of seconds"),
+    (("--timeout", "inf"), 1, "--timeout must be a number of seconds"),
+])
+
+
+@pytest.mark.parametrize(("args", "code", "message"), SCAN_AND_GATEWAY_REFUSALS)
+def test_scan_refuses_bad_settings_in_one_line_before_asking_anything(args, code, message):
+    # one line on stderr: no progress bar was drawn before the error
+    result = fails("scan", "--serial", "loop://", *args, code=code, message=message)
+    assert "unexpected" not in result.stderr and "%|" not in result.stderr
+
+
+GATEWAY_TIMEOUTS = register(("gateway", "--tcp", "127.0.0.1:0", "--serial", "loop://", "--timeout"),
+                            [(("inf",),), (("nan",),), (("-1",),), (("0",),)])
+
+
+@pytest.mark.parametrize(("args",), GATEWAY_TIMEOUTS)
+def test_gateway_refuses_a_timeout_that_is_not_a_number_of_seconds(args):
+    fails("gateway", "--tcp", "127.0.0.1:0", "--serial", "loop://", "--timeout", *args,
+          message="--timeout must be a number of seconds from 0.001 to 3600")
+
+
+def test_identify_escapes_what_a_device_says_so_it_cannot_act_on_the_terminal():
+    hostile = Slave(unit=1, identity={0: "ACME\x1b[2J\x1b[H", 1: "PM-9\nfake: line", 2: "\u202e1.0\\x07\a"})
+    with TcpServer(hostile) as server:
+        out = ok("identify", "--tcp", f"127.0.0.1:{server.address[1]}")
+    assert "\x1b" not in out and "\a" not in out and "\u202e" not in out
+    assert "ACME\\x1b[2J\\x1b[H" in out and "PM-9\\nfake: line" in out and "\\u202e1.0\\\\x07\\x07" in out
+    assert len(out.splitlines()) == 3
+
+    class Old(Slave):
+        def process(self, request):  # no FC 43: the command falls back to FC 17
+            if request.function_code == 0x2B:
+                from modbus_edu.pdu import ExceptionResponse
+
+                return ExceptionResponse(0x2B, 1)
+            return super().process(request)
+
+    with TcpServer(Old(unit=1, server_id=b"\x1b[2J", additional_data=b"LMB\r\nv3.1.6\xff")) as server:
+        out = ok("identify", "--tcp", f"127.0.0.1:{server.address[1]}")
+    assert "\x1b" not in out and "\r" not in out
+    assert "server ID: 1B 5B 32 4A (b'\\x1b[2J'), run indicator: ON" in out
+    assert "additional data: 4C 4D 42 0D 0A 76 33 2E 31 2E 36 FF (b'LMB\\r\\nv3.1.6\\xff')" in out

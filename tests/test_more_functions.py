@@ -42,7 +42,9 @@ def test_the_specifications_examples():
     (lambda: P.ReportServerIdResponse("id"), "must be bytes", ValueRangeError),
     (lambda: P.decode_pdu(bytes.fromhex("17 00 00 00 01 00 00 00 01 03 00 01"), "request"),
      "write byte count 3, expected 2", ByteCountError),
-    (lambda: P.decode_pdu(bytes.fromhex("11 02 41 07"), "response"), "run indicator 0x07", ValueRangeError),
+    (lambda: P.ReportServerIdResponse(b"A\xffB"), "server ID byte 1 is 0xFF", ValueRangeError),
+    (lambda: P.ReportServerIdResponse(b"", True), "at least one byte", ValueRangeError),
+    (lambda: P.ReportServerIdResponse(b"A", None, b"x"), "without a run indicator", ValueRangeError),
 ])
 def test_every_rule_is_enforced_with_a_message(make, words, error):
     with pytest.raises(error, match=words):
@@ -316,13 +318,18 @@ def test_fc8_counters_both_ways_with_pymodbus(sub, count, unit):
     assert mb.RtuFrame.decode(frame[:0] + bytes([1]) + frame[1:], "response").pdu == ours
 
 
+#: Server IDs as a device may send them: any first byte, then none that reads as a run indicator.
+_SERVER_IDS = st.builds(lambda first, rest: bytes([first]) + rest, st.integers(0, 255),
+                        st.lists(st.integers(1, 254), max_size=19).map(bytes))
+
+
 def _new_pdus():
     """Every new function, request and response, with its fields drawn by hypothesis."""
     small = st.lists(REGS, min_size=1, max_size=8).map(tuple)
     return st.one_of(
         st.just(P.ReadExceptionStatusRequest()), st.integers(0, 255).map(P.ReadExceptionStatusResponse),
         st.just(P.ReportServerIdRequest()),
-        st.builds(P.ReportServerIdResponse, st.binary(min_size=1, max_size=20), st.booleans()),
+        st.builds(P.ReportServerIdResponse, _SERVER_IDS, st.booleans(), st.binary(max_size=12)),
         st.builds(P.MaskWriteRegisterRequest, REGS, REGS, REGS),
         st.builds(P.MaskWriteRegisterResponse, REGS, REGS, REGS),
         st.builds(P.ReadWriteMultipleRegistersRequest, st.integers(0, 1000), st.integers(1, 125),

@@ -24,7 +24,7 @@ from ..errors import ConfigError, LinkError
 from ..framing import TcpSplitter
 from .base import Link
 from .routing import dispatch, normalize_slaves
-from .tcp import _check_host, _is_int, _positive_seconds
+from .tcp import _check_host, _is_int, _positive_seconds, is_loopback_host
 
 __all__ = ["UdpLink", "UdpServer", "udp_link"]
 
@@ -47,6 +47,17 @@ class UdpServer:
     Routing by unit id is :class:`~modbus_edu.links.tcp.TcpServer`'s
     (:func:`~modbus_edu.links.routing.route_unit`): a unit nobody serves is answered 0x0B.
     ``bad_datagrams`` counts datagrams that were not one MBAP frame.
+
+    It binds the loopback address 127.0.0.1 unless told otherwise, and logs a warning when told
+    otherwise, as :class:`~modbus_edu.links.tcp.TcpServer` does: Modbus has no authentication, and UDP
+    adds **amplification**.  UDP has no handshake, so a request's source address can be forged, and the
+    response, many times larger, goes to whoever the forger names.  Measured on this server (a
+    Modbus/UDP datagram sent to it on 127.0.0.1, the answer's length divided by the request's): the
+    largest FC 3 read, 125 registers, is a 12-byte request (7 bytes of MBAP header and a 5-byte PDU)
+    that draws a 259-byte response (7 + 2 + 250): **21.6 x** (7.2 x counting the 28 bytes of IPv4 and
+    UDP headers each datagram carries).  FC 1 of 2000 coils is the same; functions with shorter
+    requests go further: FC 43/14 with a 240-byte object 256 / 11 = 23.3 x, FC 17 with a 200-byte server
+    ID 210 / 8 = 26.3 x.  A Modbus/UDP server belongs on a closed network.
     """
 
     def __init__(self, slaves: Any, host: str = "127.0.0.1", port: int = 0) -> None:
@@ -65,6 +76,13 @@ class UdpServer:
         except OSError as exc:
             self._sock.close()
             raise LinkError(f"cannot listen on UDP {host}:{port}: {exc.strerror or exc}") from exc
+        if not is_loopback_host(host):  # said once it really listens, never for a failed bind
+            self.log.warning(
+                "Modbus/UDP server listening on %s:%d, which is reachable from other computers: Modbus "
+                "has no authentication - anyone who can reach this port can read and write every "
+                "register - and a forged source address turns each small request into a response up "
+                "to 21.6 times larger sent to someone else. Use 127.0.0.1 unless you mean it.",
+                *self._sock.getsockname()[:2])
         self._sock.settimeout(0.1)
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None

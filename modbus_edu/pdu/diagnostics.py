@@ -111,60 +111,106 @@ class ReportServerIdRequest(_NoDataRequest):
     function_code: ClassVar[int] = 0x11
 
 
+_RUN = {0xFF: True, 0x00: False}
+"""FC 17's run indicator byte: 0xFF ON (the device runs), 0x00 OFF."""
+
+
 @dataclass(frozen=True, slots=True)
 class ReportServerIdResponse(Pdu):
-    """Report Server ID (FC 17, 0x11) response: what the device says it is, and whether it runs::
+    """Report Server ID (FC 17, 0x11) response: what the device says it is, whether it runs, and more::
 
         offset  size  field
         0       1     function code 0x11
-        1       1     byte count N + 1
-        2       N     server ID (device specific bytes)
+        1       1     byte count N + 1 + M
+        2       N     server ID (device specific: its length too)
         2+N     1     run indicator status: 0xFF ON, 0x00 OFF
+        3+N     M     additional data (device specific, e.g. a version text)
+
+    Only the device knows how long its server ID is, so a decoder looks for the run indicator: the
+    first 0x00 or 0xFF after the server ID's first byte (a libmodbus device answers ``B4 FF "LMB3.1.6"``:
+    server ID 0xB4, ON, then its version).  This library's own responses split there too: a server ID
+    has no 0x00 or 0xFF after its first byte (such bytes belong in ``additional_data``).  Where no such
+    byte follows, the layout is the device's own: ``run_indicator`` is None and ``server_id`` holds every
+    byte, unsplit.
     """
 
     server_id: bytes
-    run_indicator: bool = True
+    run_indicator: bool | None = True
+    additional_data: bytes = b""
 
     function_code: ClassVar[int] = 0x11
     byte_count_at: ClassVar[int | None] = 1
     role: ClassVar[str] = "response"
 
     def __post_init__(self) -> None:
-        if not isinstance(self.server_id, (bytes, bytearray)):
-            raise ValueRangeError(f"server_id must be bytes, got {shown(self.server_id)}")
-        if len(self.server_id) > 250:
-            raise ValueRangeError(f"server_id has {len(self.server_id)} bytes: at most 250 fit a response")
-        if not isinstance(self.run_indicator, bool):
-            raise ValueRangeError(f"run_indicator must be True or False, got {shown(self.run_indicator)}")
-        object.__setattr__(self, "server_id", bytes(self.server_id))
+        for name in ("server_id", "additional_data"):
+            if not isinstance(getattr(self, name), (bytes, bytearray)):
+                raise ValueRangeError(f"{name} must be bytes, got {shown(getattr(self, name))}")
+            object.__setattr__(self, name, bytes(getattr(self, name)))
+        server_id, run, more = self.server_id, self.run_indicator, self.additional_data
+        if run is not None and not isinstance(run, bool):
+            raise ValueRangeError(f"run_indicator must be True or False, got {shown(run)}")
+        size = len(server_id) + (run is not None) + len(more)
+        if size > 251:
+            raise ValueRangeError(f"server ID, run indicator and additional data are {size} bytes: at most "
+                                  "251 fit a response")
+        if run is None:
+            if more:
+                raise ValueRangeError("additional data follows the run indicator: without a run indicator "
+                                      "(None: not found) every byte is the server ID, unsplit")
+        elif not server_id:
+            raise ValueRangeError("the server ID is at least one byte (before the run indicator)")
+        inside = next((at for at in range(1, len(server_id)) if server_id[at] in _RUN), None)
+        if inside is not None:
+            raise ValueRangeError(
+                f"server ID byte {inside} is 0x{server_id[inside]:02X}: a master takes the first 0x00 or "
+                f"0xFF after the server ID's first byte as the run indicator; put such bytes in "
+                f"additional_data")
 
     def encode(self) -> bytes:
-        run = b"\xff" if self.run_indicator else b"\x00"
-        return bytes([0x11, len(self.server_id) + 1]) + self.server_id + run
+        run = b"" if self.run_indicator is None else b"\xff" if self.run_indicator else b"\x00"
+        data = self.server_id + run + self.additional_data
+        return bytes([0x11, len(data)]) + data
 
     @classmethod
     def _decode(cls, data: bytes, offset: int = 0):
-        name = "Report Server ID response"
-        _expect_minimum(data, 3, name, offset)
-        _expect_byte_count(data, 2, data[1], name, offset)
-        run = data[-1]
-        if run not in (0x00, 0xFF):
-            raise ValueRangeError(f"at byte {offset + len(data) - 1}: run indicator 0x{run:02X}, expected "
-                                  "0xFF (ON) or 0x00 (OFF)")
-        return cls(bytes(data[2:-1]), run == 0xFF)
+        _expect_minimum(data, 2, "Report Server ID response", offset)
+        _expect_byte_count(data, 2, data[1], "Report Server ID response", offset)
+        body = bytes(data[2:])
+        at = next((at for at in range(1, len(body)) if body[at] in _RUN), None)
+        if at is None:  # no run indicator: the device's own layout, shown as it came
+            return cls._from_wire(body, None, b"")
+        return cls._from_wire(body[:at], _RUN[body[at]], body[at + 1:])
 
     def fields(self) -> list[Field]:
         raw = self.encode()
         end = 2 + len(self.server_id)
-        text = self.server_id.decode("ascii", "replace")
-        return [self._function_field(raw),
-                Field(1, raw[1:2], "byte count", raw[1], "server ID + run indicator"),
-                Field(2, raw[2:end], "server ID", _hex(self.server_id), f"as text: {text!r}"),
-                Field(end, raw[end:], "run indicator", self.run_indicator,
-                      "0xFF: ON, the device runs" if self.run_indicator else "0x00: OFF")]
+        rows = [self._function_field(raw), Field(1, raw[1:2], "byte count", raw[1],
+                                                 "server ID + run indicator + additional data" if raw[1]
+                                                 else "0: no server ID, no run indicator")]
+        if self.run_indicator is None:
+            rows.append(Field(2, raw[2:], "server ID, not split", _hex(self.server_id),
+                              f"no 0x00/0xFF run indicator after the first byte: the device's own layout; "
+                              f"as text: {_text(self.server_id)}"))
+            return rows
+        rows += [Field(2, raw[2:end], "server ID", _hex(self.server_id),
+                       f"device specific; as text: {_text(self.server_id)}"),
+                 Field(end, raw[end:end + 1], "run indicator", self.run_indicator,
+                       "0xFF: ON, the device runs" if self.run_indicator else "0x00: OFF")]
+        if self.additional_data:
+            rows.append(Field(end + 1, raw[end + 1:], "additional data", _hex(self.additional_data),
+                              f"device specific; as text: {_text(self.additional_data)}"))
+        return rows
 
     def _summary_items(self):
-        return [("server_id", self.server_id), ("run_indicator", self.run_indicator)]
+        items = [("server_id", self.server_id), ("run_indicator", self.run_indicator)]
+        return items + ([("additional_data", self.additional_data)] if self.additional_data else [])
+
+
+def _text(data: bytes) -> str:
+    """Device bytes as text for a reader, as Python writes bytes: printable ASCII, anything else escaped
+    (``'LMB3.1.6'``, ``'\\xb4'``): never a control character that would act on a terminal."""
+    return repr(data)[1:]
 
 
 class DiagnosticSubFunction(IntEnum):
@@ -185,6 +231,10 @@ class DiagnosticSubFunction(IntEnum):
     RETURN_SERVER_BUSY_COUNT = 0x11
     RETURN_BUS_CHARACTER_OVERRUN_COUNT = 0x12
     CLEAR_OVERRUN_COUNTER_AND_FLAG = 0x14
+
+
+_ECHOED = frozenset({0x00, 0x01, 0x03, 0x0A, 0x14})
+"""The sub-functions whose response echoes the request's data (the others answer a counter or register)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -264,6 +314,20 @@ class DiagnosticsRequest(_Diagnostics):
     """
 
     role: ClassVar[str] = "request"
+
+    def misfit(self, response: Pdu) -> str:
+        """The response names the same sub-function; Return Query Data, Restart Communications, Change
+        ASCII Input Delimiter, Clear Counters and Clear Overrun Counter echo the request's data exactly (of
+        any even length); every other sub-function answers one data word (a counter, a register)."""
+        if response.sub_function != self.sub_function:
+            return f"sub-function 0x{response.sub_function:04X}, expected 0x{self.sub_function:04X}"
+        if self.sub_function in _ECHOED:
+            if response.data != self.data:
+                return (f"the echo says {_hex(response.data) or 'nothing'} ({len(response.data)} bytes), "
+                        f"the request sent {_hex(self.data)} ({len(self.data)} bytes)")
+        elif len(response.data) != 2:
+            return f"{len(response.data)} data bytes, expected one 16-bit word (2 bytes)"
+        return ""
 
 
 @dataclass(frozen=True, slots=True)

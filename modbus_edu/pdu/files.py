@@ -37,6 +37,10 @@ def _check_file_reference(file: Any, record: Any) -> None:
         raise AddressRangeError(f"record number {record}: expected 0 to 9999 (0x270F)")
 
 
+def _records_text(records: tuple[tuple[int, int, tuple[int, ...]], ...]) -> str:
+    return "; ".join(f"{file}, {record}, {list(values)}" for file, record, values in records)
+
+
 @dataclass(frozen=True, slots=True)
 class ReadFileRecordRequest(Pdu):
     """Read File Record (FC 20, 0x14) request: one or more sub-requests, each a run of records::
@@ -97,6 +101,15 @@ class ReadFileRecordRequest(Pdu):
             rows.append(Field(at, raw[at:at + 7], f"sub-request {index}", f"file {file}, record {record}",
                               f"reference type 6, {length} registers"))
         return rows
+
+    def misfit(self, response: Pdu) -> str:
+        """One sub-response per sub-request, each as long as its record length asked."""
+        asked = [length for _, _, length in self.records]
+        got = [len(values) for values in response.records]
+        if got != asked:
+            return (f"{len(got)} record(s) of {got} registers, expected {len(asked)} of {asked} (the "
+                    "record lengths asked)")
+        return ""
 
     def _summary_items(self):
         return [("records", list(self.records))]
@@ -234,6 +247,13 @@ class WriteFileRecordRequest(_WriteFileRecord):
     """
 
     role: ClassVar[str] = "request"
+
+    def misfit(self, response: Pdu) -> str:
+        """The response echoes the request: every file, record and value."""
+        if response.records != self.records:
+            return (f"the echo says (file, record, values) {_records_text(response.records)}, the request "
+                    f"was {_records_text(self.records)}")
+        return ""
 
 
 @dataclass(frozen=True, slots=True)

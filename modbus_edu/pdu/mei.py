@@ -8,6 +8,7 @@ from typing import ClassVar
 
 from ..codes import (
     MAX_PDU_SIZE,
+    _printable,
 )
 from ..errors import (
     TrailingBytesError,
@@ -34,6 +35,9 @@ DEVICE_ID_OBJECTS = {0x00: "VendorName", 0x01: "ProductCode", 0x02: "MajorMinorR
 
 
 READ_DEVICE_ID_CODES = {1: "basic (stream)", 2: "regular (stream)", 3: "extended (stream)", 4: "one object"}
+
+_STREAM_LAST = {1: 0x02, 2: 0x7F, 3: 0xFF}
+"""The last object id of each stream's category: basic 0x00-0x02, regular 0x03-0x7F, extended 0x80-0xFF."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,6 +87,24 @@ class ReadDeviceIdentificationRequest(Pdu):
                 Field(3, raw[3:4], "object id", self.object_id,
                       DEVICE_ID_OBJECTS.get(self.object_id, "extended object" if self.object_id >= 0x80
                                             else "reserved object id"))]
+
+    def misfit(self, response: Pdu) -> str:
+        """The same read device ID code; one object (code 4) is the object asked for; a stream holds
+        objects of its category only (basic 0x00-0x02, regular up to 0x7F)."""
+        if response.read_code != self.read_code:
+            return f"read device ID code {response.read_code}, expected {self.read_code}"
+        ids = [object_id for object_id, _ in response.objects]
+        if self.read_code == 4:
+            if ids != [self.object_id]:
+                got = ", ".join(f"0x{i:02X}" for i in ids) or "none"
+                return f"object id(s) {got}, expected the one object asked for, 0x{self.object_id:02X}"
+            return ""
+        last = _STREAM_LAST[self.read_code]
+        outside = [i for i in ids if i > last]
+        if outside:
+            return (f"object 0x{outside[0]:02X} in a {READ_DEVICE_ID_CODES[self.read_code]} stream, whose "
+                    f"objects end at 0x{last:02X}")
+        return ""
 
     def _summary_items(self):
         return [("read_code", self.read_code), ("object_id", self.object_id)]
@@ -190,7 +212,8 @@ class ReadDeviceIdentificationResponse(Pdu):
         at = 7
         for object_id, value in self.objects:
             label = DEVICE_ID_OBJECTS.get(object_id, f"object 0x{object_id:02X}")
-            rows.append(Field(at, raw[at:at + 2 + len(value)], label, value.decode("ascii", "replace"),
+            text = _printable(value.decode("ascii", "replace"))  # never a control character
+            rows.append(Field(at, raw[at:at + 2 + len(value)], label, text,
                               f"object id {object_id}, {len(value)} bytes"))
             at += 2 + len(value)
         return rows

@@ -84,6 +84,8 @@ FIELDS: dict[str, FieldSpec] = {
                          "FC 21: file, record, values (groups split by ;)", width="420px"),
     "server_id": FieldSpec("server ID", "hex", "bytes in hex, e.g. 4D 45 54 45 52", width="420px"),
     "run_indicator": FieldSpec("run indicator", "run", "FF: the device runs, 00: it does not"),
+    "additional_data": FieldSpec("additional data", "hex", "FC 17: device-specific bytes after the run "
+                                 "indicator, in hex (may be empty)", width="420px"),
     "read_code": FieldSpec("read device ID code",
                            tooltip="FC 43/14: 1 basic, 2 regular, 3 extended, 4 one object"),
     "object_id": FieldSpec("object id", tooltip="FC 43/14: where the stream starts, or the one object"),
@@ -214,7 +216,7 @@ class FrameBuilder(StaticView, W.VBox):
         initial = {"address": address, "count": count, "value": value, "coil": bool(coil), "bits": bits,
                    "registers": registers, "exception_code": int(exception_code), "values": "",
                    "read_count": 1, "read_code": 1, "conformity": 0x81, "objects": "0=ACME; 1=PM-9; 2=1.0",
-                   "data": "00 00", "events": "", "records": "4, 1, 2"}
+                   "data": "00 00", "events": "", "records": "4, 1, 2", "server_id": "4D 45 54 45 52"}
         self._field_inputs: list[W.DOMWidget] = []
         self._error_labels: dict[str, W.HTML] = {}
         self._rows: dict[str, W.HBox] = {}
@@ -331,7 +333,7 @@ class FrameBuilder(StaticView, W.VBox):
                    *[n for n, box in self._field_map().items() if box in needed.values()]]
         text = str(exc).lower()
         for name in visible:
-            if self._spec_label(name) in text:
+            if self._spec_label(name).lower() in text:
                 return name
         for name in ERROR_FIELDS.get(type(exc).__name__, ()):
             if name in visible:
