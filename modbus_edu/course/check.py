@@ -1,84 +1,19 @@
-"""Keeping the course's notebooks runnable and well formed.
-
-``python -m modbus_edu.course execute [NOTEBOOK ...]`` re-executes notebooks in place, in order, each
-from a fresh ``python3`` kernel started in the notebooks folder, so their stored outputs are what strict
-nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the course's conventions:
-
-* the kernelspec is ``python3`` and execution counts run 1, 2, 3, ... with no gaps;
-* the first cell is a title with "What you will learn" (3 to 5 points) and "What you need";
-* the notebook closes with a summary, at least two exercises (cells calling ``check(``) and a link to
-  the next notebook (except the last one);
-* every link to another notebook points to a file that exists;
-* from notebook 01 on, the prose names the source documents by their short names ("the power-meter
-  paper"), never by file number ("source 003", "003's Table 5");
-* introduce before use: every library name a code cell uses (``mb.Master``, ``from modbus_edu.widgets
-  import TestTool``) is introduced first, in the prose (markdown) or in a comment of that notebook or an
-  earlier one.
-"""
+"""Checking the course's conventions (``python -m modbus_edu.course check``); the rules are listed in
+the package's docstring."""
 
 from __future__ import annotations
 
-import argparse
 import re
-import sys
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
-NOTEBOOK_PATTERN = re.compile(r"^\d\d_[a-z0-9_]+\.ipynb$")
+from .execute import course_notebooks
+
 SHORTHAND_PATTERN = re.compile(r"\bsources?\s+00[0-4]\b|(?<![\w.:-])00[0-4](?:['’]s)?(?![\w.])", re.I)
 LIBRARY_NAME_PATTERN = re.compile(r"\bmb\.([A-Za-z_]\w*)")
 IMPORT_PATTERN = re.compile(
     r"^[ \t]*from[ \t]+modbus_edu(?:\.[\w.]+)?[ \t]+import[ \t]+(?:\(([^)]*)\)|([^\n#]*))", re.M)
 LINK_PATTERN = re.compile(r"\]\((?![a-z]+://)((?:\.?/)?(?:solutions/)?[^)\s#?]+\.ipynb)(?:#[^)]*)?\)")
-
-
-def course_notebooks(folder: Path | str) -> list[Path]:
-    """The course's notebooks in order: ``NN_name.ipynb`` files of ``folder``."""
-    return sorted(p for p in Path(folder).iterdir() if NOTEBOOK_PATTERN.match(p.name))
-
-
-def execute(path: Path | str, timeout: int = 120) -> float:
-    """Execute one notebook in place from a fresh kernel; return the seconds it took."""
-    import nbformat
-    from nbclient import NotebookClient
-
-    path = Path(path)
-    notebook = nbformat.read(path, as_version=4)
-    notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3 (ipykernel)",
-                                       "language": "python"}
-    start = time.perf_counter()
-    client = NotebookClient(notebook, timeout=timeout, kernel_name="python3",
-                            resources={"metadata": {"path": str(path.parent.resolve())}})
-    client.execute()
-    elapsed = time.perf_counter() - start
-    for cell in notebook.cells:
-        cell.metadata.pop("execution", None)
-    strip_widget_state(notebook)
-    nbformat.write(notebook, path)
-    return elapsed
-
-
-WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
-
-
-def strip_widget_state(notebook) -> int:
-    """Save no widget state: a panel is live only after its cell runs.
-
-    Saved state would draw dead panels in a notebook that has not run (controls that ignore input), and
-    a widget view without its state draws "Error displaying widget".  So the notebook's widget metadata
-    goes, and each panel's output keeps only its text, which says what the panel is and "run this cell
-    to open the panel".  Returns how many widget views were removed.
-    """
-    notebook.metadata.pop("widgets", None)
-    removed = 0
-    for cell in notebook.cells:
-        for output in cell.get("outputs", []):
-            data = output.get("data")
-            if data and WIDGET_VIEW in data:
-                del data[WIDGET_VIEW]
-                removed += 1
-    return removed
 
 
 @dataclass(frozen=True)
@@ -214,31 +149,3 @@ def check_course(folder: Path | str) -> list[Problem]:
         problems.extend(check_notebook(path, last=index == len(notebooks) - 1))
     problems.extend(used_before_introduced(notebooks))
     return problems
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m modbus_edu.course", description=__doc__.split("\n\n")[0])
-    sub = parser.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("execute", help="re-execute notebooks in place (default: the whole course)")
-    run.add_argument("paths", nargs="*", default=["notebooks"])
-    run.add_argument("--timeout", type=int, default=120, help="seconds per cell")
-    check = sub.add_parser("check", help="check the course's conventions")
-    check.add_argument("folder", nargs="?", default="notebooks")
-    args = parser.parse_args(argv)
-    if args.command == "execute":
-        paths: list[Path] = []
-        for item in map(Path, args.paths):
-            paths.extend(course_notebooks(item) if item.is_dir() else [item])
-        for path in paths:
-            print(f"{path} ... ", end="", flush=True)
-            print(f"{execute(path, args.timeout):.1f} s")
-        return 0
-    problems = check_course(args.folder)
-    for item in problems:
-        print(item)
-    print("course conventions: OK" if not problems else f"{len(problems)} problem(s)")
-    return 1 if problems else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

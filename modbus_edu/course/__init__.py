@@ -1,0 +1,23 @@
+"""Keeping the course's notebooks runnable and well formed.
+
+``python -m modbus_edu.course execute [NOTEBOOK ...]`` re-executes notebooks in place, in order, each
+from a fresh ``python3`` kernel started in the notebooks folder, so their stored outputs are what strict
+nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the course's conventions:
+
+* the kernelspec is ``python3`` and execution counts run 1, 2, 3, ... with no gaps;
+* the first cell is a title with "What you will learn" (3 to 5 points) and "What you need";
+* the notebook closes with a summary, at least two exercises (cells calling ``check(``) and a link to
+  the next notebook (except the last one);
+* every link to another notebook points to a file that exists;
+* from notebook 01 on, the prose names the source documents by their short names ("the power-meter
+  paper"), never by file number ("source 003", "003's Table 5");
+* introduce before use: every library name a code cell uses (``mb.Master``, ``from modbus_edu.widgets
+  import TestTool``) is introduced first, in the prose (markdown) or in a comment of that notebook or an
+  earlier one.
+"""
+
+from .check import Problem, check_course, check_notebook, source_shorthands, used_before_introduced
+from .execute import WIDGET_VIEW, course_notebooks, execute, strip_widget_state
+
+__all__ = ["WIDGET_VIEW", "Problem", "check_course", "check_notebook", "course_notebooks", "execute",
+           "source_shorthands", "strip_widget_state", "used_before_introduced"]
