@@ -237,7 +237,7 @@ def test_each_misconception_has_a_key_a_label_a_detector_shape_and_one_teaching_
 
 def test_every_misconception_is_named_by_some_exercise():
     named = {misconception for item in exercises.EXERCISES.values() for _, misconception in item.refuses}
-    named.add("fraction-for-percentage")  # no exercise asks for a percentage yet: number_answer's test names it
+    named.add("fraction-for-percentage")  # no exercise asks for a percentage: number_answer's test names it
     assert set(CATALOGUE) <= named, f"catalogued but never named: {sorted(set(CATALOGUE) - named)}"
 
 
@@ -269,4 +269,4 @@ def test_each_known_wrong_answer_is_refused_and_named(key, index):
         assert not named, f"{key}: {answer!r} is named {named} but is no catalogued misconception"
     else:
         label = CATALOGUE[misconception].label.lower()
-        assert label in result.message.lower(), f"{key}: {answer!r} should be named {label!r}: {result.message}"
+        assert label in result.message.lower(), f"{key}: {answer!r} should be {label!r}: {result.message}"

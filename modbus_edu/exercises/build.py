@@ -180,7 +180,8 @@ class BuildChecker:
                     "for it." + note)
         try:
             if not self.compare(expected, got):
-                message = f"{call} should give {self.show_expected(expected)}; your function gives {show(got)}."
+                message = (f"{call} should give {self.show_expected(expected)}; "
+                           f"your function gives {show(got)}.")
                 note = self._note(args, expected, got)
                 return message + (note or (_type_note(expected, got) if self.compare is same else ""))
         except Exception as exc:
@@ -210,8 +211,8 @@ class BuildChecker:
                     f"{type(exc).__name__}: {show(str(exc))}.")
         if self.compare(expected, got):
             return None
-        message = (f"after {call}, reading it back with {self._call(name, mine)} should give {show(expected)}; "
-                   f"your function gives {show(got)}.")
+        message = (f"after {call}, reading it back with {self._call(name, mine)} should give "
+                   f"{show(expected)}; your function gives {show(got)}.")
         return message + self._note(mine, expected, got)
 
 
@@ -241,6 +242,7 @@ def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callabl
         if not refuses:
             raise ValueError(f"exercise {key}: give a wrong function (wrong= or refuses=)")
         wrong = refuses[0][0]
-    checker = BuildChecker(key, reference, inputs, edge_cases, count, diagnose, compare, time_limit, read_back,
+    checker = BuildChecker(key, reference, inputs, edge_cases, count, diagnose, compare, time_limit,
+                           read_back,
                            show_expected)
     return register(Exercise(key, title, hint, checker, wrong, kind="build", refuses=refuses))

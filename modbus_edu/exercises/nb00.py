@@ -32,7 +32,8 @@ def _check_00_1(answer: Any) -> str | None:
           hint="a Modbus/TCP frame is a 7-byte MBAP header (transaction, protocol, length, unit) followed by "
                "the PDU; the PDU starts with the function code.",
           accepts=["03 00 00 00 01", "0300000001", bytes.fromhex("03 00 00 00 01"), [3, 0, 0, 0, 1]],
-          refuses=[("01 03 00 00 00 01", "unit-in-pdu"), ("01 18 00 00 00 06 01 03 00 00 00 01", "frame-for-pdu"),
+          refuses=[("01 03 00 00 00 01", "unit-in-pdu"), ("01 18 00 00 00 06 01 03 00 00 00 01",
+                                                          "frame-for-pdu"),
                    ("03 00 01 00 01", None)])
 def _check_00_2(answer: Any) -> str | None:
     from ..framing import TcpFrame, parse_hex
@@ -47,7 +48,8 @@ def _check_00_2(answer: Any) -> str | None:
 @exercise("00.3", "build your first RTU frame",
           hint="mb.RtuFrame(unit=..., pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode()",
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
-          refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8", "one-based-address"),
+          refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
+                                                                "one-based-address"),
                    ("02 03 00 00 00 02", "crc-forgotten")])
 def _check_00_3(answer: Any) -> str | None:
     from ..framing import RtuFrame

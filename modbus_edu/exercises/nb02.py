@@ -12,9 +12,11 @@ from .misconceptions import diagnose, name
 @exercise("02.1", "build a Write Multiple Registers PDU",
           hint="function 16 (0x10): address (2 bytes), quantity (2 bytes), byte count (1 byte), then the "
                "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
-          accepts=["10 00 01 00 02 04 00 0A 01 02", "100001000204000a0102", bytes.fromhex("10000100020400 0A0102")],
+          accepts=["10 00 01 00 02 04 00 0A 01 02", "100001000204000a0102",
+                   bytes.fromhex("10000100020400 0A0102")],
           refuses=[("10 00 01 00 02 00 0A 01 02", "byte-count-missing"),
-                   ("10 00 02 00 02 04 00 0A 01 02", "one-based-address"), ("00 01 00 02 04 00 0A 01 02", None)])
+                   ("10 00 02 00 02 04 00 0A 01 02", "one-based-address"), ("00 01 00 02 04 00 0A 01 02",
+                                                                            None)])
 def _check_02_1(answer: Any) -> str | None:
     from ..pdu import WriteMultipleRegistersRequest
 
@@ -49,7 +51,8 @@ def _check_02_2(answer: Any) -> str | None:
           hint="an exception response is two bytes: the function code with its top bit set (+ 0x80), "
                "then the exception code; mb.ExceptionCode lists the codes.",
           accepts=["83 02", "8302", bytes([0x83, 0x02]), [131, 2]],
-          refuses=[("03 02", "exception-bit-missing"), ("83 01", "illegal-function-for-address"), ("83 03", None)])
+          refuses=[("03 02", "exception-bit-missing"), ("83 01", "illegal-function-for-address"), ("83 03",
+                                                                                                   None)])
 def _check_02_3(answer: Any) -> str | None:
     from ..pdu import ExceptionCode, ExceptionResponse
 
@@ -57,7 +60,8 @@ def _check_02_3(answer: Any) -> str | None:
     got = as_bytes(answer)
     if len(got) == 2 and got[0] == expected[0] & 0x7F:
         return name("exception-bit-missing")
-    if len(got) == 2 and got[0] == expected[0] and diagnose("illegal-function-for-address", got[1], expected[1]):
+    if len(got) == 2 and got[0] == expected[0] and diagnose("illegal-function-for-address", got[1],
+                                                            expected[1]):
         return name("illegal-function-for-address")
     if len(got) == 2 and got[0] == expected[0] and got[1] != expected[1]:
         return f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'."
@@ -111,6 +115,7 @@ build_exercise(
          "1..125 or a range past address 65535.",
     refuses=[(lambda address, count: bytes([3]) + (address + 1).to_bytes(2, "big") + count.to_bytes(2, "big"),
               "one-based-address"),
-             (lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"), None)],
+             (lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"),
+              None)],
     diagnose=lambda args, expected, got: pdu_address_diagnosis(got, expected)
     if isinstance(got, bytes) and isinstance(expected, bytes) else None)

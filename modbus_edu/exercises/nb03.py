@@ -41,7 +41,8 @@ def _check_03_1(answer: Any) -> str | None:
           hint="mb.RtuFrame(unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., value=...)).encode(); "
                "the address goes in the frame as it is: 2 is sent as 00 02.",
           accepts=["01 06 00 02 12 34 25 7D", "01060002123425 7d", bytes.fromhex("010600021234257D")],
-          refuses=[("01 06 00 02 12 34 7D 25", "crc-swapped"), ("01 06 00 03 12 34 74 BD", "one-based-address"),
+          refuses=[("01 06 00 02 12 34 7D 25", "crc-swapped"), ("01 06 00 03 12 34 74 BD",
+                                                                "one-based-address"),
                    ("01 06 00 02 12 34", "crc-forgotten"), ("01 06 00 02 12 34 25 7E", None)])
 def _check_03_2(answer: Any) -> str | None:
     from ..framing import RtuFrame
@@ -67,8 +68,8 @@ def _check_03_3(answer: Any) -> str | None:
         return "answer True or False."
     if answer == expected:
         return None
-    return (name("answer-to-damaged-request") + " Here the frame carries 0x8676, but the CRC of its first six "
-            "bytes is different.")
+    return (name("answer-to-damaged-request") + " Here the frame carries 0x8676, but the CRC of its first "
+            "six bytes is different.")
 
 
 @exercise("03.4", "the length of an FC3 response",
@@ -110,5 +111,6 @@ build_exercise(
     hint="start with register = 0xFFFF; for each byte: register ^= byte, then 8 times: if the lowest bit is "
          "1, shift right and XOR with 0xA001, else just shift right. Return the register.",
     refuses=[(_crc_without_final_step, "crc-initial-zero"), (_crc_swapped, "crc-swapped"),
-             (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"), "crc-as-bytes")],
+             (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
+                                                    "crc-as-bytes")],
     diagnose=lambda args, expected, got: crc_diagnosis(args[0], got))

@@ -130,6 +130,7 @@ build_exercise(
     reference=_library_lrc, inputs=_lrc_inputs,
     edge_cases=[(b"",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),), (b"\xff" * 3,)],
     hint="add up the bytes, keep the low 8 bits, and take the two's complement: (-sum(data)) & 0xFF.",
-    refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF, "lrc-ones-complement"),
+    refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,
+                                                                "lrc-ones-complement"),
              (lambda data: -sum(data), None)],
     diagnose=_diagnose_lrc)

@@ -54,7 +54,7 @@ def _check_05_2(answer: Any) -> str | None:
         return named
     if len(got) == len(expected) and got[:4] == expected[:4] and got[6:] == expected[6:]:
         return (diagnose("mbap-length", int.from_bytes(got[4:6], "big"), expected[5])
-                or f"the length field is wrong: it counts the unit identifier and the PDU ({expected[5]} bytes).")
+                or f"the length field is wrong: it counts the unit identifier and the PDU ({expected[5]}).")
     return diagnose("crc-on-tcp", got, expected) or compare_bytes(got, expected, "your frame")
 
 
@@ -161,6 +161,6 @@ build_exercise(
          "unit (1 byte); every 2-byte field high byte first: tid.to_bytes(2, 'big').",
     refuses=[(lambda tid, unit, pdu: tid.to_bytes(2, "little") + bytes(2) + (len(pdu) + 1).to_bytes(2, "big")
               + bytes([unit]), "mbap-little-endian"),
-             (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big") + bytes([unit]),
-              "mbap-length")],
+             (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big")
+              + bytes([unit]), "mbap-length")],
     diagnose=_diagnose_mbap)

@@ -25,7 +25,8 @@ def _one_read_time(baudrate: int, count: int) -> float:
           hint="request characters + 3.5 characters of silence + response characters + 3.5 characters, "
                "each character 10 bits at 9600 baud; or measure link.clock.now around a read.",
           accepts=[41.67, 41.6667, 41.666666],
-          refuses=[(0.04167, "seconds-for-milliseconds"), (34.38, "silences-forgotten"), (22.92, None), (45.0, None)])
+          refuses=[(0.04167, "seconds-for-milliseconds"), (34.38, "silences-forgotten"), (22.92, None),
+                   (45.0, None)])
 def _check_06_1(answer: Any) -> str | None:
     expected = _one_read_time(9600, 10) * 1000
     got = real_answer(answer, "a time in milliseconds")
@@ -64,8 +65,8 @@ def _check_06_2(answer: Any) -> str | None:
     if got == expected:
         return None
     if diagnose("illegal-function-for-address", got, expected):
-        return name("illegal-function-for-address") + " The slave implements function 5, but coil 0 does not " \
-            "exist in its bank."
+        return (name("illegal-function-for-address") + " The slave implements function 5, but coil 0 does "
+                "not exist in its bank.")
     return f"exception code {got:02X} is not what the slave answers."
 
 
@@ -81,7 +82,8 @@ def _check_06_3(answer: Any) -> str | None:
         return got
     if abs(got - 1 / _one_read_time(9600, 1)) <= 0.1:
         return "that is the rate at 9600 baud; at 19200 every character takes half the time."
-    named = diagnose("time-for-rate", got, expected) or diagnose("silences-forgotten", got, 19200 / 10 / (8 + 7))
+    named = diagnose("time-for-rate", got, expected) or diagnose("silences-forgotten", got,
+                                                                 19200 / 10 / (8 + 7))
     if named:
         return named
     return number_answer(got, expected, decimals=1, what="the most transactions per second")
@@ -145,7 +147,8 @@ def _diagnose_handler(args, expected, got) -> str | None:
     registers, pdu = args
     address = int.from_bytes(pdu[1:3], "big")
     if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
-        return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"), expected)
+        return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
+                        expected)
     return None
 
 
@@ -171,7 +174,8 @@ def _echo_without_storing(registers: list, pdu: bytes) -> bytes:
         return bytes([0x83, 3])
     if address + count > len(registers):
         return bytes([0x83, 2])
-    return bytes([3, 2 * count]) + b"".join(value.to_bytes(2, "big") for value in registers[address:address + count])
+    data = b"".join(value.to_bytes(2, "big") for value in registers[address:address + count])
+    return bytes([3, len(data)]) + data
 
 
 build_exercise(

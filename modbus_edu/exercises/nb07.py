@@ -111,9 +111,11 @@ def _outcome_of(situation: str) -> str:
                "exception; an answer from the wrong unit is a mismatch. Try each on mb.loopback_serial "
                "with link.faults.",
           accepts=[dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception", "mismatch"))),
-                   dict(zip(_SITUATIONS, ("Timeout", " timeout", "Checksum error", "EXCEPTION", "mismatch")))],
+                   dict(zip(_SITUATIONS, ("Timeout", " timeout", "Checksum error", "EXCEPTION",
+                                          "mismatch")))],
           refuses=[(dict.fromkeys(_SITUATIONS, "checksum error"), "answer-to-damaged-request"),
-                   (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception", "timeout"))), None),
+                   (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception",
+                                           "timeout"))), None),
                    (dict.fromkeys(_SITUATIONS, "valid"), None)])
 def _check_07_3(answer: Any) -> str | None:
     if not isinstance(answer, dict):

@@ -43,7 +43,8 @@ def _check_08_2(answer: Any) -> str | None:
     got = real_answer(answer, "a number of transactions per second")
     if isinstance(got, str):
         return got
-    named = diagnose("silences-forgotten", got, 1 / timing.frame_time(8 + 25)) or diagnose("time-for-rate", got,
+    named = diagnose("silences-forgotten", got, 1 / timing.frame_time(8 + 25)) or diagnose("time-for-rate",
+                                                                                           got,
                                                                                             expected)
     if named:
         return named
@@ -136,6 +137,7 @@ build_exercise(
              (lambda baudrate, parity, stopbits, request, response:
               (request + response) * (1 + 8 + (parity != "N") + stopbits) / baudrate, "silences-forgotten"),
              (lambda baudrate, parity, stopbits, request, response:
-              (request + response + 7) * (1 + 8 + (parity != "N") + stopbits) / baudrate, "fixed-silence-ignored"),
+              (request + response + 7) * (1 + 8 + (parity != "N") + stopbits) / baudrate,
+              "fixed-silence-ignored"),
              (lambda *args: 1000 * _transaction_time(*args), "milliseconds-for-seconds")],
     diagnose=_diagnose_timing, compare=_close_enough)

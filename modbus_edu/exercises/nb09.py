@@ -13,7 +13,8 @@ from .misconceptions import diagnose, name
           hint="3xxxx are input registers, read with function 4; the address in the frame is the number "
                "after the prefix minus one. mb.parse_reference('30010') does it.",
           accepts=[(4, 9), [4, 9], (0x04, 0x09)],
-          refuses=[((3, 9), "holding-for-input"), ((4, 10), "one-based-address"), ((4, 30009), "reference-number"),
+          refuses=[((3, 9), "holding-for-input"), ((4, 10), "one-based-address"), ((4, 30009),
+                                                                                   "reference-number"),
                    ((4, 30010), "reference-number"), ((4, 8), None)])
 def _check_09_1(answer: Any) -> str | None:
     from ..datamodel import parse_reference, table_kind
@@ -27,7 +28,8 @@ def _check_09_1(answer: Any) -> str | None:
         return (diagnose("holding-for-input", got_function, function)
                 or f"function {got_function!r} does not read the table 30010 is in.")
     if got_address != ref.address:
-        return address_diagnosis(got_address, ref.address) or f"address {got_address!r} is not where 30010 is."
+        return address_diagnosis(got_address,
+                                 ref.address) or f"address {got_address!r} is not where 30010 is."
     return None
 
 
@@ -127,6 +129,7 @@ build_exercise(
     hint="a request arrives at a random moment of the loop; it is answered in time if the loop reaches it "
          "within timeout - reply seconds: the fraction is (timeout - reply) / loop_time, kept between 0 "
          "and 1.",
-    refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply), "percentage-for-fraction"),
+    refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply),
+              "percentage-for-fraction"),
              (lambda loop_time, timeout, reply: timeout / loop_time, None)],
     diagnose=_diagnose_answered, compare=_fraction_close)

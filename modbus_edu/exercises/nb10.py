@@ -71,7 +71,8 @@ def _al1_of_trial_2() -> float:
                "one FC3 request from the first address, two registers each.",
           accepts=[(3, 18, 6), [3, 0x12, 6]],
           refuses=[((3, 19, 6), "one-based-address"), ((3, 18, 3), "one-register-for-32-bits"),
-                   ((4, 18, 6), "holding-for-input"), ((3, 40019, 6), "reference-number"), ((3, 18, 5), None)])
+                   ((4, 18, 6), "holding-for-input"), ((3, 40019, 6), "reference-number"), ((3, 18, 5),
+                                                                                            None)])
 def _check_10_3(answer: Any) -> str | None:
     from ..devices.meter import METER_BY_NAME, meter_blocks
 

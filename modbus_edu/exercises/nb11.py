@@ -126,9 +126,11 @@ build_exercise(
     hint="int.from_bytes(frame[0:2], 'big') is the transaction id; then protocol (2 bytes), length "
          "(2 bytes), unit (1 byte), and the PDU is frame[7:]. Raise an exception when the length does not "
          "equal len(frame) - 6.",
-    refuses=[(lambda frame: (int.from_bytes(frame[0:2], "little"), 0, int.from_bytes(frame[4:6], "big"), frame[6],
+    refuses=[(lambda frame: (int.from_bytes(frame[0:2], "little"), 0, int.from_bytes(frame[4:6], "big"),
+                             frame[6],
                              frame[7:]), "mbap-little-endian"),
-             (lambda frame: (int.from_bytes(frame[0:2], "big"), 0, int.from_bytes(frame[4:6], "big"), frame[6],
+             (lambda frame: (int.from_bytes(frame[0:2], "big"), 0, int.from_bytes(frame[4:6], "big"),
+                             frame[6],
                              frame[7:]), None)],
     diagnose=lambda args, expected, got: diagnose("mbap-little-endian", got[0], expected[0])
     if isinstance(got, tuple) and isinstance(expected, tuple) and got and got[0] != expected[0] else None)

@@ -41,13 +41,18 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
 @exercise("12.2", "set up a master tool",
           hint="TestTool('rtu_master', unit=..., function=..., address=..., length=..., interval=...); "
                "input registers are read with function 4.",
-          accepts=[{"role": "rtu_master", "unit": 7, "function": 4, "address": 10, "length": 4, "interval": 0.5},
-                   {"role": "tcp_client", "unit": 7, "function": 4, "address": 10, "length": 4, "interval": 0.5}],
-          refuses=[({"role": "rtu_master", "unit": 7, "function": 3, "address": 10, "length": 4, "interval": 0.5},
+          accepts=[{"role": "rtu_master", "unit": 7, "function": 4, "address": 10, "length": 4,
+                    "interval": 0.5},
+                   {"role": "tcp_client", "unit": 7, "function": 4, "address": 10, "length": 4,
+                    "interval": 0.5}],
+          refuses=[({"role": "rtu_master", "unit": 7, "function": 3, "address": 10, "length": 4,
+                     "interval": 0.5},
                     "holding-for-input"),
-                   ({"role": "rtu_master", "unit": 7, "function": 4, "address": 11, "length": 4, "interval": 0.5},
+                   ({"role": "rtu_master", "unit": 7, "function": 4, "address": 11, "length": 4,
+                     "interval": 0.5},
                     "one-based-address"),
-                   ({"role": "rtu_slave", "unit": 7, "function": 4, "address": 10, "length": 4, "interval": 0.5},
+                   ({"role": "rtu_slave", "unit": 7, "function": 4, "address": 10, "length": 4,
+                     "interval": 0.5},
                     None)])
 def _check_12_2(answer: Any) -> str | None:
     from ..widgets.testtool import TestTool
@@ -129,5 +134,6 @@ build_exercise(
          "byte first.",
     refuses=[(lambda tid, unit, address, count: tid.to_bytes(2, "little") + bytes([0, 0, 0, 6, unit, 3])
               + address.to_bytes(2, "big") + count.to_bytes(2, "big"), "mbap-little-endian"),
-             (lambda tid, unit, address, count: _with_crc(_read_request(tid, unit, address, count)), "crc-on-tcp")],
+             (lambda tid, unit, address, count: _with_crc(_read_request(tid, unit, address, count)),
+              "crc-on-tcp")],
     diagnose=lambda args, expected, got: diagnose(("mbap-little-endian", "crc-on-tcp"), got, expected))

@@ -6,7 +6,8 @@ from typing import Any
 
 from .build import build_exercise
 from .core import address_diagnosis, compare_rtu_frame, exercise, real_answer, rtu_request_diagnosis
-from .misconceptions import ORDER_WORDS, diagnose, name
+from .misconceptions import ORDER_WORDS, diagnose
+from .misconceptions import name as misconception
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
 _LAB_SEED = 13
@@ -97,7 +98,8 @@ def lab(puzzle: str) -> Any:
           accepts=[{"A": "wrong unit id", "B": "no slave on the line", "C": "wrong baud rate or parity"},
                    {"A": "Wrong unit id", "B": " no slave on the line", "C": "WRONG BAUD RATE OR PARITY"}],
           refuses=[({"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"}, None),
-                   ({"A": "wrong unit id", "B": "wrong baud rate or parity", "C": "no slave on the line"}, None)])
+                   ({"A": "wrong unit id", "B": "wrong baud rate or parity", "C": "no slave on the line"},
+                    None)])
 def _check_13_1(answer: Any) -> str | None:
     truth = _silent_wires()[1]
     if not isinstance(answer, dict) or set(answer) != set(truth):
@@ -126,7 +128,7 @@ def _check_13_2(answer: Any) -> str | None:
         used = str(got_order).upper()
         if used not in ORDER_WORDS:
             return f"{got_order!r} is not a word order: try 'ABCD' and 'CDAB'."
-        return name("word-order", used=used, used_words=ORDER_WORDS[used], right="another order") + \
+        return misconception("word-order", used=used, used_words=ORDER_WORDS[used], right="another order") + \
             " With this one the current makes no physical sense."
     value = real_answer(got_amperes, "the current")
     if isinstance(value, str):
@@ -147,7 +149,8 @@ CURRENT_TOLERANCE = 0.06
           hint="a reference number counts from 1, the address in the frame from 0: 40001 is address 0. "
                "mb.parse_reference('40021') gives the address.",
           accepts=[20, 0x14],
-          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"), (19, None)])
+          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"), (19,
+                                                                                                         None)])
 def _check_13_3(answer: Any) -> str | None:
     from ..datamodel import parse_reference
 
@@ -166,7 +169,8 @@ def _check_13_3(answer: Any) -> str | None:
           hint="a spec-following server reads the MBAP transaction id high byte first: "
                "mb.TcpFrame.decode(...).transaction_id; a correct client sends 3 as 00 03.",
           accepts=[(768, "00 03"), (0x0300, b"\x00\x03"), [768, "0003"]],
-          refuses=[((3, "00 03"), "mbap-little-endian"), ((768, "03 00"), "mbap-little-endian"), ((769, "00 03"), None)])
+          refuses=[((3, "00 03"), "mbap-little-endian"), ((768, "03 00"), "mbap-little-endian"),
+                   ((769, "00 03"), None)])
 def _check_13_4(answer: Any) -> str | None:
     from ..framing import TcpFrame, parse_hex
     from ..pdu import ReadHoldingRegistersRequest
@@ -183,7 +187,8 @@ def _check_13_4(answer: Any) -> str | None:
         return f"the server does not read {seen!r} from 03 00."
     got = parse_hex(first_two) if isinstance(first_two, str) else bytes(first_two)
     if got != correct[:2]:
-        return diagnose("mbap-little-endian", got, correct[:2]) or f"{got.hex(' ').upper()} is not transaction id 3 written high byte first."
+        return (diagnose("mbap-little-endian", got, correct[:2])
+                or f"{got.hex(' ').upper()} is not transaction id 3 written high byte first.")
     return None
 
 
@@ -191,7 +196,8 @@ def _check_13_4(answer: Any) -> str | None:
           hint="mb.explain(frame) says what CRC it computed; compare it with the two bytes the frame "
                "carries. The CRC goes low byte first.",
           accepts=["01 03 00 00 00 01 84 0A", "010300000001840a", bytes.fromhex("01 03 00 00 00 01 84 0A")],
-          refuses=[("01 03 00 00 00 01 0A 84", "crc-swapped"), ("01 03 00 01 00 01 D5 CA", "one-based-address"),
+          refuses=[("01 03 00 00 00 01 0A 84", "crc-swapped"), ("01 03 00 01 00 01 D5 CA",
+                                                                "one-based-address"),
                    ("01 03 00 00 00 01", "crc-forgotten"), ("01 03 00 00 00 02 C4 0B", None)])
 def _check_13_5(answer: Any) -> str | None:
     from ..framing import RtuFrame
@@ -215,7 +221,7 @@ def _check_13_6(answer: Any) -> str | None:
     if abs(got - board.loop_time) <= 0.25 * board.loop_time:
         return None
     if abs(got / 1000 - board.loop_time) <= 0.25 * board.loop_time:
-        return name("milliseconds-for-seconds")
+        return misconception("milliseconds-for-seconds")
     if got < board.loop_time:
         return (f"{got:g} s is too short: a loop that fast would answer more requests in time than this "
                 "one does.")
@@ -253,7 +259,8 @@ def _diagnose_order(args, expected, got) -> str | None:
     if not expected:
         return f"no order gives {value:g} from these registers: return None."
     if got in ORDERS:
-        return (name("word-order", used=got, used_words=ORDER_WORDS[got], right=_orders_in_words(expected))
+        return (misconception("word-order", used=got, used_words=ORDER_WORDS[got],
+                              right=_orders_in_words(expected))
                 + f" In {got} order these registers hold {decode_value(registers, 'float32', got):g}.")
     return f"return one of the names in mb.ORDERS, such as {sorted(expected)[0]!r}."
 

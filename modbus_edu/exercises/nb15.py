@@ -35,4 +35,5 @@ build_exercise(
     hint="register 1 is address 0: subtract one; a number below 1 or above 65536 has no address, so raise "
          "an error there.",
     refuses=[(lambda number: number, "one-based-address")],
-    diagnose=lambda args, expected, got: address_diagnosis(got, expected) if isinstance(expected, int) else None)
+    diagnose=lambda args, expected, got: address_diagnosis(got, expected) if isinstance(expected,
+                                                                                        int) else None)

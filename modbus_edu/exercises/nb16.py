@@ -41,6 +41,8 @@ build_exercise(
     edge_cases=[(30001,), (40001,), (39999,), (49999,), (400001,), (465536,), (10001,), (40000,), (50001,)],
     hint="drop the leading table digit (3 or 4) and subtract one: 40001 is address 0; six-digit numbers "
          "(400001) work the same way; anything else is not a 3x/4x register, so raise an error.",
-    refuses=[(lambda number: number, "reference-number"), (lambda number: number % 10000, "one-based-address"),
+    refuses=[(lambda number: number, "reference-number"), (lambda number: number % 10000,
+                                                           "one-based-address"),
              (lambda number: number - 40001, None)],
-    diagnose=lambda args, expected, got: address_diagnosis(got, expected) if isinstance(expected, int) else None)
+    diagnose=lambda args, expected, got: address_diagnosis(got, expected) if isinstance(expected,
+                                                                                        int) else None)
