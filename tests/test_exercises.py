@@ -270,3 +270,50 @@ def test_each_known_wrong_answer_is_refused_and_named(key, index):
     else:
         label = CATALOGUE[misconception].label.lower()
         assert label in result.message.lower(), f"{key}: {answer!r} should be {label!r}: {result.message}"
+
+
+def test_a_build_exercise_reads_back_what_the_function_stored():
+    """A function that answers right but stores nothing fails on the read that follows its write."""
+
+    def reference(store: list, index: int, value: int | None) -> int:
+        if value is not None:
+            store[index] = value
+        return store[index]
+
+    item = build_exercise("99.3", "a store", reference=reference,
+                          inputs=lambda rng: ([0] * 4, rng.randrange(4), rng.choice([None, 1, 2, 3])),
+                          hint="store it", refuses=[(lambda store, index, value: value, None)],
+                          read_back=lambda args, state: args[2] and (state[0], args[1], None))
+    try:
+        def stores(store, index, value):
+            if value is not None:
+                store[index] = value
+            return store[index]
+
+        assert exercises.evaluate("99.3", stores).ok is True
+        result = exercises.evaluate("99.3", lambda store, index, value: value or store[index])
+        assert result.ok is False and "reading it back with" in result.message
+        assert item.wrong is item.refuses[0][0]
+    finally:
+        del exercises.EXERCISES["99.3"]
+
+
+def test_the_fixed_checkers_judge_right():
+    from modbus_edu.exercises.nb01 import _tables_by_digit
+    from modbus_edu.exercises.nb06 import _echo_without_storing
+
+    assert "frozenset" not in exercises.evaluate("13.7", lambda registers, expected: "ABCD").message
+    echoed = exercises.evaluate("06.5", _echo_without_storing)
+    assert "a write echoed but not stored" in echoed.message.lower()
+    assert exercises.evaluate("13.2", ("CDAB", 135.5)).ok is True
+    for spelling in ("Length field", "the length", "length"):
+        assert exercises.evaluate("05.4", spelling).ok is True
+    assert "is right in that frame" not in exercises.evaluate("05.4", "protocol identifier").message
+    assert "CR LF" in exercises.evaluate("04.2", ":050310000002E6").message
+    assert "a 2x table" in exercises.evaluate("01.5", _tables_by_digit).message.lower()
+
+
+def test_a_refusal_table_may_only_name_catalogued_misconceptions():
+    with pytest.raises(ValueError, match="not in the catalogue"):
+        exercises.exercise("99.4", "x", hint="h", refuses=[(1, "no-such-slip")])(lambda answer: None)
+    assert "99.4" not in exercises.EXERCISES
