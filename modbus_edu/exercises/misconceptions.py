@@ -96,7 +96,7 @@ def _swap16(value: int) -> int:
 @_entry("crc-swapped", "swapped CRC bytes", "got, expected: an RTU frame or the CRC's two wire bytes "
         "(bytes), or the CRC register (int)",
         "on the wire the CRC's low byte goes first, then its high byte; the CRC value itself (the "
-        "register, e.g. 0x8776) is never swapped, only sent low byte first (76 87).")
+        "register, e.g. 0x4B37) is never swapped, only sent low byte first (37 4B).")
 def _crc_swapped(got: Any, expected: Any) -> bool:
     if _int(got) and _int(expected):
         return got != expected and 0 <= expected <= 0xFFFF and got == _swap16(expected)
@@ -145,7 +145,7 @@ def _crc_msb_first(data: Any, got: Any) -> bool:
 
 
 @_entry("crc-as-bytes", "a CRC returned as bytes", "got: what the learner's CRC function returns",
-        "return the CRC register as an int (e.g. 0x8776); the library turns it into the two wire bytes.")
+        "return the CRC register as an int (e.g. 0x4B37); the library turns it into the two wire bytes.")
 def _crc_as_bytes(got: Any) -> bool:
     return _bytes(got)
 
@@ -223,7 +223,7 @@ def _holding_for_input(got: Any, expected: Any) -> bool:
 
 @_entry("range-one-end", "a range counted without one end", "got, expected: counts of registers (int), "
         "ranges first..last",
-        "a range from 150 to 175 holds 175 - 150 + 1 = 26 registers: count both ends.")
+        "a range from 10 to 19 holds 19 - 10 + 1 = 10 registers: count both ends.")
 def _range_one_end(got: Any, expected: Any, ranges: int = 1) -> bool:
     return _int(got) and _int(expected) and got == expected - ranges
 
@@ -231,13 +231,13 @@ def _range_one_end(got: Any, expected: Any, ranges: int = 1) -> bool:
 # --- time, units and scale -----------------------------------------------------------------------------
 
 @_entry("seconds-for-milliseconds", "seconds for milliseconds", "got, expected: a time, expected in ms",
-        "the question asks for milliseconds: 0.023 s is 23 ms, multiply by 1000.")
+        "the question asks for milliseconds: 0.5 s is 500 ms, multiply by 1000.")
 def _s_for_ms(got: Any, expected: Any) -> bool:
     return _number(got) and _number(expected) and got != expected and _near(got * 1000, expected)
 
 
 @_entry("milliseconds-for-seconds", "milliseconds for seconds", "got, expected: a time, expected in s",
-        "the question asks for seconds: 23 ms is 0.023 s, divide by 1000.")
+        "the question asks for seconds: 500 ms is 0.5 s, divide by 1000.")
 def _ms_for_s(got: Any, expected: Any) -> bool:
     return _number(got) and _number(expected) and got != expected and _near(got / 1000, expected)
 
@@ -276,7 +276,7 @@ def _ma_for_a(got: Any, expected: Any) -> bool:
 
 @_entry("current-not-in-milliamperes", "a current not in milliamperes", "got: the number the learner "
         "stored; amperes: the current",
-        "this device sends the current in milliamperes, as a whole number: 288.9 A is 288 900 mA.")
+        "this device sends the current in milliamperes, as a whole number: 12.5 A is 12 500 mA.")
 def _not_ma(got: Any, amperes: Any) -> bool:
     return _int(got) and any(got == round(amperes * scale) for scale in (1, 10, 100))
 
@@ -326,8 +326,8 @@ def _one_char(got: Any, char_time: Any) -> bool:
 
 @_entry("mbap-little-endian", "a little-endian MBAP field", "got, expected: an MBAP header or frame, or one "
         "2-byte field (bytes), or one field's value (int)",
-        "every MBAP field (transaction id, protocol id, length) goes high byte first: transaction id 3 is "
-        "00 03, and the bytes 03 00 are 768.")
+        "every MBAP field (transaction id, protocol id, length) goes high byte first: transaction id 5 is "
+        "00 05, and the bytes 05 00 read as 1280.")
 def _mbap_little(got: Any, expected: Any) -> bool:
     if _int(got) and _int(expected):
         return got != expected and 0 <= expected <= 0xFFFF and got == _swap16(expected)
