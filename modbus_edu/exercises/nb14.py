@@ -7,12 +7,13 @@ from typing import Any
 from ..pdu import mask_write
 from .build import build_exercise
 from .core import exercise, int_answer
+from .misconceptions import diagnose
 
 
 @exercise("14.1", "a register after Mask Write Register",
           hint="keep the bits where the AND mask has 1 (current & and_mask), take the OR mask's bits where "
                "it has 0 (or_mask & ~and_mask), and OR the two.",
-          wrong=0x00A5 | 0x0130)
+          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None)])
 def _check_14_1(answer: Any) -> str | None:
     expected = mask_write(0x00A5, 0x000F, 0x0130)
     got = int_answer(answer, "a register value")
@@ -20,8 +21,9 @@ def _check_14_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    if got == 0x00A5 | 0x0130:
-        return "you ORed the OR mask into the whole register; the AND mask decides which bits are kept."
+    named = diagnose("mask-write-or", 0x00A5, 0x000F, 0x0130, got)
+    if named:
+        return named
     return f"0x{got:04X} is not what the register holds after FC 22."
 
 
@@ -31,4 +33,5 @@ build_exercise(
     inputs=lambda rng: (rng.randrange(0x10000), rng.randrange(0x10000), rng.randrange(0x10000)),
     edge_cases=[(0x12, 0xF2, 0x25), (0, 0, 0xFFFF), (0xFFFF, 0xFFFF, 0), (0xFFFF, 0, 0)],
     hint="(current & and_mask) | (or_mask & ~and_mask), kept to 16 bits with & 0xFFFF.",
-    wrong=lambda current, and_mask, or_mask: (current & and_mask) | or_mask)
+    refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or")],
+    diagnose=lambda args, expected, got: diagnose("mask-write-or", *args, got))

@@ -6,13 +6,13 @@ from typing import Any
 
 from ..registermap import datasheet_to_address
 from .build import build_exercise
-from .core import exercise, int_answer
+from .core import address_diagnosis, exercise, int_answer
 
 
 @exercise("16.1", "requests the poll planner needs for the energy meter",
           hint="group the points of one table whose registers follow each other without a gap; a point "
                "never splits, and holding and input registers need separate functions (3 and 4).",
-          wrong=10)
+          accepts=[4], refuses=[(10, None), (3, None)])
 def _check_16_1(answer: Any) -> str | None:
     got = int_answer(answer, "a number of requests")
     if isinstance(got, str):
@@ -41,4 +41,8 @@ build_exercise(
     edge_cases=[(30001,), (40001,), (39999,), (49999,), (400001,), (465536,), (10001,), (40000,), (50001,)],
     hint="drop the leading table digit (3 or 4) and subtract one: 40001 is address 0; six-digit numbers "
          "(400001) work the same way; anything else is not a 3x/4x register, so raise an error.",
-    wrong=lambda number: number - 40001)
+    refuses=[(lambda number: number, "reference-number"), (lambda number: number % 10000,
+                                                           "one-based-address"),
+             (lambda number: number - 40001, None)],
+    diagnose=lambda args, expected, got: address_diagnosis(got, expected) if isinstance(expected,
+                                                                                        int) else None)
