@@ -53,25 +53,34 @@ def _check_04_2(answer: Any) -> str | None:
     return compare_bytes(got, expected, "your frame")
 
 
-@exercise("04.3", "a 32-bit value in two registers",
-          hint="the first register holds the high 16 bits: value = first x 65536 + second; "
-               "mb.decode_value(registers, 'uint32', 'ABCD').",
-          wrong=57920)
+@exercise("04.3", "the length of an ASCII response",
+          hint="an ASCII frame writes each byte (address, PDU, LRC) as two characters, between ':' and "
+               "CR LF; the response to a read of 3 registers has the address, function code, byte count, "
+               "6 data bytes and the LRC. len(mb.AsciiFrame(unit=5, pdu=...).encode()) counts them.",
+          wrong=11)
 def _check_04_3(answer: Any) -> str | None:
-    from ..values import decode_value
+    from ..framing import AsciiFrame, RtuFrame
+    from ..pdu import ReadHoldingRegistersResponse
 
-    registers = [0x0001, 0xE240]
-    expected = decode_value(registers, "uint32", "ABCD")
-    got = int_answer(answer, "the value")
+    pdu = ReadHoldingRegistersResponse(registers=(0, 0, 0))
+    expected = len(AsciiFrame(unit=5, pdu=pdu).encode())
+    rtu = len(RtuFrame(unit=5, pdu=pdu).encode())
+    got = int_answer(answer, "a number of characters")
     if isinstance(got, str):
         return got
     if got == expected:
         return None
-    if got == registers[1]:
-        return "that is only the second register; the first one holds the high 16 bits."
-    if got == decode_value(registers, "uint32", "CDAB"):
-        return "you took the second register as the high half; here the first register is the high one."
-    return f"{got} is not the value of the registers 0x0001 0xE240."
+    if got == rtu:
+        return f"{rtu} is the length of the RTU frame, in bytes; ASCII writes every byte as two characters."
+    if got == rtu - 1:
+        return "that is the number of bytes (address, PDU, LRC); ASCII writes each as two characters."
+    if got == expected - 2:
+        return "CR LF, the two characters that end the frame, count too."
+    if got == expected - 1:
+        return "the ':' that starts the frame counts too."
+    if got == 2 * rtu + 3:
+        return "an ASCII frame carries a 1-byte LRC, not RTU's 2-byte CRC."
+    return f"{got} is not the number of characters from ':' to CR LF."
 
 
 @exercise("04.4", "the PDU inside an ASCII frame",
