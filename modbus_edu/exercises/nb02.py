@@ -11,11 +11,11 @@ from .core import as_bytes, compare_bytes, exercise, int_answer
 @exercise("02.1", "build a Write Multiple Registers PDU",
           hint="function 16 (0x10): address (2 bytes), quantity (2 bytes), byte count (1 byte), then the "
                "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
-          wrong="10 00 01 00 02 00 0A 01 02")
+          wrong="10 00 04 00 02 01 F4 03 E8")
 def _check_02_1(answer: Any) -> str | None:
     from ..pdu import WriteMultipleRegistersRequest
 
-    expected = WriteMultipleRegistersRequest(address=1, values=(10, 258)).encode()
+    expected = WriteMultipleRegistersRequest(address=4, values=(500, 1000)).encode()
     got = as_bytes(answer)
     if len(got) == len(expected) - 1 and got[:5] == expected[:5] and got[5:] == expected[6:]:
         return ("the byte count (one byte, the number of data bytes that follow) is missing after "
@@ -45,15 +45,17 @@ def _check_02_2(answer: Any) -> str | None:
 @exercise("02.3", "the exception response for a missing address",
           hint="an exception response is two bytes: the function code with its top bit set (+ 0x80), "
                "then the exception code; mb.ExceptionCode lists the codes.",
-          wrong="03 02")
+          wrong="04 02")
 def _check_02_3(answer: Any) -> str | None:
     from ..pdu import ExceptionCode, ExceptionResponse
 
-    expected = ExceptionResponse(function=3, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
+    expected = ExceptionResponse(function=4, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
     got = as_bytes(answer)
     if len(got) == 2 and got[0] == expected[0] & 0x7F:
         return ("the first byte must have its top bit set (function code + 0x80): that is what marks "
                 "an exception.")
+    if len(got) == 2 and got[0] == 0x83:
+        return "0x83 answers a read of holding registers (function 3); this read was of input registers."
     if len(got) == 2 and got[0] == expected[0] and got[1] != expected[1]:
         return f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'."
     return compare_bytes(got, expected, "your exception response")
