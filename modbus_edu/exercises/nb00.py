@@ -30,11 +30,11 @@ def _check_00_1(answer: Any) -> str | None:
 @exercise("00.2", "the PDU inside a Modbus/TCP frame",
           hint="a Modbus/TCP frame is a 7-byte MBAP header (transaction, protocol, length, unit) followed by "
                "the PDU; the PDU starts with the function code.",
-          wrong="01 03 00 00 00 01")
+          wrong="11 03 00 6B 00 03")
 def _check_00_2(answer: Any) -> str | None:
     from ..framing import TcpFrame, parse_hex
 
-    frame = parse_hex("01 18 00 00 00 06 01 03 00 00 00 01")
+    frame = parse_hex("00 07 00 00 00 06 11 03 00 6B 00 03")
     expected = TcpFrame.decode(frame).pdu.encode()
     got = as_bytes(answer)
     if got == frame[6:]:
