@@ -21,12 +21,12 @@ from .core import (
 @exercise("03.1", "a CRC in wire order",
           hint="mb.crc16(data) gives the register value; on the wire its low byte goes first "
                "(mb.crc_bytes(data) gives both bytes in wire order).",
-          wrong="87 76")
+          wrong="98 B2")
 def _check_03_1(answer: Any) -> str | None:
     from ..crc import crc_bytes
     from ..framing import parse_hex
 
-    expected = crc_bytes(parse_hex("11 03 00 6B 00 03"))
+    expected = crc_bytes(parse_hex("11 04 00 08 00 01"))
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
@@ -72,12 +72,12 @@ def _check_03_3(answer: Any) -> str | None:
 @exercise("03.4", "the length of an FC3 response",
           hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
                "+ 2 bytes per register + CRC (2).",
-          wrong=23)
+          wrong=43)
 def _check_03_4(answer: Any) -> str | None:
     from ..framing import RtuFrame
     from ..pdu import ReadHoldingRegistersResponse
 
-    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode())
+    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 20)).encode())
     got = int_answer(answer, "a number of bytes")
     if isinstance(got, str):
         return got
@@ -85,7 +85,7 @@ def _check_03_4(answer: Any) -> str | None:
         return None
     if got == expected - 2:
         return "you forgot the two CRC bytes at the end."
-    if got == expected - 10:
+    if got == expected - 20:
         return "each register is two bytes."
     return f"{got} bytes is not the length of that response."
 
