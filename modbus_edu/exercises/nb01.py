@@ -11,11 +11,11 @@ from .core import address_diagnosis, exercise, int_answer
 
 @exercise("01.1", "the address behind a reference number",
           hint="a reference number is the table prefix (4 = holding registers) followed by address + 1.",
-          wrong=108)
+          wrong=250)
 def _check_01_1(answer: Any) -> str | None:
     from ..datamodel import parse_reference
 
-    ref = "40108"
+    ref = "40250"
     expected = parse_reference(ref).address
     got = int_answer(answer, "an address")
     if isinstance(got, str):
@@ -74,14 +74,14 @@ def _check_01_3(answer: Any) -> str | None:
 
 
 @exercise("01.4", "counting the registers of a sparse bank",
-          hint="holding registers 150 to 175 means numbers 150, 151, ..., 175: count both ends. "
+          hint="holding registers 100 to 149 means numbers 100, 101, ..., 149: count both ends. "
                "Or declare them in DataBank(sparse=True) and ask len(bank.holding_registers).",
-          wrong=50)
+          wrong=58)
 def _check_01_4(answer: Any) -> str | None:
     from ..datamodel import DataBank
 
     bank = DataBank(sparse=True)
-    for first, last in ((150, 175), (200, 225)):
+    for first, last in ((100, 149), (300, 309)):
         bank.holding_registers.declare(first - 1, last - first + 1)
     expected = len(bank.holding_registers)
     got = int_answer(answer, "a count")
@@ -90,7 +90,7 @@ def _check_01_4(answer: Any) -> str | None:
     if got == expected:
         return None
     if got == expected - 2:
-        return "you subtracted first from last in each range; a range from 150 to 175 includes both ends."
+        return "you subtracted first from last in each range; a range from 100 to 149 includes both ends."
     return f"{got} registers is not right."
 
 
