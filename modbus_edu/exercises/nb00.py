@@ -31,12 +31,12 @@ def _check_00_1(answer: Any) -> str | None:
 @exercise("00.2", "the PDU inside a Modbus/TCP frame",
           hint="a Modbus/TCP frame is a 7-byte MBAP header (transaction, protocol, length, unit) followed by "
                "the PDU; the PDU starts with the function code.",
-          accepts=["03 00 00 00 01", "0300000001", bytes.fromhex("03 00 00 00 01"), [3, 0, 0, 0, 1]],
-          refuses=[("01 03 00 00 00 01", "unit-in-pdu"), ("01 18 00 00 00 06 01 03 00 00 00 01",
+          accepts=["03 00 6B 00 03", "03006b0003", bytes.fromhex("03 00 6B 00 03"), [3, 0, 0x6B, 0, 3]],
+          refuses=[("11 03 00 6B 00 03", "unit-in-pdu"), ("00 07 00 00 00 06 11 03 00 6B 00 03",
                                                           "frame-for-pdu"),
-                   ("03 00 01 00 01", None)])
+                   ("03 00 00 00 01", None)])
 def _check_00_2(answer: Any) -> str | None:
-    frame = parse_hex("01 18 00 00 00 06 01 03 00 00 00 01")
+    frame = parse_hex("00 07 00 00 00 06 11 03 00 6B 00 03")
     expected = TcpFrame.decode(frame).pdu.encode()
     got = as_bytes(answer)
     return (diagnose("unit-in-pdu", got, expected, frame[6]) or diagnose("frame-for-pdu", got, expected)

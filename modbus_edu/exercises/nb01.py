@@ -13,10 +13,10 @@ from .misconceptions import diagnose
 
 @exercise("01.1", "the address behind a reference number",
           hint="a reference number is the table prefix (4 = holding registers) followed by address + 1.",
-          accepts=[107, 0x6B], refuses=[(108, "one-based-address"), (40108, "reference-number"),
-                                         (40107, "reference-number"), (106, None)])
+          accepts=[249, 0xF9], refuses=[(250, "one-based-address"), (40250, "reference-number"),
+                                         (40249, "reference-number"), (107, None)])
 def _check_01_1(answer: Any) -> str | None:
-    ref = "40108"
+    ref = "40250"
     expected = parse_reference(ref).address
     got = int_answer(answer, "an address")
     if isinstance(got, str):
@@ -74,12 +74,12 @@ def _check_01_3(answer: Any) -> str | None:
 
 
 @exercise("01.4", "counting the registers of a sparse bank",
-          hint="holding registers 150 to 175 means numbers 150, 151, ..., 175: count both ends. "
+          hint="holding registers 100 to 149 means numbers 100, 101, ..., 149: count both ends. "
                "Or declare them in DataBank(sparse=True) and ask len(bank.holding_registers).",
-          accepts=[52], refuses=[(50, "range-one-end"), (54, None)])
+          accepts=[60], refuses=[(58, "range-one-end"), (52, None), (59, None)])
 def _check_01_4(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
-    for first, last in ((150, 175), (200, 225)):
+    for first, last in ((100, 149), (300, 309)):
         bank.holding_registers.declare(first - 1, last - first + 1)
     expected = len(bank.holding_registers)
     got = int_answer(answer, "a count")

@@ -20,13 +20,13 @@ from .misconceptions import diagnose, name
 @exercise("02.1", "build a Write Multiple Registers PDU",
           hint="function 16 (0x10): address (2 bytes), quantity (2 bytes), byte count (1 byte), then the "
                "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
-          accepts=["10 00 01 00 02 04 00 0A 01 02", "100001000204000a0102",
-                   bytes.fromhex("10000100020400 0A0102")],
-          refuses=[("10 00 01 00 02 00 0A 01 02", "byte-count-missing"),
-                   ("10 00 02 00 02 04 00 0A 01 02", "one-based-address"), ("00 01 00 02 04 00 0A 01 02",
-                                                                            None)])
+          accepts=["10 00 04 00 02 04 01 F4 03 E8", "10000400020401f403e8",
+                   bytes.fromhex("10 00 04 00 02 04 01 F4 03 E8")],
+          refuses=[("10 00 04 00 02 01 F4 03 E8", "byte-count-missing"),
+                   ("10 00 05 00 02 04 01 F4 03 E8", "one-based-address"),
+                   ("10 00 01 00 02 04 00 0A 01 02", None)])
 def _check_02_1(answer: Any) -> str | None:
-    expected = WriteMultipleRegistersRequest(address=1, values=(10, 258)).encode()
+    expected = WriteMultipleRegistersRequest(address=4, values=(500, 1000)).encode()
     got = as_bytes(answer)
     named = diagnose("byte-count-missing", got, expected) or pdu_address_diagnosis(got, expected)
     if named:
@@ -54,14 +54,18 @@ def _check_02_2(answer: Any) -> str | None:
 @exercise("02.3", "the exception response for a missing address",
           hint="an exception response is two bytes: the function code with its top bit set (+ 0x80), "
                "then the exception code; mb.ExceptionCode lists the codes.",
-          accepts=["83 02", "8302", bytes([0x83, 0x02]), [131, 2]],
-          refuses=[("03 02", "exception-bit-missing"), ("83 01", "illegal-function-for-address"), ("83 03",
-                                                                                                   None)])
+          accepts=["84 02", "8402", bytes([0x84, 0x02]), [132, 2]],
+          refuses=[("04 02", "exception-bit-missing"), ("84 01", "illegal-function-for-address"),
+                   ("83 02", "holding-for-input"), ("84 03", None)])
 def _check_02_3(answer: Any) -> str | None:
-    expected = ExceptionResponse(function=3, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
+    expected = ExceptionResponse(function=4, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
     got = as_bytes(answer)
     if len(got) == 2 and got[0] == expected[0] & 0x7F:
         return name("exception-bit-missing")
+    if len(got) == 2 and got[0] & 0x80 and got[1] == expected[1]:
+        named = diagnose("holding-for-input", got[0] & 0x7F, expected[0] & 0x7F)
+        if named:
+            return f"0x{got[0]:02X} answers function {got[0] & 0x7F}; {named}"
     if len(got) == 2 and got[0] == expected[0] and diagnose("illegal-function-for-address", got[1],
                                                             expected[1]):
         return name("illegal-function-for-address")

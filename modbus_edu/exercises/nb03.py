@@ -24,10 +24,10 @@ from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
 @exercise("03.1", "a CRC in wire order",
           hint="mb.crc16(data) gives the register value; on the wire its low byte goes first "
                "(mb.crc_bytes(data) gives both bytes in wire order).",
-          accepts=["76 87", "7687", b"\x76\x87", [0x76, 0x87]],
-          refuses=[("87 76", "crc-swapped"), (0x8776, None), ("76 86", None)])
+          accepts=["B2 98", "b298", b"\xb2\x98", [0xB2, 0x98]],
+          refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None)])
 def _check_03_1(answer: Any) -> str | None:
-    expected = crc_bytes(parse_hex("11 03 00 6B 00 03"))
+    expected = crc_bytes(parse_hex("11 04 00 08 00 01"))
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
@@ -68,15 +68,15 @@ def _check_03_3(answer: Any) -> str | None:
 @exercise("03.4", "the length of an FC3 response",
           hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
                "+ 2 bytes per register + CRC (2).",
-          accepts=[25], refuses=[(23, "crc-forgotten"), (15, "register-one-byte"), (24, None)])
+          accepts=[45], refuses=[(43, "crc-forgotten"), (25, "register-one-byte"), (44, None)])
 def _check_03_4(answer: Any) -> str | None:
-    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode())
+    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 20)).encode())
     got = int_answer(answer, "a number of bytes")
     if isinstance(got, str):
         return got
     if got == expected:
         return None
-    named = diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 10)
+    named = diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 20)
     if named:
         return named
     return f"{got} bytes is not the length of that response."

@@ -7,12 +7,11 @@ from typing import Any
 from ..crc import lrc
 from ..crc import lrc as _library_lrc
 from ..datamodel import parse_reference
-from ..framing import AsciiFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest
-from ..values import decode_value
+from ..framing import AsciiFrame, RtuFrame, parse_hex
+from ..pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
 from .build import build_exercise
 from .core import AnswerError, address_diagnosis, as_bytes, compare_bytes, exercise, int_answer
-from .misconceptions import diagnose
+from .misconceptions import diagnose, name
 
 
 @exercise("04.1", "an LRC by hand",
@@ -68,24 +67,32 @@ def ascii_frame_answer(answer: Any) -> bytes:
     return as_bytes(answer)
 
 
-@exercise("04.3", "a 32-bit value in two registers",
-          hint="the first register holds the high 16 bits: value = first x 65536 + second; "
-               "mb.decode_value(registers, 'uint32', 'ABCD').",
-          accepts=[123456, 0x1E240], refuses=[(3795845121, "word-order"), (57920, None)])
+@exercise("04.3", "the length of an ASCII response",
+          hint="an ASCII frame writes each byte (address, PDU, LRC) as two characters, between ':' and "
+               "CR LF; the response to a read of 3 registers has the address, function code, byte count, "
+               "6 data bytes and the LRC. len(mb.AsciiFrame(unit=5, pdu=...).encode()) counts them.",
+          accepts=[23, 0x17],
+          refuses=[(21, "ascii-without-crlf"), (11, None), (10, None), (22, None), (25, None), (17, None)])
 def _check_04_3(answer: Any) -> str | None:
-    registers = [0x0001, 0xE240]
-    expected = decode_value(registers, "uint32", "ABCD")
-    got = int_answer(answer, "the value")
+    pdu = ReadHoldingRegistersResponse(registers=(0, 0, 0))
+    expected = len(AsciiFrame(unit=5, pdu=pdu).encode())
+    rtu = len(RtuFrame(unit=5, pdu=pdu).encode())
+    got = int_answer(answer, "a number of characters")
     if isinstance(got, str):
         return got
     if got == expected:
         return None
-    if got == registers[1]:
-        return "that is only the second register; the first one holds the high 16 bits."
-    named = diagnose("word-order", registers, "uint32", got, "ABCD")
-    if named:
-        return named
-    return f"{got} is not the value of the registers 0x0001 0xE240."
+    if got == rtu:
+        return f"{rtu} is the length of the RTU frame, in bytes; ASCII writes every byte as two characters."
+    if got == rtu - 1:
+        return "that is the number of bytes (address, PDU, LRC); ASCII writes each as two characters."
+    if got == expected - 2:
+        return name("ascii-without-crlf") + " Those two characters count too."
+    if got == expected - 1:
+        return "the ':' that starts the frame counts too."
+    if got == 2 * rtu + 3:
+        return "an ASCII frame carries a 1-byte LRC, not RTU's 2-byte CRC."
+    return f"{got} is not the number of characters from ':' to CR LF."
 
 
 @exercise("04.4", "the PDU inside an ASCII frame",

@@ -6,7 +6,7 @@ from typing import Any
 
 from ..crc import crc_bytes
 from ..datamodel import DataBank
-from ..errors import ChecksumError, ModbusError, ModbusExceptionError, ModbusTimeoutError
+from ..errors import ChecksumError, CrcError, ModbusError, ModbusExceptionError, ModbusTimeoutError
 from ..framing import RtuFrame
 from ..links.loopback import loopback_serial
 from ..master import Master
@@ -85,15 +85,17 @@ def _check_06_3(answer: Any) -> str | None:
     return number_answer(got, expected, decimals=1, what="the most transactions per second")
 
 
-@exercise("06.4", "what a wrong unit looks like",
-          hint="try it: read from unit 2 on a line where only slave 1 listens, inside try/except "
-               "mb.ModbusError as error, and give type(error).",
+@exercise("06.4", "what a damaged request looks like",
+          hint="try it: on a loopback line with slave 1, call link.faults.flip_bits(1, target='request'), "
+               "then read from unit 1 inside try/except mb.ModbusError as error, and give type(error).",
           accepts=[ModbusTimeoutError, ModbusTimeoutError("no answer")],
-          refuses=[(ModbusError, None), (ChecksumError, "answer-to-damaged-request"), ("timeout", None)])
+          refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
+                   (ChecksumError, "answer-to-damaged-request"), ("timeout", None)])
 def _check_06_4(answer: Any) -> str | None:
-    master = Master(loopback_serial(Slave(unit=1)), timeout=0.5)
+    link = loopback_serial(Slave(unit=1))
+    link.faults.flip_bits(1, target="request")
     try:
-        master.read_holding_registers(unit=2, address=0, count=1)
+        Master(link, timeout=0.5).read_holding_registers(unit=1, address=0, count=1)
         return "the checker expected an error here and got none; please tell your teacher."
     except ModbusError as error:
         expected = type(error)
@@ -102,10 +104,10 @@ def _check_06_4(answer: Any) -> str | None:
         return None
     if isinstance(got, type) and issubclass(expected, got):
         return f"{got.__name__} is too general: which subclass exactly?"
-    if got is ChecksumError:
+    if isinstance(got, type) and issubclass(got, ChecksumError):
         return diagnose("answer-to-damaged-request", "checksum error", "timeout")
-    return (f"{getattr(got, '__name__', got)} is not what the master raises: no slave 2 listens, so "
-            f"what does the master get back?")
+    return (f"{getattr(got, '__name__', got)} is not what the master raises: the slave cannot trust the "
+            f"damaged request, so what does the master get back?")
 
 
 def _slave_answer(registers: list, pdu: bytes) -> bytes:

@@ -141,7 +141,7 @@ def _exception_inputs(rng) -> tuple:
 
 
 build_exercise(
-    "07.5", "write an exception response",
+    "07.4", "write an exception response",
     reference=_exception_pdu, inputs=_exception_inputs,
     edge_cases=[(3, 2), (16, 1), (1, 4), (127, 11)],
     hint="two bytes: the function code with its top bit set (function | 0x80, or function + 128) and the "

@@ -120,7 +120,7 @@ def _diagnose_timing(args, expected, got) -> str | None:
 
 
 build_exercise(
-    "08.5", "write the transaction time yourself",
+    "08.4", "write the transaction time yourself",
     reference=_transaction_time, inputs=_timing_inputs,
     edge_cases=[(9600, "N", 1, 8, 7), (19200, "E", 1, 8, 255), (38400, "N", 2, 8, 7), (115200, "N", 1, 8, 7)],
     hint="bits per character = 1 start + 8 data + 1 if parity + stop bits; a character takes bits / baudrate "
