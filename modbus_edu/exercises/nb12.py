@@ -84,8 +84,8 @@ def _check_12_3(answer: Any) -> str | None:
         return f"the next transaction id is not {got_tid!r}."
     got = parse_hex(got_bytes) if isinstance(got_bytes, str) else bytes(got_bytes)
     if got == first_two[::-1]:
-        return ("the bytes are swapped: the MBAP header is big-endian, high byte first (a published test tool "
-                "writes it low byte first, against the specification).")
+        return ("the bytes are swapped: the MBAP header is big-endian, high byte first (a published test "
+                "tool writes it low byte first, against the specification).")
     if got != first_two:
         return f"{got.hex(' ').upper()} is not how {tid} starts the request."
     return None
