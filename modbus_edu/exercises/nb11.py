@@ -7,15 +7,18 @@ from typing import Any
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise
 
+_11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
+
 
 @exercise("11.1", "decode a captured Modbus/TCP request",
           hint="MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then the "
                "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
-          wrong=(0x0200, 6, 5, 0x63))
+          wrong=(0x2A00, 6, 16, 500))
 def _check_11_1(answer: Any) -> str | None:
     from ..framing import TcpFrame, parse_hex
 
-    frame = TcpFrame.decode(parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
+    raw = parse_hex(_11_1_FRAME)
+    frame = TcpFrame.decode(raw, role="request")
     expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
     if not isinstance(answer, (tuple, list)) or len(answer) != 4:
         return "answer with four ints: (transaction_id, function, address, value)."
@@ -23,15 +26,20 @@ def _check_11_1(answer: Any) -> str | None:
         return "all four should be ints."
     tid, function, address, value = answer
     if tid != expected[0]:
-        if tid == int.from_bytes(bytes.fromhex("0002"), "little"):
-            return "the transaction id is big-endian (high byte first): 00 02 is 2, not 512."
+        if tid == int.from_bytes(raw[0:2], "little"):
+            return (f"the transaction id is big-endian (high byte first): {raw[0:2].hex(' ').upper()} is "
+                    f"{expected[0]}, not {tid}.")
         return f"the transaction id is in bytes 0-1; {tid} is not it."
     if function != expected[1]:
+        if function == frame.unit:
+            return "byte 6 is the unit identifier; the function code is byte 7, right after it."
         return f"the function code is byte 7, right after the unit identifier; it is not {function}."
     if address != expected[2]:
+        if address == expected[2] + 1:
+            return "the frame carries the address itself, 0-based: do not add one."
         return f"the address is the two bytes after the function code; {address} is not it."
     if value != expected[3]:
-        return f"the value is the last two bytes, 0x0063; {value} is not it."
+        return f"the value is the last two bytes, read high byte first; {value} is not it."
     return None
 
 
