@@ -24,7 +24,7 @@ def _check_10_1(answer: Any) -> str | None:
         return got
     raw = decode_value(registers, "uint32", "ABCD")
     if close(got, raw):
-        return "that is the raw register value; Table 5 says V x 10: divide by 10."
+        return "that is the raw register value; the map says V x 10: divide by 10."
     if close(got, decode_value(registers, "uint32", "CDAB") / 10):
         return "you put the words in the wrong order: the high word (0x0000) comes first."
     return number_answer(got, expected, decimals=1, unit="V", what="what those registers carry")
@@ -54,20 +54,23 @@ def _check_10_2(answer: Any) -> str | None:
 
 
 def _al1_of_trial_2() -> float:
-    """AL1 of trial 2 in 003's Table 6, from the library's copy of the table."""
+    """AL1 of trial 2, from the library's copy of the published trials."""
     from ..devices.meter import TRIALS
 
     return TRIALS[2]["AL1"]
 
 
-@exercise("10.3", "one request for PF2, VL3 and AL3",
-          hint="look up the three pairs in Table 5 (METER_BY_NAME[...].address): they are consecutive; "
-               "one FC3 request from the first address, two registers each.",
-          wrong=(3, 0x12, 3))
+_10_3_NAMES = ("THD_AL1", "THD_AL2", "THD_AL3")
+
+
+@exercise("10.3", "one request for the three current THDs",
+          hint="look up the three pairs in the register map (METER_BY_NAME[...].address): they are "
+               "consecutive; one FC3 request from the first address, two registers each, and nothing more.",
+          wrong=(3, 0x36, 3))
 def _check_10_3(answer: Any) -> str | None:
     from ..devices.meter import METER_BY_NAME, meter_blocks
 
-    members = [METER_BY_NAME[name] for name in ("PF2", "VL3", "AL3")]
+    members = [METER_BY_NAME[name] for name in _10_3_NAMES]
     [(address, count, _)] = meter_blocks(members)
     expected = (3, address, count)
     if not isinstance(answer, (tuple, list)) or len(answer) != 3:
@@ -77,8 +80,11 @@ def _check_10_3(answer: Any) -> str | None:
         return "the meter is read with function 3, read holding registers."
     if got_address != address:
         if got_address == address + 1:
-            return "the address in the frame is 0-based: 0x12 is address 18, not reference 40019."
-        return f"address {got_address!r} is not where PF2 starts."
+            return (f"the address in the frame is 0-based: THD_AL1 is at 0x{address:02X} = {address}; "
+                    f"{got_address} counts from 1.")
+        if got_address == 0x30:
+            return "0x30 is where the THD of the voltages starts; the question asks for the currents' only."
+        return f"address {got_address!r} is not where THD_AL1 starts."
     if got_count != count:
         if got_count == len(members):
             return "each quantity takes a pair of registers: count registers, not quantities."
