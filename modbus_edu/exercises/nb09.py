@@ -115,7 +115,7 @@ def _diagnose_answered(args, expected, got) -> str | None:
 
 
 build_exercise(
-    "09.5", "how many requests a slow loop answers",
+    "09.4", "how many requests a slow loop answers",
     reference=_answered, inputs=_answered_inputs,
     edge_cases=[(1.65, 1.0, 0.0), (0.01, 1.0, 0.0), (2.0, 1.0, 0.02), (1.0, 0.01, 0.02)],
     hint="a request arrives at a random moment of the loop; it is answered in time if the loop reaches it "

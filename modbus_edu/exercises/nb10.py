@@ -61,16 +61,18 @@ def _al1_of_trial_2() -> float:
     return TRIALS[2]["AL1"]
 
 
-@exercise("10.3", "one request for PF2, VL3 and AL3",
-          hint="look up the three pairs in the meter's register map (METER_BY_NAME[...].address): they are "
-               "consecutive; "
-               "one FC3 request from the first address, two registers each.",
-          accepts=[(3, 18, 6), [3, 0x12, 6]],
-          refuses=[((3, 19, 6), "one-based-address"), ((3, 18, 3), "one-register-for-32-bits"),
-                   ((4, 18, 6), "holding-for-input"), ((3, 40019, 6), "reference-number"), ((3, 18, 5),
-                                                                                            None)])
+_10_3_NAMES = ("THD_AL1", "THD_AL2", "THD_AL3")
+
+
+@exercise("10.3", "one request for the three current THDs",
+          hint="look up the three pairs in the register map (METER_BY_NAME[...].address): they are "
+               "consecutive; one FC3 request from the first address, two registers each, and nothing more.",
+          accepts=[(3, 54, 6), [3, 0x36, 6]],
+          refuses=[((3, 55, 6), "one-based-address"), ((3, 54, 3), "one-register-for-32-bits"),
+                   ((4, 54, 6), "holding-for-input"), ((3, 40055, 6), "reference-number"),
+                   ((3, 0x30, 6), None), ((3, 54, 5), None)])
 def _check_10_3(answer: Any) -> str | None:
-    members = [METER_BY_NAME[name] for name in ("PF2", "VL3", "AL3")]
+    members = [METER_BY_NAME[name] for name in _10_3_NAMES]
     [(address, count, _)] = meter_blocks(members)
     expected = (3, address, count)
     if not isinstance(answer, (tuple, list)) or len(answer) != 3:
@@ -80,7 +82,10 @@ def _check_10_3(answer: Any) -> str | None:
         return (diagnose("holding-for-input", function, 3)
                 or "the meter is read with function 3, read holding registers.")
     if got_address != address:
-        return address_diagnosis(got_address, address) or f"address {got_address!r} is not where PF2 starts."
+        if got_address == 0x30:
+            return "0x30 is where the THD of the voltages starts; the question asks for the currents' only."
+        return (address_diagnosis(got_address, address)
+                or f"address {got_address!r} is not where THD_AL1 starts.")
     if got_count != count:
         named = diagnose("one-register-for-32-bits", got_count, count, len(members))
         if named:

@@ -10,15 +10,18 @@ from .build import build_exercise
 from .core import address_diagnosis, as_bytes, compare_bytes, exercise
 from .misconceptions import diagnose
 
+_11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
+
 
 @exercise("11.1", "decode a captured Modbus/TCP request",
           hint="MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then the "
                "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
-          accepts=[(2, 6, 5, 99), [2, 6, 5, 0x63]],
-          refuses=[((0x0200, 6, 5, 0x63), "mbap-little-endian"), ((2, 6, 6, 0x63), "one-based-address"),
-                   ((2, 6, 5, 63), "hex-read-as-decimal"), ((2, 6, 5, 100), None)])
+          accepts=[(42, 6, 16, 500), [0x2A, 6, 0x10, 0x01F4]],
+          refuses=[((0x2A00, 6, 16, 500), "mbap-little-endian"), ((42, 6, 17, 500), "one-based-address"),
+                   ((42, 6, 10, 500), "hex-read-as-decimal"), ((42, 17, 16, 500), None),
+                   ((42, 6, 16, 0xF401), None)])
 def _check_11_1(answer: Any) -> str | None:
-    frame = TcpFrame.decode(parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
+    frame = TcpFrame.decode(parse_hex(_11_1_FRAME), role="request")
     expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
     if not isinstance(answer, (tuple, list)) or len(answer) != 4:
         return "answer with four ints: (transaction_id, function, address, value)."
@@ -29,13 +32,15 @@ def _check_11_1(answer: Any) -> str | None:
         return (diagnose("mbap-little-endian", tid, expected[0])
                 or f"the transaction id is in bytes 0-1; {tid} is not it.")
     if function != expected[1]:
+        if function == frame.unit:
+            return "byte 6 is the unit identifier; the function code is byte 7, right after it."
         return f"the function code is byte 7, right after the unit identifier; it is not {function}."
     if address != expected[2]:
-        return (address_diagnosis(address, expected[2])
+        return (address_diagnosis(address, expected[2]) or diagnose("hex-read-as-decimal", address,
+                                                                    f"{expected[2]:X}")
                 or f"the address is the two bytes after the function code; {address} is not it.")
     if value != expected[3]:
-        return (diagnose("hex-read-as-decimal", value, f"{expected[3]:X}")
-                or f"the value is the last two bytes, 0x0063; {value} is not it.")
+        return f"the value is the last two bytes, read high byte first; {value} is not it."
     return None
 
 
