@@ -101,3 +101,32 @@ def test_15_3_expected_answers_are_what_the_gateway_does():
             with pytest.raises(mb.ModbusExceptionError) as error:
                 master.read_holding_registers(unit=unit, address=address, count=1)
             assert error.value.code == expected[case]
+
+
+# --- 14.3: a bus message count, predicted ------------------------------------------------------------
+
+
+def test_14_3_expected_count_follows_the_serial_line_guide():
+    from modbus_edu.exercises.nb14 import counters_scenario
+
+    counts = counters_scenario()
+    # unit 1's two reads, the read for unit 2 and unit 2's response, the 0x0B request itself; the damaged
+    # request is a checksum error (0x0C), not a message heard (Appendix A of the serial-line guide)
+    assert counts == {"heard": 5, "checksum_errors": 1}
+
+
+@pytest.mark.parametrize("answer", [5, 0x05])
+def test_14_3_accepts_the_count(answer):
+    assert exercises.evaluate("14.3", answer).ok is True
+
+
+@pytest.mark.parametrize("answer, words", [
+    (6, "bad CRC"),
+    (4, "unit 2's response"),
+    (3, "only the requests for unit 1"),
+    (9, "is not the count"),
+    ("five", "whole number"),
+])
+def test_14_3_names_the_mistake(answer, words):
+    result = exercises.evaluate("14.3", answer)
+    assert result.ok is False and words in result.message, result.message
