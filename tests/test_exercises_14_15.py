@@ -60,32 +60,32 @@ def test_15_2_names_the_mistake(function, words):
 
 
 @pytest.mark.parametrize("answer", [
-    {"a": 0x0B, "b": 0x0A, "c": 0x02, "d": "timeout"},
-    {"a": "0B", "b": "0x0A", "c": "02", "d": "Timeout"},
-    {"A": 11, "B": 10, "C": 2, "D": "timed out"},
-    {"a": "exception 0B", "b": "exception 0A", "c": "exception 02", "d": "no answer"},
+    {"a": 0x0A, "b": 0x0B, "c": 0x01, "d": "timeout"},
+    {"a": "0A", "b": "0x0B", "c": "01", "d": "Timeout"},
+    {"A": 10, "B": 11, "C": 1, "D": "timed out"},
+    {"a": "exception 0A", "b": "exception 0B", "c": "exception 01", "d": "no answer"},
 ])
 def test_15_3_accepts_codes_and_timeouts_in_their_spellings(answer):
     assert exercises.evaluate("15.3", answer).ok is True
 
 
 @pytest.mark.parametrize("change, words", [
-    ({"a": 0x0A}, "that is 0B, not 0A"),
-    ({"b": 0x0B}, "no path: 0A"),
-    ({"c": 0x0B}, "passes it on unchanged"),
+    ({"a": 0x0B}, "reserved address"),
+    ({"b": 0x0A}, "the meter just does not answer"),
+    ({"b": "timeout"}, "gateway's 0B arrives first"),
+    ({"c": 0x0B}, "passed on unchanged"),
     ({"d": 0x0B}, "gave up after 0.1 s"),
-    ({"a": "timeout"}, "gateway's answer arrives first"),
     ({"c": "maybe"}, "neither an exception code"),
 ])
 def test_15_3_names_the_mistake_case_by_case(change, words):
-    answer = {"a": 0x0B, "b": 0x0A, "c": 0x02, "d": "timeout", **change}
+    answer = {"a": 0x0A, "b": 0x0B, "c": 0x01, "d": "timeout", **change}
     result = exercises.evaluate("15.3", answer)
     assert result.ok is False and words in result.message, result.message
 
 
 def test_15_3_wants_every_case_in_a_dict():
-    assert "missing" in exercises.evaluate("15.3", {"a": 0x0B}).message
-    assert "give a dict" in exercises.evaluate("15.3", [0x0B, 0x0A, 2, "timeout"]).message
+    assert "missing" in exercises.evaluate("15.3", {"a": 0x0A}).message
+    assert "give a dict" in exercises.evaluate("15.3", [0x0A, 0x0B, 1, "timeout"]).message
 
 
 def test_15_3_expected_answers_are_what_the_gateway_does():
@@ -97,10 +97,15 @@ def test_15_3_expected_answers_are_what_the_gateway_does():
     expected = nb15.expected_15_3()
     with mb.TcpGateway(bus, timeout=0.2) as gateway, mb.tcp_link(*gateway.address) as link:
         master = mb.Master(link, timeout=5)
-        for case, unit, address in (("a", 5, 0), ("b", 0, 0), ("c", 2, 10)):
-            with pytest.raises(mb.ModbusExceptionError) as error:
-                master.read_holding_registers(unit=unit, address=address, count=1)
-            assert error.value.code == expected[case]
+        with pytest.raises(mb.ModbusExceptionError) as error:
+            master.read_holding_registers(unit=248, address=0, count=1)
+        assert error.value.code == expected["a"]
+        link.send(bytes.fromhex("00 09 00 00 00 02 01 41"))         # function 0x41 for the meter
+        assert link.receive(2.0) == bytes([0, 9, 0, 0, 0, 3, 1, 0xC1, expected["c"]])
+        bus.faults.silence(1)                                          # the meter's cable comes off
+        with pytest.raises(mb.ModbusExceptionError) as error:
+            master.read_holding_registers(unit=1, address=0, count=1)
+        assert error.value.code == expected["b"]
 
 
 # --- 14.3: a bus message count, predicted ------------------------------------------------------------

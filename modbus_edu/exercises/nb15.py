@@ -118,16 +118,18 @@ TIMEOUT_WORDS = ("timeout", "time-out", "time out", "timed out", "a timeout", "n
 """Spellings of "the client times out" accepted in 15.3 (lower case)."""
 
 _CASE_NOTES = {
-    "a": {GATEWAY_PATH_UNAVAILABLE: "case a: the bus is there and the gateway asked unit 5; nobody answered "
-                                    "within its timeout: that is 0B, not 0A.",
-          "timeout": "case a: the client waits 5 s, longer than the gateway's 0.2 s: the gateway's answer "
+    "a": {GATEWAY_TARGET_FAILED: "case a: 248 is a reserved address on a serial line, so this gateway does "
+                                 "not even ask the bus: no path, 0A.",
+          "timeout": "case a: this gateway answers a unit it cannot reach at once, with an exception."},
+    "b": {GATEWAY_PATH_UNAVAILABLE: "case b: the path is there (the bus and its port work); the meter just "
+                                    "does not answer: 0B.",
+          "timeout": "case b: the client waits 5 s, longer than the gateway's 0.2 s: the gateway's 0B "
                      "arrives first."},
-    "b": {GATEWAY_TARGET_FAILED: "case b: unit 0 never reaches the bus here; this gateway answers at once "
-                                 "that it has no path: 0A.",
-          "timeout": "case b: this gateway does not stay silent on unit 0; it answers at once."},
-    "c": {GATEWAY_TARGET_FAILED: "case c: the pump did answer, with an exception; the gateway passes it on "
-                                 "unchanged.",
-          "timeout": "case c: the pump answers at once, with an exception response."},
+    "c": {GATEWAY_TARGET_FAILED: "case c: an unknown function gets an answer: exception 01, illegal "
+                                 "function, passed on unchanged.",
+          GATEWAY_PATH_UNAVAILABLE: "case c: the meter is there and answers; an unknown function is "
+                                    "exception 01.",
+          "timeout": "case c: an unknown function is answered at once, with exception 01."},
     "d": {GATEWAY_TARGET_FAILED: "case d: the gateway answers 0B after 0.2 s of waiting, but this client "
                                  "gave up after 0.1 s: it sees a timeout.",
           GATEWAY_PATH_UNAVAILABLE: "case d: the client gives up before any answer comes."},
@@ -136,8 +138,8 @@ _CASE_NOTES = {
 
 def expected_15_3() -> dict[str, int | str]:
     """What a client behind notebook 15's gateway sees in each case of 15.3."""
-    return {"a": GATEWAY_TARGET_FAILED, "b": GATEWAY_PATH_UNAVAILABLE,
-            "c": int(ExceptionCode.ILLEGAL_DATA_ADDRESS), "d": "timeout"}
+    return {"a": GATEWAY_PATH_UNAVAILABLE, "b": GATEWAY_TARGET_FAILED,
+            "c": int(ExceptionCode.ILLEGAL_FUNCTION), "d": "timeout"}
 
 
 def _read_outcome(value: Any) -> int | str | None:
@@ -161,10 +163,10 @@ def _read_outcome(value: Any) -> int | str | None:
 
 
 @exercise("15.3", "what a client behind the gateway sees",
-          hint="0B: the gateway asked the bus and nobody answered in its timeout; 0A: no path at all (unit 0 "
-               "here); an exception from the slave passes through unchanged; a client that gives up first "
-               "sees a timeout.",
-          wrong={"a": 0x0B, "b": 0x0B, "c": 0x02, "d": 0x0B})
+          hint="0B: the gateway asked the bus and nobody answered in its timeout; 0A: no path at all (this "
+               "gateway: unit 0 and the reserved units); an exception passes through unchanged; a client "
+               "that gives up first sees a timeout.",
+          wrong={"a": 0x0B, "b": 0x0B, "c": 0x01, "d": 0x0B})
 def _check_15_3(answer: Any) -> str | None:
     expected = expected_15_3()
     if not isinstance(answer, dict):
