@@ -30,6 +30,7 @@ from typing import Any
 
 from ..datamodel import DataBank
 from ..errors import ConfigError
+from ..master import _check_seconds
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu
 from ..registermap import RegisterMap, load_map
 from ..slave import Slave
@@ -100,13 +101,7 @@ class BenchMeter(Slave):
         self.map.store(self.bank, dict(BENCH_VALUES if values is None else values))
         self.address, self.baudrate, self.parity = 1, 9600, "E"
         self.set_menu(address=address, baudrate=baudrate, parity=parity)
-        try:
-            wake_time = float(wake_time)
-        except (TypeError, ValueError):
-            raise ConfigError(f"wake_time must be a number of seconds, got {wake_time!r}") from None
-        if not wake_time >= 0:
-            raise ConfigError(f"wake_time must be >= 0 s, got {wake_time!r}")
-        self.wake_time = wake_time
+        self.wake_time = _check_seconds("wake_time", wake_time)
         """Seconds the first answer after power-up comes late."""
         self.awake = False
         """False until the meter has answered once since power-up."""
