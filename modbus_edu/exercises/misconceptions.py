@@ -378,6 +378,15 @@ def _ascii_crlf(got: Any, expected: Any) -> bool:
     return expected.endswith(b"\r\n") and got.upper() == expected[:-2].upper()
 
 
+@_entry("echo-unchecked", "an echo cut off unchecked", "sent, received: the request and the bytes read "
+        "back; got: what the learner's function kept",
+        "an echoing adapter gives the request back first: drop those bytes only once they are exactly the "
+        "request; a missing or damaged echo means the adapter or the line is at fault, so raise an error.")
+def _echo_unchecked(sent: Any, received: Any, got: Any) -> bool:
+    sent, received = bytes(sent), bytes(received)
+    return _bytes(got) and bytes(got) == received[len(sent):] and received[:len(sent)] != sent
+
+
 @_entry("crc-forgotten", "a frame without its CRC", "got, expected: frame lengths (int)",
         "an RTU frame ends with its two CRC bytes.")
 def _crc_forgotten(got: Any, expected: Any) -> bool:
