@@ -91,6 +91,11 @@ def _near(got: float, expected: float, tolerance: float = 0.0) -> bool:
     return abs(got - expected) <= max(tolerance, 2e-3 * abs(expected), 1e-12)
 
 
+def _same_time(got: Any, other: Any) -> bool:
+    """The learner's number is (near) ``other``, the time a slip gives."""
+    return _number(got) and _number(other) and _near(got, other)
+
+
 def _swap16(value: int) -> int:
     return (value & 0xFF) << 8 | (value >> 8) & 0xFF
 
@@ -296,7 +301,7 @@ def _not_ma(got: Any, amperes: Any) -> bool:
         "an RTU frame ends with 3.5 character times of silence, after the request and after the response: "
         "a transaction is request + 3.5 + response + 3.5 characters.")
 def _silences(got: Any, without: Any) -> bool:
-    return _number(got) and _number(without) and _near(got, without)
+    return _same_time(got, without)
 
 
 @_entry("parity-bit-forgotten", "10 bits for a character with parity", "got, ten_bits: a time, and the same "
@@ -304,7 +309,7 @@ def _silences(got: Any, without: Any) -> bool:
         "a character is a start bit, 8 data bits, the parity bit when there is one, and the stop bits: 8E1 "
         "makes 11 bits, not 10.")
 def _parity(got: Any, ten_bits: Any) -> bool:
-    return _number(got) and _number(ten_bits) and _near(got, ten_bits)
+    return _same_time(got, ten_bits)
 
 
 @_entry("fixed-silence-ignored", "3.5 characters above 19200 baud", "got, scaled: a time, and the same "
@@ -312,7 +317,7 @@ def _parity(got: Any, ten_bits: Any) -> bool:
         "above 19200 baud the specification fixes the silence at 1.75 ms (and 1.5 characters at 0.75 ms) "
         "instead of 3.5 character times.")
 def _fixed_silence(got: Any, scaled: Any) -> bool:
-    return _number(got) and _number(scaled) and _near(got, scaled)
+    return _same_time(got, scaled)
 
 
 @_entry("t15-forgotten", "only 3.5 characters break a frame", "got, expected: the pauses (in characters) "
@@ -327,7 +332,7 @@ def _t15(got: Any, expected: Any) -> bool:
 @_entry("one-character-for-t35", "one character time for t3.5", "got, char_time: seconds",
         "the silence that ends a frame is 3.5 character times, not one.")
 def _one_char(got: Any, char_time: Any) -> bool:
-    return _number(got) and _number(char_time) and _near(got, char_time)
+    return _same_time(got, char_time)
 
 
 # --- Modbus/TCP ----------------------------------------------------------------------------------------

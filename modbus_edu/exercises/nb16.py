@@ -12,7 +12,7 @@ import random
 import re
 from typing import Any
 
-from ..devices.bench import bench_map
+from ..devices.bench import bench_map, bench_map_path
 from ..framing import RtuFrame
 from ..links.echo import strip_echo
 from ..pdu import ReadHoldingRegistersRequest, ReadInputRegistersRequest, ReadInputRegistersResponse
@@ -26,14 +26,10 @@ WORKSHEET_UNIT = 1
 
 
 # --- 16.1: the map file -------------------------------------------------------------------------------
-_WORKSHEET_MAP = """name,table,address,type,order,scale,unit
-voltage,input,30001,float32,CDAB,1,V
-current,input,30007,float32,CDAB,1,A
-active_power,input,30013,float32,CDAB,1,W
-frequency,input,30071,float32,CDAB,1,Hz
-import_energy,input,30073,float32,CDAB,1,kWh
-"""
-"""Exercise 16.1's answer: the bench meter's datasheet excerpt as a map file."""
+_WORKSHEET_MAP = "".join(line + "\n" for line in bench_map_path().read_text(encoding="utf-8").splitlines()
+                         if line and not line.startswith("#"))
+"""Exercise 16.1's answer: the bench meter's datasheet excerpt as a map file (the library's own, without
+its comment lines)."""
 
 
 def _expected_map() -> list[Any]:
