@@ -17,7 +17,14 @@ The serial bus carries one transaction at a time, so requests from several TCP c
 after the other (the server's lock); a client therefore waits for the others' transactions too - the
 stacked timeouts a gateway's users meet. Time one transaction yourself: request characters + 3.5
 characters of silence + the slave's processing + response characters + 3.5 characters, at the bus's
-character time (:mod:`modbus_edu.links.wire`); a silent unit costs the request plus ``timeout``.
+character time (:mod:`modbus_edu.links.wire`).
+
+**When the timeout starts.** The serial-line specification (*Modbus over Serial Line* V1.02, section
+2.4.1) starts a master's response time-out once the request has been sent, that is when its last byte
+has left the wire. This gateway's serial side is a :class:`~modbus_edu.master.Master`, which starts the
+clock when it starts sending the request: the request's own characters are inside ``timeout``, so a
+silent unit costs ``timeout`` of bus time in all (200 ms for ``timeout=0.2``, of which the 8 characters
+of an FC 3 request take 8.33 ms at 9600 baud), not the request plus ``timeout``.
 """
 
 from __future__ import annotations
@@ -90,7 +97,8 @@ class _Forwarder:
 class TcpGateway:
     """Serve Modbus/TCP on ``host:port`` and forward each request to the slaves behind ``link``.
 
-    ``timeout`` is how long the gateway waits for a serial slave (seconds on the link's clock), and
+    ``timeout`` is how long the gateway waits for a serial slave (seconds on the link's clock, from the
+    moment it starts sending the request: see the module's documentation), and
     ``retries`` how often it asks again before answering 0x0B. A context manager with ``.address``::
 
         bus = mb.loopback_serial([meter, arduino], baudrate=9600)

@@ -510,16 +510,18 @@ class Slave:
     def diagnostic_counters(self) -> dict[int, int]:
         """FC 8's counters by sub-function, since the last restart or clear (16 bits each).
 
-        0x0B messages heard on the bus, 0x0C of them with a checksum error, 0x0D exception responses
-        sent, 0x0E messages for this slave, 0x0F of them not answered (broadcasts, listen-only), 0x10
-        NAKs, 0x11 busy answers, 0x12 character overruns (a simulated slave has none of the last three).
+        0x0B messages heard on the bus with a good checksum (the serial-line guide's Appendix A: "messages
+        with bad CRC are not taken into account"), 0x0C messages with a checksum error, 0x0D exception
+        responses sent, 0x0E messages for this slave (broadcasts included), 0x0F of them not answered
+        (broadcasts, listen-only), 0x10 NAKs, 0x11 busy answers, 0x12 character overruns (a simulated
+        slave has none of the last three).
         """
         now, base = self.counters, self._diagnostics_base
 
         def since(name: str) -> int:
             return getattr(now, name) - getattr(base, name)
 
-        heard = since("requests") + since("checksum_errors") + since("bad_frames") + since("other_unit")
+        heard = since("requests") + since("bad_frames") + since("other_unit")
         counts = {0x0B: heard, 0x0C: since("checksum_errors"), 0x0D: since("exceptions"),
                   0x0E: since("requests"), 0x0F: since("requests") - since("responses"),
                   0x10: 0, 0x11: 0, 0x12: 0}

@@ -174,3 +174,160 @@ def test_environment_matches_the_binder_pins():
     for name in ("pymodbus", "jupyterlab", "ipywidgets", "nbval", "pyserial", "matplotlib"):
         assert metadata.version(name) == pins[name], f"{name} is not the pinned version"
     assert (ROOT / "binder" / "runtime.txt").read_text().strip().startswith("python-3.")
+
+
+# --- course integrity: the map, the links, quoted frames, sources ---------------------------------------
+
+def _notebook(folder: Path, name: str, *cells) -> Path:
+    """A small notebook in ``folder``: each cell is ("md", text) or ("code", source[, printed output])."""
+    import nbformat
+
+    notebook = nbformat.v4.new_notebook()
+    for kind, text, *output in cells:
+        if kind == "md":
+            notebook.cells.append(nbformat.v4.new_markdown_cell(text))
+        else:
+            cell = nbformat.v4.new_code_cell(text)
+            if output:
+                cell.outputs = [nbformat.v4.new_output("stream", name="stdout", text=output[0])]
+            notebook.cells.append(cell)
+    nbformat.write(notebook, folder / name)
+    return folder / name
+
+
+WHERE = "## Where this comes from\n\nThe specification.\n\n"
+
+
+@pytest.fixture
+def small_course(tmp_path):
+    """Three notebooks that pass every integrity check, and a README listing them."""
+    folder = tmp_path / "notebooks"
+    folder.mkdir()
+    _notebook(folder, "00_welcome.ipynb", ("md", "# 0. Welcome: Modbus by doing"),
+              ("md", "## The map\n\n| notebook |\n|---|\n| [00 Welcome](00_welcome.ipynb) |\n"
+                     "| [01 Frames](01_frames.ipynb) |\n| [02 The end](02_the_end.ipynb) |"),
+              ("md",
+               "## Sources\n\nThe robot test-tool paper, the power-meter paper, the Arduino slave paper, "
+                     "an article.\n\n**Next:** [01 Frames](01_frames.ipynb)"))
+    _notebook(folder, "01_frames.ipynb", ("md", "# 1. Frames: bytes on a wire"),
+              ("md",
+               "The request `01 03 00 00 00 01 84 0A` reads one register; the spec's `11 03 00 6B 00 03` "
+                     "reads three. A published example (the power-meter paper) is "
+                     "`01 03 00 00 00 0A C5 CD`."),
+              ("code", 'frame = bytes.fromhex("01 03 00 00 00 01 84 0A")\nprint(mb.explain(other))',
+               "01 03 00 00 00 0A C5 CD\n"),
+              ("md", WHERE + "the power-meter paper, the article, the paper, the paper.\n\n"
+                     "**Next:** [02 The end](02_the_end.ipynb)"))
+    _notebook(folder, "02_the_end.ipynb", ("md", "# 2. The end"),
+              ("md", "This last notebook closes the course; you have reached the end of the course."),
+              ("md", WHERE + "[Back to the start](00_welcome.ipynb)"))
+    (tmp_path / "README.md").write_text("| # | notebook |\n|---|---|\n"
+                                        "| 0 | [Welcome](notebooks/00_welcome.ipynb) |\n"
+                                        "| 1 | [Frames](notebooks/01_frames.ipynb) |\n"
+                                        "| 2 | [The end](notebooks/02_the_end.ipynb) |\n")
+    return folder
+
+
+def _messages(problems) -> str:
+    return "\n".join(map(str, problems))
+
+
+def test_a_course_that_follows_every_rule_passes_the_integrity_checks(small_course):
+    assert course.check_integrity(small_course) == []
+
+
+def test_the_map_and_the_readme_list_exactly_the_notebooks_with_their_titles(small_course):
+    from modbus_edu.course import check
+
+    _notebook(small_course, "03_more.ipynb", ("md", "# 3. More"), ("md", WHERE))
+    notebooks = course.course_notebooks(small_course)
+    readme = small_course.parent / "README.md"
+    assert "it does not list 03_more.ipynb" in _messages(check.map_problems(notebooks))
+    assert "it does not list 03_more.ipynb" in _messages(check.readme_problems(readme, notebooks))
+    readme.write_text(readme.read_text().replace("[Frames]",
+                                                 "[Framing]") + "| 3 | [More](notebooks/03_more.ipynb) |\n"
+                      "| 4 | [Gone](notebooks/04_gone.ipynb) |\n")
+    messages = _messages(check.readme_problems(readme, notebooks))
+    assert "it calls 01_frames.ipynb 'Framing', but its title is 'Frames: bytes on a wire'" in messages
+    assert "it lists 04_gone.ipynb, which does not exist" in messages
+
+
+def test_every_next_link_names_the_next_notebook_and_only_the_last_calls_itself_the_last(small_course):
+    from modbus_edu.course import check
+
+    path = small_course / "01_frames.ipynb"
+    _notebook(small_course, "01_frames.ipynb", ("md", "# 1. Frames: bytes on a wire"),
+              ("md",
+               "This last notebook of the course... " + WHERE + "**Next:** [02 Welcome](02_the_end.ipynb)"))
+    messages = _messages(check.next_link_problems(course.course_notebooks(small_course)))
+    assert "01_frames.ipynb: its 'Next' link says '02 Welcome'; the next notebook is 'The end'" in messages
+    assert "01_frames.ipynb: it calls itself the last ('This last notebook')" in messages
+    assert not any(line.startswith("02_the_end") for line in messages.splitlines())
+    _notebook(small_course, path.name, ("md", "# 1. Frames"), ("md", "Next: [00 Welcome](00_welcome.ipynb)"))
+    assert "its 'Next' link goes to 00_welcome.ipynb, not 02_the_end.ipynb" in _messages(
+        check.next_link_problems(course.course_notebooks(small_course)))
+
+
+def test_no_markdown_link_sits_in_a_code_cell(tmp_path):
+    from modbus_edu.course import check
+
+    path = _notebook(tmp_path, "05_x.ipynb", ("code",
+                                              "# from [the paper](00_welcome.ipynb#Sources)\nx = a[0](1)"))
+    assert [p.message for p in check.links_in_code(path)] == [
+        "cell 0 is code but holds the markdown link '[the paper](00_welcome.ipynb#Sources)'"]
+
+
+def test_every_quoted_frame_is_shown_by_a_cell_or_is_a_named_specification_example(tmp_path):
+    from modbus_edu.course import check
+
+    path = _notebook(
+        tmp_path, "03_x.ipynb",
+        ("md", "`01 03 00 00 00 01 84 0A` and `11 03 00 6B 00 03 76 87` (the specification's), `76 87` too; "
+               "FC 16 and the orders CD AB are no frames; `01 03 04 00 03 55 71` is shown nowhere, nor is "
+               ":050310000002E6; but `04 D2`, `84 0A` and `AB CD EF` are."),
+        ("md", "**Exercise 03.3.** Will the slave answer `11 03 00 6B 00 03 76 86`?"),
+        ("code", "print(b'\\x01\\x03\\x00\\x00\\x00\\x01\\x84\\x0a')\nvalue = 0x04D2\nword = 0xABCDEF"))
+    messages = [p.message for p in check.unshown_frames(path)]
+    assert messages == [
+        "the prose quotes the bytes 01 03 04 00 03 55 71 but no cell shows them (or name it a specification "
+        "example)", "the prose quotes the frame :050310000002E6 but no cell shows it"]
+
+
+def test_the_prose_names_a_source_at_most_three_times_and_never_an_unseen_table(tmp_path):
+    from modbus_edu.course import check
+
+    path = _notebook(tmp_path, "04_x.ipynb",
+                     ("md", "The Inst Tools ASCII article shows it; the paper too. CodeProject's master, an "
+                            "article, and its Table 3."),
+                     ("md", WHERE + "The Inst Tools ASCII article, the paper, the article, the paper."))
+    assert check.source_mentions(path) == ["The Inst Tools ASCII article", "paper", "CodeProject", "article"]
+    messages = [p.message for p in check.source_problems(path)]
+    assert messages[0].startswith("its prose names a source 4 times (at most 3")
+    assert "'its Table 3' points to a table or figure the learner cannot see" in messages[1]
+
+
+def test_every_notebook_has_a_where_this_comes_from_box_before_its_next_link(tmp_path):
+    from modbus_edu.course import check
+
+    missing = _notebook(tmp_path, "06_x.ipynb", ("md", "# 6. X\n\n**Next:** [07 Y](07_y.ipynb)"))
+    late = _notebook(tmp_path, "07_y.ipynb", ("md", "**Next:** [08 Z](08_z.ipynb)"), ("md", WHERE))
+    fine = _notebook(tmp_path, "08_z.ipynb",
+                     ("md", "**Where this comes from**: the specification.\n\nNext: [x](09_a.ipynb)"))
+    assert [p.message for p in check.where_box_problems(missing)] == [
+        "it has no 'Where this comes from' section"]
+    assert [p.message for p in check.where_box_problems(late)] == [
+        "its 'Where this comes from' section comes after its Next link"]
+    assert check.where_box_problems(fine) == []
+
+
+def test_the_integrity_checks_are_part_of_the_course_check(small_course, capsys):
+    from modbus_edu.course.__main__ import main
+
+    _notebook(small_course, "01_frames.ipynb", ("md", "# 1. Frames"), ("code", "# see [x](https://example.org)"))
+    assert main(["check", str(small_course)]) == 1
+    assert "cell 1 is code but holds the markdown link" in capsys.readouterr().out
+
+
+def test_whole_course_passes_the_integrity_checks():
+    problems = course.check_integrity(NOTEBOOKS, ROOT / "README.md")
+    assert not problems, f"{len(problems)} problem(s):\n" + "\n".join(map(str, problems))

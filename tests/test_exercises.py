@@ -13,6 +13,7 @@ import modbus_edu as mb
 from modbus_edu import exercises
 from modbus_edu.exercises import core
 from modbus_edu.exercises.build import build_exercise
+from modbus_edu.exercises.misconceptions import crc16_reflected, crc16_unreflected
 
 
 @pytest.fixture
@@ -49,7 +50,7 @@ def parse_exercise():
 
 
 def _crc(data: bytes) -> int:
-    return core.crc16_reflected(data)
+    return crc16_reflected(data)
 
 
 def test_a_right_function_is_accepted(crc_exercise):
@@ -62,24 +63,26 @@ def test_a_wrong_function_shows_the_first_failing_input_and_both_values(crc_exer
     result = exercises.evaluate("99.1", lambda data: 0)
     assert result.ok is False
     assert '<lambda>(bytes.fromhex("")) should give 65535 (0xFFFF); your function gives 0.' in result.message
-    assert "Modbus starts it at 0xFFFF" in result.message
+    assert "a crc register started at 0: " in result.message.lower()
+    assert "Modbus starts the register at 0xFFFF" in result.message
     assert "\nHint: shift right" in result.message
 
 
 @pytest.mark.parametrize("variant, words", [
-    (lambda data: ((_crc(data) & 0xFF) << 8) | (_crc(data) >> 8), "two bytes swapped"),
-    (lambda data: mb.crc16(data).to_bytes(2, "little"), "returns bytes"),
+    (lambda data: ((_crc(data) & 0xFF) << 8) | (_crc(data) >> 8), "swapped CRC bytes"),
+    (lambda data: mb.crc16(data).to_bytes(2, "little"), "a CRC returned as bytes"),
 ])
 def test_the_crc_checker_names_the_usual_slips(crc_exercise, variant, words):
-    assert words in exercises.evaluate("99.1", variant).message
+    assert words.lower() in exercises.evaluate("99.1", variant).message.lower()
 
 
 def test_the_crc_checker_recognises_crc16_arc(crc_exercise):
     def arc(data):
-        return core.crc16_reflected(data, initial=0)
+        return crc16_reflected(data, initial=0)
 
-    assert "starts it at 0xFFFF" in exercises.evaluate("99.1", arc).message
+    assert "starts the register at 0xFFFF" in exercises.evaluate("99.1", arc).message
     assert "CRC-16/ARC" in core.crc_diagnosis(b"123456789", arc(b"123456789"))
+    assert "unreflected CRC" in core.crc_diagnosis(b"123456789", crc16_unreflected(b"123456789"))
 
 
 @pytest.mark.parametrize("function, words", [
@@ -134,7 +137,7 @@ def test_the_generated_inputs_are_the_same_every_run(crc_exercise):
 
 
 @pytest.mark.parametrize("answer, words", [
-    (0.02292, "seconds; the question asks for milliseconds"),
+    (0.02292, "seconds for milliseconds: the question asks for milliseconds"),
     (22.9, "close: give 2 decimals"),
     (23.917, "is not"),
     (22.92, None),
@@ -144,9 +147,18 @@ def test_number_answers_name_units_and_near_misses(answer, words):
     assert message is None if words is None else words in message
 
 
+@pytest.mark.parametrize("answer, expected, unit, label", [
+    (0.6, 60, "%", "a fraction for a percentage"), (60, 0.6, "", "a percentage for a fraction"),
+    (22917, 22.917, "s", "milliseconds for seconds"),
+])
+def test_number_answers_name_the_catalogued_unit_slips(answer, expected, unit, label):
+    assert core.number_answer(answer, expected, decimals=3, unit=unit).startswith(label + ":")
+
+
 def test_address_slips_are_named():
-    assert "counts from 1" in core.address_diagnosis(108, 107)
-    assert "reference number" in core.address_diagnosis(40108, 107)
+    assert core.address_diagnosis(108, 107).startswith("a 1-based address:")
+    assert core.address_diagnosis(40108, 107).startswith("a reference number for an address:")
+    assert core.address_diagnosis(400108, 107).startswith("a reference number for an address:")
     assert core.address_diagnosis(107, 107) is None
 
 
@@ -199,3 +211,109 @@ def test_deep_nesting_hostile_objects_and_odd_keys_give_a_message(key):
         assert exercises.evaluate(key, answer).ok is False
     assert exercises.evaluate({"unhashable": 1}, 1).ok is False
     assert exercises.evaluate(["03.1"], 1).ok is False
+
+
+# --- the catalogue of misconceptions, and every exercise's tables of accepted and refused answers -----
+
+from modbus_edu.exercises.misconceptions import CATALOGUE  # noqa: E402
+
+VALUE_KEYS = sorted(key for key, item in exercises.EXERCISES.items() if item.kind == "value")
+ALL_KEYS = sorted(exercises.EXERCISES)
+ACCEPTED = [(key, index) for key in VALUE_KEYS for index in range(len(exercises.EXERCISES[key].accepts))]
+REFUSED = [(key, index) for key in ALL_KEYS for index in range(len(exercises.EXERCISES[key].refuses))]
+
+
+def test_each_misconception_has_a_key_a_label_a_detector_shape_and_one_teaching_sentence():
+    assert len(CATALOGUE) >= 11
+    for key, entry in CATALOGUE.items():
+        assert entry.key == key and entry.label and entry.shape and callable(entry.detector)
+        assert entry.sentence.rstrip().endswith(".") and len(entry.say(used="CDAB", used_words="x",
+                                                                       right="ABCD")) < 320, key
+    for key in ("crc-swapped", "crc-on-tcp", "lrc-ones-complement", "one-based-address", "reference-number",
+                "milliseconds-for-seconds", "seconds-for-milliseconds", "fraction-for-percentage",
+                "mbap-little-endian", "word-order", "frame-for-pdu", "ascii-without-crlf"):
+        assert key in CATALOGUE
+
+
+def test_every_misconception_is_named_by_some_exercise():
+    named = {misconception for item in exercises.EXERCISES.values() for _, misconception in item.refuses}
+    named.add("fraction-for-percentage")  # no exercise asks for a percentage: number_answer's test names it
+    assert set(CATALOGUE) <= named, f"catalogued but never named: {sorted(set(CATALOGUE) - named)}"
+
+
+@pytest.mark.parametrize("key", ALL_KEYS)
+def test_every_exercise_keeps_its_tables(key):
+    item = exercises.EXERCISES[key]
+    assert item.refuses, f"{key} lists no known wrong answer"
+    if item.kind == "value":
+        assert item.accepts, f"{key} lists no accepted answer"
+    else:
+        assert any(misconception for _, misconception in item.refuses), f"{key} names no misconception"
+
+
+@pytest.mark.parametrize("key, index", ACCEPTED, ids=[f"{k}-accepts-{i}" for k, i in ACCEPTED])
+def test_each_accepted_answer_is_right(key, index):
+    answer = exercises.EXERCISES[key].accepts[index]
+    result = exercises.evaluate(key, answer)
+    assert result.ok is True, f"{key} refuses {answer!r}: {result.message}"
+
+
+@pytest.mark.parametrize("key, index", REFUSED, ids=[f"{k}-refuses-{i}" for k, i in REFUSED])
+def test_each_known_wrong_answer_is_refused_and_named(key, index):
+    answer, misconception = exercises.EXERCISES[key].refuses[index]
+    result = exercises.evaluate(key, answer)
+    assert result.ok is False, f"{key} accepts the wrong answer {answer!r}"
+    assert result.message.startswith("Not yet:")
+    if misconception is None:
+        named = [entry.label for entry in CATALOGUE.values() if entry.label.lower() in result.message.lower()]
+        assert not named, f"{key}: {answer!r} is named {named} but is no catalogued misconception"
+    else:
+        label = CATALOGUE[misconception].label.lower()
+        assert label in result.message.lower(), f"{key}: {answer!r} should be {label!r}: {result.message}"
+
+
+def test_a_build_exercise_reads_back_what_the_function_stored():
+    """A function that answers right but stores nothing fails on the read that follows its write."""
+
+    def reference(store: list, index: int, value: int | None) -> int:
+        if value is not None:
+            store[index] = value
+        return store[index]
+
+    item = build_exercise("99.3", "a store", reference=reference,
+                          inputs=lambda rng: ([0] * 4, rng.randrange(4), rng.choice([None, 1, 2, 3])),
+                          hint="store it", refuses=[(lambda store, index, value: value, None)],
+                          read_back=lambda args, state: args[2] and (state[0], args[1], None))
+    try:
+        def stores(store, index, value):
+            if value is not None:
+                store[index] = value
+            return store[index]
+
+        assert exercises.evaluate("99.3", stores).ok is True
+        result = exercises.evaluate("99.3", lambda store, index, value: value or store[index])
+        assert result.ok is False and "reading it back with" in result.message
+        assert item.wrong is item.refuses[0][0]
+    finally:
+        del exercises.EXERCISES["99.3"]
+
+
+def test_the_fixed_checkers_judge_right():
+    from modbus_edu.exercises.nb01 import _tables_by_digit
+    from modbus_edu.exercises.nb06 import _echo_without_storing
+
+    assert "frozenset" not in exercises.evaluate("13.7", lambda registers, expected: "ABCD").message
+    echoed = exercises.evaluate("06.5", _echo_without_storing)
+    assert "a write echoed but not stored" in echoed.message.lower()
+    assert exercises.evaluate("13.2", ("CDAB", 135.5)).ok is True
+    for spelling in ("Length field", "the length", "length"):
+        assert exercises.evaluate("05.4", spelling).ok is True
+    assert "is right in that frame" not in exercises.evaluate("05.4", "protocol identifier").message
+    assert "CR LF" in exercises.evaluate("04.2", ":050310000002E6").message
+    assert "a 2x table" in exercises.evaluate("01.5", _tables_by_digit).message.lower()
+
+
+def test_a_refusal_table_may_only_name_catalogued_misconceptions():
+    with pytest.raises(ValueError, match="not in the catalogue"):
+        exercises.exercise("99.4", "x", hint="h", refuses=[(1, "no-such-slip")])(lambda answer: None)
+    assert "99.4" not in exercises.EXERCISES

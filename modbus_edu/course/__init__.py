@@ -13,11 +13,26 @@ nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the cou
   paper"), never by file number ("source 003", "003's Table 5");
 * introduce before use: every library name a code cell uses (``mb.Master``, ``from modbus_edu.widgets
   import TestTool``) is introduced first, in the prose (markdown) or in a comment of that notebook or an
-  earlier one.
+  earlier one;
+* the course as one (``check_integrity``): notebook 00's map and the README's course table list exactly
+  the notebooks that exist, with their titles; every "Next" link names the next notebook, and only the
+  last notebook calls itself the last; no markdown link sits in a code cell; every hex frame of two or
+  more bytes the prose quotes (outside an exercise's prompt) is shown by a code cell or an output of that
+  notebook, or is a named specification example; the prose names a source at most 3 times (the closing
+  "Where this comes from" box aside) and never "its Table N"; every notebook has that box before its Next
+  link.
 """
 
-from .check import Problem, check_course, check_notebook, source_shorthands, used_before_introduced
+from .check import (
+    Problem,
+    check_course,
+    check_integrity,
+    check_notebook,
+    source_shorthands,
+    used_before_introduced,
+)
 from .execute import WIDGET_VIEW, course_notebooks, execute, strip_widget_state
 
-__all__ = ["WIDGET_VIEW", "Problem", "check_course", "check_notebook", "course_notebooks", "execute",
+__all__ = ["WIDGET_VIEW", "Problem", "check_course", "check_integrity", "check_notebook",
+           "course_notebooks", "execute",
            "source_shorthands", "strip_widget_state", "used_before_introduced"]

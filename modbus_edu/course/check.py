@@ -148,4 +148,306 @@ def check_course(folder: Path | str) -> list[Problem]:
     for index, path in enumerate(notebooks):
         problems.extend(check_notebook(path, last=index == len(notebooks) - 1))
     problems.extend(used_before_introduced(notebooks))
+    problems.extend(check_integrity(folder))
+    return problems
+
+
+# --- the course as one: the map, the links, quoted frames and the sources ------------------------------
+
+TITLE_PATTERN = re.compile(r"^#\s+(?:\d+\.\s*)?(.+?)\s*$", re.M)
+NOTEBOOK_LINK = re.compile(r"\[([^\]\n]+)\]\(((?:notebooks/)?\d\d_[a-z0-9_]+\.ipynb)\)")
+NEXT_LINK = re.compile(r"\bnext\b[^\n\[]*\[([^\]\n]+)\]\((\d\d_[a-z0-9_]+\.ipynb)\)", re.I)
+CALLS_ITSELF_LAST = re.compile(
+    r"\b(?:this|the present)\s+(?:last|final)\s+notebook\b"
+    r"|\bthe\s+(?:last|final)\s+notebook\s+of\s+the\s+course\b"
+    r"|\b(?:reached|at)\s+the\s+end\s+of\s+the\s+course\b|\bthe\s+course\s+ends\s+here\b", re.I)
+MARKDOWN_LINK = re.compile(r"\[[^\]\n]+\]\((?:https?://|[^)\s]*\.(?:ipynb|md)\b|#)[^)\s]*\)")
+PROSE_FRAME = re.compile(r"(?<![0-9A-Za-z_])[0-9A-F]{2}(?: [0-9A-F]{2})+(?![0-9A-Za-z_])")
+PROSE_ASCII_FRAME = re.compile(r"(?<![0-9A-Za-z]):[0-9A-F]{6,}")
+WHERE_HEADING = re.compile(r"^(?:#+\s*|\*\*)where this comes from\b", re.I | re.M)
+SOURCES_HEADING = re.compile(r"^#+\s*sources\b", re.I | re.M)
+HEADING = re.compile(r"^(#+)\s", re.M)
+EXERCISE_PROMPT = re.compile(r"^\s*(?:\*\*|#+\s*)(?:Exercise|Puzzle)\s+\d\d\.\d+", re.M)
+UNSEEN_TABLE = re.compile(r"\bits\s+(?:table|figure|fig\.)\s*\d+", re.I)
+
+MAX_SOURCE_MENTIONS = 3
+SOURCE_NAMES = ("the robot test-tool paper", "the CodeProject RTU master", "the Arduino slave paper",
+                "the power-meter paper", "the Inst Tools ASCII article")
+"""The sources' short names (``/work/shared/seeds/README.md``'s table; notebook 00 cites each in full)."""
+SOURCE_WORDS = re.compile(r"\b(?:papers?|articles?|CodeProject|Inst\s+Tools)\b", re.I)
+
+SPECIFICATION_EXAMPLES = {
+    "11 03 00 6B 00 03 76 87": "the specification's Read Holding Registers request (unit 17, 40108-40110)",
+    "11 01 00 13 00 25 0E 84": "the specification's Read Coils request (unit 17, coils 20-56)",
+    "11 05 00 AC FF 00 4E 8B": "the specification's Write Single Coil request (coil 172 ON)",
+    "11 0F 00 13 00 0A 02 CD 01 BF 0B": "the specification's Write Multiple Coils request (coils 20-29)",
+    "01 10 00 01 00 02 04 00 0A 01 02 92 30": "the specification's Write Multiple Registers request",
+    "01 83 02 C0 F1": "the specification's exception response (function 3, code 02)",
+}
+"""Frames the prose may quote without a cell showing them: named examples of the Modbus specifications
+(a part of one counts too: its PDU, its CRC)."""
+
+
+def notebook_title(path: Path | str) -> str:
+    """The notebook's title, without its number: "The data model: four tables"."""
+    import nbformat
+
+    for cell in nbformat.read(Path(path), as_version=4).cells:
+        if cell.cell_type == "markdown":
+            match = TITLE_PATTERN.search(_text(cell))
+            return match.group(1).strip() if match else ""
+    return ""
+
+
+def names_notebook(text: str, title: str) -> bool:
+    """True if a link's text names the notebook titled ``title``: the title itself or its beginning up to
+    a word's end ("The data model" for "The data model: four tables"), after an optional number."""
+    name = re.sub(r"^\s*\d+\.?\s+", "", text).strip().rstrip(".").casefold()
+    title = title.strip().casefold()
+    return bool(name) and (name == title or (title.startswith(name) and not title[len(name)].isalnum()))
+
+
+def _markdown(path: Path) -> list[str]:
+    import nbformat
+
+    return [_text(cell) for cell in nbformat.read(path, as_version=4).cells if cell.cell_type == "markdown"]
+
+
+def _listing_problems(where: str, listed: list[tuple[str, str]], notebooks: list[Path]) -> list[Problem]:
+    """Compare a listing's (text, file) pairs with the notebooks that exist, in order, with their titles."""
+    problems = []
+    names = [path.name for path in notebooks]
+    files = [Path(target).name for _, target in listed]
+    missing = [name for name in names if name not in files]
+    extra = [name for name in files if name not in names]
+    if missing:
+        problems.append(Problem(where, f"it does not list {', '.join(missing)}"))
+    if extra:
+        problems.append(Problem(where, f"it lists {', '.join(extra)}, which does not exist"))
+    if not missing and not extra and files != names:
+        problems.append(Problem(where, "it lists the notebooks out of order"))
+    titles = {path.name: notebook_title(path) for path in notebooks}
+    for text, target in listed:
+        name = Path(target).name
+        if name in titles and not names_notebook(text, titles[name]):
+            problems.append(Problem(where, f"it calls {name} {text!r}, but its title is {titles[name]!r}"))
+    return problems
+
+
+def map_problems(notebooks: list[Path]) -> list[Problem]:
+    """Notebook 00's map (the markdown cell headed "map") lists exactly the notebooks, with their titles."""
+    if not notebooks:
+        return []
+    cells = [text for text in _markdown(notebooks[0]) if re.search(r"^#+[^\n]*\bmap\b", text, re.I | re.M)]
+    if not cells:
+        return [Problem(notebooks[0].name, "it has no map of the course (a section headed 'map')")]
+    return _listing_problems(f"{notebooks[0].name} (the map)", NOTEBOOK_LINK.findall(cells[0]), notebooks)
+
+
+def readme_problems(readme: Path | str, notebooks: list[Path]) -> list[Problem]:
+    """The README's course table (rows linking notebooks/NN_name.ipynb) lists exactly the notebooks."""
+    text = Path(readme).read_text(encoding="utf-8")
+    rows = [NOTEBOOK_LINK.search(line) for line in text.splitlines() if line.startswith("|")]
+    listed = [(row.group(1), row.group(2)) for row in rows if row]
+    return _listing_problems(f"{Path(readme).name} (the course table)", listed, notebooks)
+
+
+def next_link_problems(notebooks: list[Path]) -> list[Problem]:
+    """Every notebook but the last links "Next" to the one after it, naming it by its title; the last has no
+    Next link; and only the last calls itself the last."""
+    problems = []
+    for index, path in enumerate(notebooks):
+        prose = "\n".join(_markdown(path))
+        links = NEXT_LINK.findall(prose)
+        last = index == len(notebooks) - 1
+        if last:
+            if links:
+                problems.append(Problem(path.name, f"the last notebook links 'Next' to {links[-1][1]}"))
+        else:
+            following = notebooks[index + 1]
+            if not links:
+                problems.append(Problem(path.name, f"no 'Next' link to {following.name}"))
+            else:
+                text, target = links[-1]
+                title = notebook_title(following)
+                if target != following.name:
+                    problems.append(Problem(path.name,
+                                            f"its 'Next' link goes to {target}, not {following.name}"))
+                elif not names_notebook(text, title):
+                    problems.append(Problem(path.name, f"its 'Next' link says {text!r}; the next notebook is "
+                                                       f"{title!r}"))
+            claim = CALLS_ITSELF_LAST.search(prose)
+            if claim:
+                problems.append(Problem(path.name, f"it calls itself the last ({claim.group(0)!r}), but "
+                                                   f"{notebooks[-1].name} is"))
+    return problems
+
+
+def links_in_code(path: Path | str) -> list[Problem]:
+    """Markdown links written inside code cells (they show as text, not as links)."""
+    import nbformat
+
+    path = Path(path)
+    problems = []
+    for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
+        if cell.cell_type == "code":
+            for match in MARKDOWN_LINK.finditer(_text(cell)):
+                problems.append(Problem(path.name, f"cell {index} is code but holds the markdown link "
+                                                   f"{match.group(0)!r}"))
+    return problems
+
+
+def _byte_runs(text: str) -> list[bytes]:
+    """Every run of bytes ``text`` shows: spaced hex, unbroken hex, 0x numbers, Python bytes literals."""
+    import ast
+
+    runs = []
+    for match in re.finditer(r"(?<![0-9A-Za-z])[0-9A-Fa-f]{2}(?:[ :,-]{1,2}[0-9A-Fa-f]{2})*(?![0-9A-Za-z])",
+                             text):
+        runs.append(bytes.fromhex(re.sub(r"[ :,-]", "", match.group(0))))
+    for match in re.finditer(r"(?:0x|\b)((?:[0-9A-Fa-f]{2}){2,})\b", text):
+        runs.append(bytes.fromhex(match.group(1)))
+    for match in re.finditer(r"0x([0-9A-Fa-f]{1,2})\b(?:\s*,\s*)?", text):
+        runs.append(bytes([int(match.group(1), 16)]))
+    hexes = re.findall(r"0x([0-9A-Fa-f]{1,2})\b", text)
+    if hexes:
+        runs.append(bytes(int(item, 16) for item in hexes))
+    for match in re.finditer(r"""b(['"])((?:\\.|(?!\1).)*)\1""", text):
+        try:
+            runs.append(ast.literal_eval(match.group(0)))
+        except (ValueError, SyntaxError):
+            pass
+    return runs
+
+
+def _shown(path: Path) -> str:
+    """Everything a notebook's cells show: code and every text output."""
+    import nbformat
+
+    parts = []
+    for cell in nbformat.read(path, as_version=4).cells:
+        if cell.cell_type != "code":
+            continue
+        parts.append(_text(cell))
+        for output in cell.get("outputs", []):
+            text = output.get("text", "")
+            parts.append(text if isinstance(text, str) else "".join(text))
+            for kind in ("text/plain", "text/html", "text/markdown"):
+                value = output.get("data", {}).get(kind, "")
+                parts.append(re.sub(r"<[^>]+>", " ", value if isinstance(value, str) else "".join(value)))
+    return "\n".join(parts)
+
+
+def unshown_frames(path: Path | str, allowed: dict[str, str] | None = None) -> list[Problem]:
+    """Hex frames of two or more bytes (and ASCII frames) the prose quotes that no code cell or output of
+    the notebook shows, and that are no named specification example."""
+    path = Path(path)
+    allowed = SPECIFICATION_EXAMPLES if allowed is None else allowed
+    shown = _shown(path)
+    runs = _byte_runs(shown) + [bytes.fromhex(frame) for frame in allowed]
+    problems = []
+    for text in dict.fromkeys(_prose_frames(path)):
+        if text.startswith(":"):
+            if text.casefold() not in shown.casefold() and text not in allowed:
+                problems.append(Problem(path.name, f"the prose quotes the frame {text} but no cell shows it"))
+            continue
+        frame = bytes.fromhex(text)
+        if not any(frame in run for run in runs):
+            problems.append(Problem(path.name,
+                                    f"the prose quotes the bytes {text} but no cell shows them (or "
+                                               "name it a specification example)"))
+    return problems
+
+
+def _prose_frames(path: Path) -> list[str]:
+    """The frames a notebook's prose quotes as facts.  An exercise's prompt ("**Exercise 05.4.** ... sends
+    `01 18 ...`", "### Puzzle 13.5: ...") is left out: its frame is the learner's puzzle, which the checker
+    holds."""
+    found = []
+    for text in _markdown(path):
+        if EXERCISE_PROMPT.search(text):
+            continue
+        for match in PROSE_FRAME.finditer(text):
+            tokens = match.group(0).split()
+            if tokens[0] == "FC":  # "FC 16" names a function code
+                tokens = tokens[1:]
+            if len(tokens) >= 2 and not re.fullmatch(r"[A-D ]+", " ".join(tokens)):  # "CD AB": a word order
+                found.append(" ".join(tokens))
+        found.extend(PROSE_ASCII_FRAME.findall(text))
+    return found
+
+
+def _running_prose(path: Path) -> str:
+    """A notebook's markdown without its "Where this comes from" box and notebook 00's "Sources" section:
+    the prose a learner reads as the course's own words."""
+    kept = []
+    for text in _markdown(path):
+        lines, skipping = [], 0
+        for line in text.splitlines():
+            heading = HEADING.match(line)
+            if skipping and heading and len(heading.group(1)) <= skipping:
+                skipping = 0
+            if WHERE_HEADING.match(line) or SOURCES_HEADING.match(line):
+                skipping = len(heading.group(1)) if heading else 6
+            elif not skipping:
+                lines.append(line)
+        kept.append("\n".join(lines))
+    return "\n".join(kept)
+
+
+def source_mentions(path: Path | str) -> list[str]:
+    """Each mention of a source in a notebook's running prose: a short name, or paper / article /
+    CodeProject / Inst Tools (the closing "Where this comes from" box does not count)."""
+    prose = _running_prose(Path(path))
+    found = []
+    for name in SOURCE_NAMES:
+        pattern = re.compile(re.escape(name).replace(r"\ ", r"\s+"), re.I)
+        found.extend(match.group(0) for match in pattern.finditer(prose))
+        prose = pattern.sub(" ", prose)
+    found.extend(match.group(0) for match in SOURCE_WORDS.finditer(prose))
+    return found
+
+
+def source_problems(path: Path | str) -> list[Problem]:
+    """More than three mentions of a source in the prose, or a table or figure the learner cannot see."""
+    path = Path(path)
+    problems = []
+    mentions = source_mentions(path)
+    if len(mentions) > MAX_SOURCE_MENTIONS:
+        problems.append(Problem(path.name, f"its prose names a source {len(mentions)} times (at most "
+                                           f"{MAX_SOURCE_MENTIONS}; cite them in 'Where this comes from')"))
+    for match in UNSEEN_TABLE.finditer("\n".join(_markdown(path))):
+        problems.append(Problem(path.name, f"{match.group(0)!r} points to a table or figure the learner "
+                                           "cannot see: show it"))
+    return problems
+
+
+def where_box_problems(path: Path | str) -> list[Problem]:
+    """A "Where this comes from" section, placed before the notebook's Next link (notebook 00's "Sources"
+    section, which cites every source in full, counts as its box)."""
+    path = Path(path)
+    prose = "\n".join(_markdown(path))
+    box = WHERE_HEADING.search(prose) or (SOURCES_HEADING.search(prose) if path.name[:2] == "00" else None)
+    if not box:
+        return [Problem(path.name, "it has no 'Where this comes from' section")]
+    following = [match.start() for match in NEXT_LINK.finditer(prose)]
+    if following and following[-1] < box.start():
+        return [Problem(path.name, "its 'Where this comes from' section comes after its Next link")]
+    return []
+
+
+def check_integrity(folder: Path | str, readme: Path | str | None = None) -> list[Problem]:
+    """The course as one: the map in 00 and the README's table, the Next links, who calls itself the last,
+    links in code, quoted frames, sources in the prose and the "Where this comes from" boxes."""
+    notebooks = course_notebooks(folder)
+    readme = Path(folder).resolve().parent / "README.md" if readme is None else Path(readme)
+    problems = map_problems(notebooks)
+    if readme.exists():
+        problems.extend(readme_problems(readme, notebooks))
+    problems.extend(next_link_problems(notebooks))
+    for path in notebooks:
+        problems.extend(links_in_code(path))
+        problems.extend(unshown_frames(path))
+        problems.extend(source_problems(path))
+        problems.extend(where_box_problems(path))
     return problems

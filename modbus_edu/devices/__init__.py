@@ -5,7 +5,9 @@ slave goes (a loopback wire, a TCP server, ``modbus-edu serve``):
 
 * :class:`PowerMeter` -- the three-phase meter of the power-meter paper (Table 5's map, Table 6's two trials);
 * :class:`ArduinoSlave` -- the Arduino Uno slave of the Arduino slave paper (a sparse bank declared with
-  reference numbers, potentiometers, switches, LEDs, and a main loop that can be too slow).
+  reference numbers, potentiometers, switches, LEDs, and a main loop that can be too slow);
+* :class:`BenchMeter` -- the single-phase meter of notebook 16's bench day: front-panel line settings,
+  a slow first answer, a sparse float32 map from its datasheet excerpt.
 
 :mod:`modbus_edu.devices.generators` holds seeded, clock-driven data sources (ramp, sine, noise,
 random) and the dummy-data tools of a test tool's data grid (random fill, fill with a start value and
@@ -15,6 +17,7 @@ an increment, auto fill).
 from __future__ import annotations
 
 from .arduino import ArduinoSlave, loop_time_experiment
+from .bench import DATASHEET, BenchMeter, bench_map, bench_map_path
 from .generators import (
     AutoFill,
     Constant,
@@ -52,6 +55,10 @@ __all__ = [
     "read_meter",
     "meter_table",
     "ArduinoSlave",
+    "BenchMeter",
+    "DATASHEET",
+    "bench_map",
+    "bench_map_path",
     "loop_time_experiment",
     "Generator",
     "Constant",

@@ -19,10 +19,14 @@ bottom; a hint appears only after a wrong answer.  Worked solutions live in ``no
 (``%load solutions/03_5.py``).
 
 Layout: :mod:`.core` holds the registry, ``check``/``evaluate`` and the helpers checkers share;
-:mod:`.build` the build-exercise runner; ``nbNN.py`` the exercises of notebook NN, found and imported
-here automatically.  To add an exercise, add it to its notebook's module (create ``nbNN.py`` for a new
-notebook) with :func:`exercise` or :func:`build_exercise`, give it a wrong answer, and write its worked
-solution: the test suite checks that the solution passes and the wrong answer fails.
+:mod:`.build` the build-exercise runner; :mod:`.misconceptions` the catalogue of mistakes every checker
+names its verdicts from, so that one mistake reads the same in every notebook; ``nbNN.py`` the exercises
+of notebook NN, found and imported here automatically.  To add an exercise, add it to its notebook's
+module (create ``nbNN.py`` for a new notebook) with :func:`exercise` or :func:`build_exercise`, declare
+beside it the answers it accepts (``accepts=``, other spellings of the right answer) and the wrong
+answers it knows (``refuses=[(answer, "misconception-key" or None), ...]``; for a build exercise, wrong
+functions), and write its worked solution: the test suite checks that the solution and every accepted
+answer pass, and that every known wrong answer fails, named as its misconception.
 """
 
 from __future__ import annotations

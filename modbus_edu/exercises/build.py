@@ -81,7 +81,9 @@ class BuildChecker:
     def __init__(self, key: str, reference: Callable, inputs: Callable[[random.Random], Sequence],
                  edge_cases: Iterable[Sequence], count: int,
                  diagnose: Callable[[Sequence, Any, Any], str | None] | None,
-                 compare: Callable[[Any, Any], bool] | None, time_limit: float) -> None:
+                 compare: Callable[[Any, Any], bool] | None, time_limit: float,
+                 read_back: Callable[[tuple, tuple], tuple | None] | None = None,
+                 show_expected: Callable[[Any], str] | None = None) -> None:
         self.key = key
         self.reference = reference
         self.inputs = inputs
@@ -90,6 +92,8 @@ class BuildChecker:
         self.diagnose = diagnose
         self.compare = compare or same
         self.time_limit = time_limit
+        self.read_back = read_back
+        self.show_expected = show_expected or show
         self._cases: list[tuple[tuple, Any]] | None = None
 
     def cases(self) -> list[tuple[tuple, Any]]:
@@ -146,50 +150,99 @@ class BuildChecker:
     def _call(self, name: str, args: Sequence) -> str:
         return f"{name}({', '.join(show(arg) for arg in args)})"
 
+    def _note(self, args: tuple, expected: Any, got: Any) -> str:
+        """The exercise's diagnosis of a failing input (a misconception's name), or an empty string."""
+        if self.diagnose is None:
+            return ""
+        try:
+            note = self.diagnose(args, expected, got) or ""
+        except Exception:
+            note = ""
+        return f" {note[0].upper()}{note[1:]}" if note else ""
+
     def _one(self, function: Callable, name: str, args: tuple, expected: Any) -> str | None:
         """None if the learner's function agrees with the library on ``args``, else a message."""
         call = self._call(name, args)
+        state = copy.deepcopy(args)
         try:
-            got = function(*copy.deepcopy(args))
+            got = function(*state)
         except _Stopped:
             raise
         except Exception as exc:
             if isinstance(expected, _Refused):
                 return None
             return (f"{call} raised {type(exc).__name__}: {show(str(exc))}. "
-                    f"The library gives {show(expected)}.")
+                    f"The library gives {self.show_expected(expected)}.")
         if isinstance(expected, _Refused):
-            return (f"{call} returned {show(got)}, but that input is not valid ({expected.error}): "
-                    "your function should raise an exception for it.")
+            note = self._note(args, expected, got)
+            return (f"{call} returned {show(got)}, but that input is not valid"
+                    + ("" if note else f" ({expected.error})") + ": your function should raise an exception "
+                    "for it." + note)
         try:
-            if self.compare(expected, got):
-                return None
+            if not self.compare(expected, got):
+                message = (f"{call} should give {self.show_expected(expected)}; "
+                           f"your function gives {show(got)}.")
+                note = self._note(args, expected, got)
+                return message + (note or (_type_note(expected, got) if self.compare is same else ""))
         except Exception as exc:
             return f"{call} returned {show(got)}, which cannot be compared ({type(exc).__name__})."
-        message = f"{call} should give {show(expected)}; your function gives {show(got)}."
-        note = ""
-        if self.diagnose is not None:
-            try:
-                note = self.diagnose(args, expected, got) or ""
-            except Exception:
-                note = ""
-        if note:
-            return f"{message} {note[0].upper()}{note[1:]}"
-        return message + (_type_note(expected, got) if self.compare is same else "")
+        return self._read_back(function, name, call, args, state)
+
+    def _read_back(self, function: Callable, name: str, call: str, args: tuple, state: tuple) -> str | None:
+        """After a call that changed ``state``, read it back with the learner's function and the library's."""
+        if self.read_back is None:
+            return None
+        library_state = copy.deepcopy(args)
+        try:
+            self.reference(*library_state)
+        except ModbusError:
+            return None
+        follow = self.read_back(args, library_state)
+        if follow is None:
+            return None
+        expected = self.reference(*copy.deepcopy(follow))
+        mine = self.read_back(args, state)
+        try:
+            got = function(*mine)
+        except _Stopped:
+            raise
+        except Exception as exc:
+            return (f"after {call}, reading it back with {self._call(name, mine)} raised "
+                    f"{type(exc).__name__}: {show(str(exc))}.")
+        if self.compare(expected, got):
+            return None
+        message = (f"after {call}, reading it back with {self._call(name, mine)} should give "
+                   f"{show(expected)}; your function gives {show(got)}.")
+        return message + self._note(mine, expected, got)
 
 
 def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callable[[random.Random], Sequence],
-                   hint: str, wrong: Callable, edge_cases: Iterable[Sequence] = (), count: int = 100,
-                   diagnose: Callable[[Sequence, Any, Any], str | None] | None = None,
-                   compare: Callable[[Any, Any], bool] | None = None,
-                   time_limit: float = TIME_LIMIT) -> Exercise:
+                   hint: str, wrong: Callable | None = None, edge_cases: Iterable[Sequence] = (),
+                   count: int = 100, diagnose: Callable[[Sequence, Any, Any], str | None] | None = None,
+                   compare: Callable[[Any, Any], bool] | None = None, time_limit: float = TIME_LIMIT,
+                   refuses: Iterable[tuple[Callable, str | None]] = (),
+                   read_back: Callable[[tuple, tuple], tuple | None] | None = None,
+                   show_expected: Callable[[Any], str] | None = None) -> Exercise:
     """Register a build exercise: the learner's function is checked against ``reference``.
 
     ``inputs(rng)`` draws one tuple of arguments from the seeded ``random.Random`` it is given;
-    ``edge_cases`` are argument tuples always tried first.  ``diagnose(args, expected, got)`` may name a
-    common mistake for a failing input; ``compare(expected, got)`` replaces the default comparison
-    :func:`same`.  ``wrong`` is a plausible wrong function the test suite checks is refused."""
+    ``edge_cases`` are argument tuples always tried first.  ``diagnose(args, expected, got)`` names the
+    catalogued misconception behind a failing input (see :mod:`.misconceptions`);
+    ``compare(expected, got)`` replaces the default comparison :func:`same`; ``show_expected`` words the
+    library's answer in a message (default: :func:`~.core.show`).  ``read_back(args, state)``, for a
+    function that changes its arguments (a slave storing a write), gives the arguments of a second call
+    that reads the state back (``state``: the arguments after the first call), or None.
+
+    ``refuses`` lists ``(wrong function, misconception key)`` pairs: each must fail, naming that
+    misconception.  ``wrong`` is a plausible wrong function (by default the first of ``refuses``)."""
     if count < 100:
         raise ValueError(f"exercise {key}: a build exercise tries at least 100 generated inputs")
-    checker = BuildChecker(key, reference, inputs, edge_cases, count, diagnose, compare, time_limit)
-    return register(Exercise(key, title, hint, checker, wrong, kind="build"))
+    refuses = tuple((function, misconception) for function, misconception in refuses)
+    if wrong is None:
+        if not refuses:
+            raise ValueError(f"exercise {key}: give a wrong function (wrong= or refuses=)")
+        wrong = refuses[0][0]
+    checker = BuildChecker(key, reference, inputs, edge_cases, count, diagnose, compare, time_limit,
+                           read_back,
+                           show_expected)
+    return register(Exercise(key, title, hint, checker, wrong, kind="build", refuses=refuses))

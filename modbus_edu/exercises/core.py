@@ -25,7 +25,8 @@ from typing import Any
 from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
-from ..framing import parse_hex
+from ..framing import RtuFrame, parse_hex
+from .misconceptions import CATALOGUE, diagnose
 
 PLACEHOLDER = ...
 """What an unanswered exercise cell holds: the Ellipsis, ``...``."""
@@ -47,6 +48,11 @@ class Exercise:
 
     ``kind`` is ``"value"`` when the learner gives a value (a number, some bytes) and ``"build"`` when the
     learner writes a function that the checker runs against the library on many inputs.
+
+    ``accepts`` are answers the checker must take as right (the spellings a learner may use);
+    ``refuses`` are ``(answer, misconception)`` pairs: a wrong answer (or a wrong function, for a build
+    exercise) and the key of :data:`~.misconceptions.CATALOGUE` its verdict must name, or None for a
+    wrong answer that is no catalogued misconception.  The test suite runs both tables.
     """
 
     key: str
@@ -55,6 +61,8 @@ class Exercise:
     checker: Callable[[Any], str | None]
     wrong: Any
     kind: str = "value"
+    accepts: tuple = ()
+    refuses: tuple = ()
 
     @property
     def solution(self) -> str:
@@ -89,19 +97,34 @@ def register(item: Exercise) -> Exercise:
         raise ValueError(f"exercise {item.key} is registered twice")
     if item.kind not in ("value", "build"):
         raise ValueError(f"exercise {item.key}: kind is 'value' or 'build', not {item.kind!r}")
+    for _answer, key in item.refuses:
+        if key is not None and key not in CATALOGUE:
+            raise ValueError(f"exercise {item.key}: {key!r} is not in the catalogue of misconceptions")
     EXERCISES[item.key] = item
     return item
 
 
-def exercise(key: str, title: str, *, hint: str, wrong: Any) -> Callable:
+_NO_ANSWER = object()
+
+
+def exercise(key: str, title: str, *, hint: str, wrong: Any = _NO_ANSWER, accepts: Any = (),
+             refuses: Any = ()) -> Callable:
     """Register a value exercise's checker under ``key`` (decorator).
 
     The checker takes the learner's answer and returns None when it is right, or a sentence saying
-    what is wrong.  ``wrong`` is a plausible wrong answer: the test suite checks that it is refused.
+    what is wrong.  ``accepts`` lists answers that must be taken as right (other spellings of the
+    answer); ``refuses`` lists ``(wrong answer, misconception key or None)`` pairs: each must be refused,
+    and its verdict must name that misconception of the catalogue.  ``wrong`` is a plausible wrong answer
+    (by default the first of ``refuses``).
     """
+    refuses = tuple((answer, misconception) for answer, misconception in refuses)
+    if wrong is _NO_ANSWER:
+        if not refuses:
+            raise ValueError(f"exercise {key}: give a wrong answer (wrong= or refuses=)")
+        wrong = refuses[0][0]
 
     def decorate(checker: Callable[[Any], str | None]) -> Callable[[Any], str | None]:
-        register(Exercise(key, title, hint, checker, wrong))
+        register(Exercise(key, title, hint, checker, wrong, accepts=tuple(accepts), refuses=refuses))
         return checker
 
     return decorate
@@ -265,23 +288,20 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
                   what: str = "the answer") -> str | None:
     """None if ``answer`` equals ``expected`` to ``decimals`` decimals; otherwise what is wrong.
 
-    Names the usual slips: seconds given where milliseconds were asked (or the reverse), a fraction
-    where a percentage was asked (or the reverse), and a near miss ("close: give 2 decimals")."""
+    Names the usual slips from the catalogue: seconds given where milliseconds were asked (or the
+    reverse), a fraction where a percentage was asked (or the reverse); and a near miss ("close: give 2
+    decimals")."""
     got = real_answer(answer, what)
     if isinstance(got, str):
         return got
     tolerance = 0.5 * 10 ** -decimals + 1e-12
     if abs(got - expected) <= tolerance:
         return None
-    def near(a: float, b: float) -> bool:
-        return abs(a - b) <= max(tolerance, 2e-3 * abs(b))
-
-    slips = {1000: ("seconds", "milliseconds", "ms"), 100: ("a fraction", "a percentage", "%")}
-    for factor, (small, large, large_unit) in slips.items():
-        if expected and unit == large_unit and near(got * factor, expected):
-            return f"you gave {small}; the question asks for {large} ({unit})."
-        if expected and unit in ("s", "") and near(got / factor, expected):
-            return f"you gave {large}; the question asks for {small}" + (f" ({unit})." if unit else ".")
+    slips = {"ms": ("seconds-for-milliseconds",), "%": ("fraction-for-percentage",),
+             "s": ("milliseconds-for-seconds",), "": ("percentage-for-fraction",)}
+    named = diagnose(slips.get(unit, ()), got, expected) if expected else None
+    if named:
+        return named
     if abs(got - expected) <= max(10 * tolerance, 0.01 * abs(expected)):
         places = "a whole number" if decimals == 0 else f"{decimals} decimal{'s' * (decimals > 1)}"
         return f"close: give {places}."
@@ -302,76 +322,52 @@ def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
     return f"{what} has {len(got)} bytes, it should have {len(expected)}."
 
 
-def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str) -> str | None:
-    """Like :func:`compare_bytes` for an RTU frame, with the message ``swapped`` for the classic slip:
-    the right frame with its two CRC bytes the wrong way round."""
+def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | None = None) -> str | None:
+    """Like :func:`compare_bytes` for an RTU frame, naming the classic slip from the catalogue: the right
+    frame with its two CRC bytes the wrong way round (``swapped``, when given, is added to that verdict)."""
     got = as_bytes(answer)
-    if len(got) == len(expected) > 2 and got == expected[:-2] + expected[-2:][::-1] and got != expected:
-        return swapped
+    named = diagnose("crc-swapped", got, expected)
+    if named:
+        return f"{named} {swapped}" if swapped else named
     return compare_bytes(got, expected, what)
+
+
+def pdu_address_diagnosis(got: Any, expected: bytes) -> str | None:
+    """Name an address slip (from 1, a reference number) in a request PDU that is otherwise right."""
+    got = bytes(got) if isinstance(got, (bytes, bytearray)) else b""
+    if len(got) == len(expected) >= 5 and got[:1] == expected[:1] and got[3:] == expected[3:]:
+        return address_diagnosis(int.from_bytes(got[1:3], "big"), int.from_bytes(expected[1:3], "big"))
+    return None
+
+
+def rtu_request_diagnosis(answer: Any, expected: bytes) -> str | None:
+    """Name the catalogued slips in an RTU request frame: no CRC, or an address counted from 1 or given as
+    a reference number (in an otherwise right frame with a right CRC)."""
+    got = as_bytes(answer)
+    if got == expected[:-2]:
+        return diagnose("crc-forgotten", len(got), len(expected))
+    if len(got) == len(expected) >= 8 and got[:2] == expected[:2] and got[4:-2] == expected[4:-2]:
+        try:
+            RtuFrame.decode(got)
+        except ModbusError:
+            return None
+        return address_diagnosis(int.from_bytes(got[2:4], "big"), int.from_bytes(expected[2:4], "big"))
+    return None
 
 
 def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU") -> str | None:
     """Like :func:`compare_bytes` for a PDU, naming the slip of giving a whole frame instead."""
     got = as_bytes(answer)
-    if got != expected and len(got) > len(expected) and expected in got:
-        return ("you gave a whole frame; the PDU is only the function code and its data, without the "
-                "unit, the header or the checksum.")
-    return compare_bytes(got, expected, what)
+    return diagnose("frame-for-pdu", got, expected) or compare_bytes(got, expected, what)
 
 
 def address_diagnosis(got: int, expected: int) -> str | None:
-    """Name the address slips: counting from 1, or giving a reference number (4xxxx, 3xxxx, ...)."""
-    if got == expected + 1:
-        return (f"{got} counts from 1; the address on the wire counts from 0 (the first register is "
-                "address 0), so subtract 1.")
-    for prefix in (100001, 400001, 300001, 10001, 40001, 30001, 1):
-        if prefix > 1 and got == prefix + expected:
-            return f"{got} is a reference number (as a datasheet writes it); the question asks for the " \
-                   "address on the wire."
-    return None
-
-
-def reflected(value: int, width: int) -> int:
-    """``value``'s lowest ``width`` bits in reverse order."""
-    return int(f"{value:0{width}b}"[::-1], 2)
-
-
-def crc16_reflected(data: bytes, initial: int = 0xFFFF) -> int:
-    """The reflected CRC-16 (polynomial 0xA001) bit by bit, from any starting register: 0xFFFF is
-    CRC-16/MODBUS, 0 is CRC-16/ARC (the slip checkers name)."""
-    register = initial
-    for byte in data:
-        register ^= byte
-        for _ in range(8):
-            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
-    return register
+    """Name the address slips from the catalogue: counting from 1, or giving a reference number."""
+    return diagnose(("one-based-address", "reference-number"), got, expected)
 
 
 def crc_diagnosis(data: bytes, got: Any) -> str | None:
-    """Name the CRC slips: a result in bytes, the bytes swapped, CRC-16/ARC (register started at 0),
-    or the unreflected (MSB-first) variant."""
-    expected = crc16(data)
-    if isinstance(got, (bytes, bytearray)):
-        return ("your function returns bytes; return the CRC register as an int (e.g. 0x4B37), the library "
-                "turns it into the two wire bytes.")
-    if isinstance(got, bool) or not isinstance(got, int):
-        return None
-    if not data:
-        return ("with no data the CRC is just the register's starting value: Modbus starts it at 0xFFFF."
-                if got == 0 else None)
-    if got == ((expected & 0xFF) << 8 | expected >> 8) and got != expected:
-        return ("your result has its two bytes swapped: return the register value itself; only on the wire "
-                "does the low byte go first.")
-    if got == crc16_reflected(data, initial=0) and got != expected:
-        return ("that is CRC-16/ARC: the same polynomial, but its register starts at 0x0000. Modbus starts "
-                "the register at 0xFFFF.")
-    register = 0xFFFF
-    for byte in data:
-        register ^= byte << 8
-        for _ in range(16 - 8):
-            register = ((register << 1) ^ 0x8005) & 0xFFFF if register & 0x8000 else (register << 1) & 0xFFFF
-    if got in (register, reflected(register, 16)) and got != expected:
-        return ("you shifted left with the polynomial 0x8005 (most significant bit first). Modbus's CRC is "
-                "reflected: shift right and XOR with 0xA001, 0x8005's bits reversed.")
-    return None
+    """Name the CRC slips from the catalogue: a result in bytes, the bytes swapped, the register started
+    at 0 (CRC-16/ARC), or the unreflected (MSB-first) variant."""
+    return (diagnose("crc-as-bytes", got) or diagnose("crc-swapped", got, crc16(data))
+            or diagnose(("crc-initial-zero", "crc-msb-first"), data, got))

@@ -6,12 +6,13 @@ from typing import Any
 
 from ..framing import RtuFrame, TcpFrame, parse_hex
 from ..pdu import ReadHoldingRegistersRequest
-from .core import as_bytes, compare_bytes, compare_rtu_frame, exercise, int_answer
+from .core import as_bytes, compare_bytes, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
+from .misconceptions import diagnose
 
 
 @exercise("00.1", "the slave address of a frame",
           hint="the first byte of an RTU frame is the slave address; the bytes are written in hexadecimal.",
-          wrong=11)
+          accepts=[17, 0x11], refuses=[(11, "hex-read-as-decimal"), (3, None)])
 def _check_00_1(answer: Any) -> str | None:
     text = "11 03 00 6B 00 03 76 87"
     expected = RtuFrame.decode(parse_hex(text)).unit
@@ -21,29 +22,34 @@ def _check_00_1(answer: Any) -> str | None:
     if got == expected:
         return None
     first = text.split()[0]
-    if got == int(first):
-        return (f"{got} reads the hex digits '{first}' as a decimal number; the byte is 0x{first}, "
-                f"which is {expected} in decimal (int('{first}', 16)).")
+    named = diagnose("hex-read-as-decimal", got, first)
+    if named:
+        return named
     return f"the first byte is 0x{first}; {got} is 0x{got:02X}."
 
 
 @exercise("00.2", "the PDU inside a Modbus/TCP frame",
           hint="a Modbus/TCP frame is a 7-byte MBAP header (transaction, protocol, length, unit) followed by "
                "the PDU; the PDU starts with the function code.",
-          wrong="01 03 00 00 00 01")
+          accepts=["03 00 6B 00 03", "03006b0003", bytes.fromhex("03 00 6B 00 03"), [3, 0, 0x6B, 0, 3]],
+          refuses=[("11 03 00 6B 00 03", "unit-in-pdu"), ("00 07 00 00 00 06 11 03 00 6B 00 03",
+                                                          "frame-for-pdu"),
+                   ("03 00 00 00 01", None)])
 def _check_00_2(answer: Any) -> str | None:
-    frame = parse_hex("01 18 00 00 00 06 01 03 00 00 00 01")
+    frame = parse_hex("00 07 00 00 00 06 11 03 00 6B 00 03")
     expected = TcpFrame.decode(frame).pdu.encode()
     got = as_bytes(answer)
-    if got == frame[6:]:
-        return "you included the unit identifier (byte 6): it belongs to the MBAP header, not to the PDU."
-    return compare_bytes(got, expected, "the PDU")
+    return (diagnose("unit-in-pdu", got, expected, frame[6]) or diagnose("frame-for-pdu", got, expected)
+            or compare_bytes(got, expected, "the PDU"))
 
 
 @exercise("00.3", "build your first RTU frame",
           hint="mb.RtuFrame(unit=..., pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode()",
-          wrong="02 03 00 00 00 02 38 C4")
+          accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
+          refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
+                                                                "one-based-address"),
+                   ("02 03 00 00 00 02", "crc-forgotten")])
 def _check_00_3(answer: Any) -> str | None:
     expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
-    return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
-                             "the low byte goes first.")
+    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")
+

@@ -13,19 +13,24 @@ from ..pdu import (
     WriteMultipleRegistersRequest,
 )
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise, int_answer
+from .core import address_diagnosis, as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis
+from .misconceptions import diagnose, name
 
 
 @exercise("02.1", "build a Write Multiple Registers PDU",
           hint="function 16 (0x10): address (2 bytes), quantity (2 bytes), byte count (1 byte), then the "
                "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
-          wrong="10 00 01 00 02 00 0A 01 02")
+          accepts=["10 00 04 00 02 04 01 F4 03 E8", "10000400020401f403e8",
+                   bytes.fromhex("10 00 04 00 02 04 01 F4 03 E8")],
+          refuses=[("10 00 04 00 02 01 F4 03 E8", "byte-count-missing"),
+                   ("10 00 05 00 02 04 01 F4 03 E8", "one-based-address"),
+                   ("10 00 01 00 02 04 00 0A 01 02", None)])
 def _check_02_1(answer: Any) -> str | None:
-    expected = WriteMultipleRegistersRequest(address=1, values=(10, 258)).encode()
+    expected = WriteMultipleRegistersRequest(address=4, values=(500, 1000)).encode()
     got = as_bytes(answer)
-    if len(got) == len(expected) - 1 and got[:5] == expected[:5] and got[5:] == expected[6:]:
-        return ("the byte count (one byte, the number of data bytes that follow) is missing after "
-                "the quantity.")
+    named = diagnose("byte-count-missing", got, expected) or pdu_address_diagnosis(got, expected)
+    if named:
+        return named
     if got == expected[1:]:
         return "the PDU starts with the function code."
     return compare_bytes(got, expected, "your PDU")
@@ -33,7 +38,7 @@ def _check_02_1(answer: Any) -> str | None:
 
 @exercise("02.2", "how many requests to read 300 registers",
           hint="one Read Holding Registers request reads at most mb.MAX_READ_REGISTERS registers.",
-          wrong=2)
+          accepts=[3], refuses=[(2, None), (4, None)])
 def _check_02_2(answer: Any) -> str | None:
     expected = -(-300 // MAX_READ_REGISTERS)
     got = int_answer(answer, "a number of requests")
@@ -49,13 +54,21 @@ def _check_02_2(answer: Any) -> str | None:
 @exercise("02.3", "the exception response for a missing address",
           hint="an exception response is two bytes: the function code with its top bit set (+ 0x80), "
                "then the exception code; mb.ExceptionCode lists the codes.",
-          wrong="03 02")
+          accepts=["84 02", "8402", bytes([0x84, 0x02]), [132, 2]],
+          refuses=[("04 02", "exception-bit-missing"), ("84 01", "illegal-function-for-address"),
+                   ("83 02", "holding-for-input"), ("84 03", None)])
 def _check_02_3(answer: Any) -> str | None:
-    expected = ExceptionResponse(function=3, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
+    expected = ExceptionResponse(function=4, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
     got = as_bytes(answer)
     if len(got) == 2 and got[0] == expected[0] & 0x7F:
-        return ("the first byte must have its top bit set (function code + 0x80): that is what marks "
-                "an exception.")
+        return name("exception-bit-missing")
+    if len(got) == 2 and got[0] & 0x80 and got[1] == expected[1]:
+        named = diagnose("holding-for-input", got[0] & 0x7F, expected[0] & 0x7F)
+        if named:
+            return f"0x{got[0]:02X} answers function {got[0] & 0x7F}; {named}"
+    if len(got) == 2 and got[0] == expected[0] and diagnose("illegal-function-for-address", got[1],
+                                                            expected[1]):
+        return name("illegal-function-for-address")
     if len(got) == 2 and got[0] == expected[0] and got[1] != expected[1]:
         return f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'."
     return compare_bytes(got, expected, "your exception response")
@@ -64,7 +77,8 @@ def _check_02_3(answer: Any) -> str | None:
 @exercise("02.4", "which coils are ON",
           hint="in a read-bits response the first coil is the least significant bit (the rightmost) of "
                "the first data byte; 0x05 = 0000 0101 in binary.",
-          wrong=[5, 7])
+          accepts=[[0, 2], (2, 0), {0, 2}],
+          refuses=[([5, 7], "bits-from-the-left"), ([1, 3], "one-based-address"), ([0], None)])
 def _check_02_4(answer: Any) -> str | None:
     bits = ReadCoilsResponse.decode(bytes([0x01, 0x01, 0x05])).bits
     expected = [address for address, bit in enumerate(bits) if bit]
@@ -74,8 +88,11 @@ def _check_02_4(answer: Any) -> str | None:
         return "answer with a list of coil addresses, e.g. [1, 4]."
     if got == expected:
         return None
-    if got == sorted(7 - a for a in expected):
-        return "you read the bits from the left; the first coil is the rightmost (least significant) bit."
+    named = diagnose("bits-from-the-left", got, expected)
+    if named:
+        return named
+    if len(got) == len(expected) and all(a == b + 1 for a, b in zip(got, expected)):
+        return address_diagnosis(got[0], expected[0])
     return f"{got} are not the coils that are ON."
 
 
@@ -98,4 +115,9 @@ build_exercise(
     hint="the PDU is the function code 3, then the address and the count, each as two bytes high byte first: "
          "bytes([3]) + address.to_bytes(2, 'big') + count.to_bytes(2, 'big'). Refuse (raise) a count outside "
          "1..125 or a range past address 65535.",
-    wrong=lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"))
+    refuses=[(lambda address, count: bytes([3]) + (address + 1).to_bytes(2, "big") + count.to_bytes(2, "big"),
+              "one-based-address"),
+             (lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"),
+              None)],
+    diagnose=lambda args, expected, got: pdu_address_diagnosis(got, expected)
+    if isinstance(got, bytes) and isinstance(expected, bytes) else None)

@@ -13,42 +13,44 @@ from .core import (
     as_bytes,
     compare_bytes,
     compare_rtu_frame,
-    crc16_reflected,
     crc_diagnosis,
     exercise,
     int_answer,
+    rtu_request_diagnosis,
 )
+from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
 
 
 @exercise("03.1", "a CRC in wire order",
           hint="mb.crc16(data) gives the register value; on the wire its low byte goes first "
                "(mb.crc_bytes(data) gives both bytes in wire order).",
-          wrong="87 76")
+          accepts=["B2 98", "b298", b"\xb2\x98", [0xB2, 0x98]],
+          refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None)])
 def _check_03_1(answer: Any) -> str | None:
-    expected = crc_bytes(parse_hex("11 03 00 6B 00 03"))
+    expected = crc_bytes(parse_hex("11 04 00 08 00 01"))
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
     got = as_bytes(answer)
-    if got == expected[::-1]:
-        return "these are the right bytes in the wrong order: the low byte of the CRC goes first."
-    return compare_bytes(got, expected, "your CRC")
+    return diagnose("crc-swapped", got, expected) or compare_bytes(got, expected, "your CRC")
 
 
 @exercise("03.2", "build an RTU frame",
           hint="mb.RtuFrame(unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., value=...)).encode(); "
                "the address goes in the frame as it is: 2 is sent as 00 02.",
-          wrong="01 06 00 02 12 34 7D 25")
+          accepts=["01 06 00 02 12 34 25 7D", "01060002123425 7d", bytes.fromhex("010600021234257D")],
+          refuses=[("01 06 00 02 12 34 7D 25", "crc-swapped"), ("01 06 00 03 12 34 74 BD",
+                                                                "one-based-address"),
+                   ("01 06 00 02 12 34", "crc-forgotten"), ("01 06 00 02 12 34 25 7E", None)])
 def _check_03_2(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
-    return compare_rtu_frame(answer, expected, "your frame", "the CRC bytes are in the wrong order: "
-                             "the low byte goes first.")
+    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")
 
 
 @exercise("03.3", "will the slave answer?",
           hint="a slave answers only a frame whose CRC is right; check it with mb.RtuFrame.decode or "
                "mb.explain. Answer True or False.",
-          wrong=True)
+          accepts=[False], refuses=[(True, "answer-to-damaged-request"), ("no", None)])
 def _check_03_3(answer: Any) -> str | None:
     try:
         RtuFrame.decode(parse_hex("11 03 00 6B 00 03 76 86"))
@@ -59,31 +61,36 @@ def _check_03_3(answer: Any) -> str | None:
         return "answer True or False."
     if answer == expected:
         return None
-    return ("look at the CRC: the frame carries 0x8676, but the CRC of its first six bytes is different. "
-            "A slave cannot trust a frame with a wrong CRC, not even its address, so it stays silent.")
+    return (name("answer-to-damaged-request") + " Here the frame carries 0x8676, but the CRC of its first "
+            "six bytes is different.")
 
 
 @exercise("03.4", "the length of an FC3 response",
           hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
                "+ 2 bytes per register + CRC (2).",
-          wrong=23)
+          accepts=[45], refuses=[(43, "crc-forgotten"), (25, "register-one-byte"), (44, None)])
 def _check_03_4(answer: Any) -> str | None:
-    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode())
+    expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 20)).encode())
     got = int_answer(answer, "a number of bytes")
     if isinstance(got, str):
         return got
     if got == expected:
         return None
-    if got == expected - 2:
-        return "you forgot the two CRC bytes at the end."
-    if got == expected - 10:
-        return "each register is two bytes."
+    named = diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 20)
+    if named:
+        return named
     return f"{got} bytes is not the length of that response."
 
 
 def _crc_without_final_step(data: bytes) -> int:
     """A plausible wrong CRC: the right loop, but the register starts at 0 (CRC-16/ARC)."""
     return crc16_reflected(data, initial=0)
+
+
+def _crc_swapped(data: bytes) -> int:
+    """A plausible wrong CRC: the register with its two bytes swapped, as they travel."""
+    value = crc16(data)
+    return (value & 0xFF) << 8 | value >> 8
 
 
 build_exercise(
@@ -93,5 +100,7 @@ build_exercise(
     edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),)],
     hint="start with register = 0xFFFF; for each byte: register ^= byte, then 8 times: if the lowest bit is "
          "1, shift right and XOR with 0xA001, else just shift right. Return the register.",
-    wrong=_crc_without_final_step,
+    refuses=[(_crc_without_final_step, "crc-initial-zero"), (_crc_swapped, "crc-swapped"),
+             (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
+                                                    "crc-as-bytes")],
     diagnose=lambda args, expected, got: crc_diagnosis(args[0], got))

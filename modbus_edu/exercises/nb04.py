@@ -7,17 +7,19 @@ from typing import Any
 from ..crc import lrc
 from ..crc import lrc as _library_lrc
 from ..datamodel import parse_reference
-from ..framing import AsciiFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest
-from ..values import decode_value
+from ..framing import AsciiFrame, RtuFrame, parse_hex
+from ..pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise, int_answer
+from .core import AnswerError, address_diagnosis, as_bytes, compare_bytes, exercise, int_answer
+from .misconceptions import diagnose, name
 
 
 @exercise("04.1", "an LRC by hand",
           hint="add the bytes, keep the low 8 bits, then take the two's complement: (256 - sum) % 256; "
                "mb.lrc(data) does it all.",
-          wrong=0x82)
+          accepts=[0x7E, 126],
+          refuses=[(0x82, "lrc-plain-sum"), (0x7D, "lrc-ones-complement"), (0xA0, "lrc-of-characters"),
+                   (0x7F, None)])
 def _check_04_1(answer: Any) -> str | None:
     data = parse_hex("11 03 00 6B 00 03")
     expected = lrc(data)
@@ -26,62 +28,86 @@ def _check_04_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    if got == sum(data) & 0xFF:
-        return f"0x{got:02X} is the 8-bit sum; the LRC is its two's complement (256 minus the sum)."
-    if got == lrc(data.hex().upper().encode("ascii")):
-        return "you added the hex characters; the LRC adds the bytes they stand for."
+    named = diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters"), data, got)
+    if named:
+        return named
     return f"0x{got:02X} is not the LRC of 11 03 00 6B 00 03."
 
 
 @exercise("04.2", "build an ASCII frame",
           hint="44097 is holding register number 4097, address 4096 = 0x1000; mb.AsciiFrame(unit=..., "
                "pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode().",
-          wrong=":050310010002E5\r\n")
+          accepts=[":050310000002E6\r\n", b":050310000002E6\r\n", ":050310000002e6\r\n",
+                   r":050310000002E6\r\n", list(b":050310000002E6\r\n")],
+          refuses=[(":050310000002E6", "ascii-without-crlf"), (b":050310000002E6", "ascii-without-crlf"),
+                   (":050310010002E5\r\n", "one-based-address"), (":050310000002E5\r\n", None)])
 def _check_04_2(answer: Any) -> str | None:
     address = parse_reference("44097").address
     expected = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address, count=2)).encode()
-    got = as_bytes(answer)
-    if got == expected[:-2]:
-        return "an ASCII frame ends with CR LF (b'\\r\\n')."
+    got = ascii_frame_answer(answer)
+    named = diagnose("ascii-without-crlf", got, expected)
+    if named:
+        return named
     off_by_one = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address + 1, count=2)).encode()
     if got.upper() == off_by_one:
-        return "the address is the register number minus one: 44097 is number 4097, address 4096."
+        return address_diagnosis(address + 1, address)
     if got.upper() == expected:
         return None  # lowercase hex digits are allowed too
     return compare_bytes(got, expected, "your frame")
 
 
-@exercise("04.3", "a 32-bit value in two registers",
-          hint="the first register holds the high 16 bits: value = first x 65536 + second; "
-               "mb.decode_value(registers, 'uint32', 'ABCD').",
-          wrong=57920)
+def ascii_frame_answer(answer: Any) -> bytes:
+    """An ASCII frame exactly as the learner wrote it: text starting with ':' is taken character for
+    character (a typed backslash-r backslash-n counts as CR LF), so a missing CR LF stays missing."""
+    if isinstance(answer, str) and answer.lstrip().startswith(":"):
+        text = answer.strip(" \t").replace("\\r", "\r").replace("\\n", "\n")
+        if len(text) > 600 or not text.isascii():
+            raise AnswerError("an ASCII frame is a short text of ':', hex digits and CR LF.")
+        return text.encode("ascii")
+    return as_bytes(answer)
+
+
+@exercise("04.3", "the length of an ASCII response",
+          hint="an ASCII frame writes each byte (address, PDU, LRC) as two characters, between ':' and "
+               "CR LF; the response to a read of 3 registers has the address, function code, byte count, "
+               "6 data bytes and the LRC. len(mb.AsciiFrame(unit=5, pdu=...).encode()) counts them.",
+          accepts=[23, 0x17],
+          refuses=[(21, "ascii-without-crlf"), (11, None), (10, None), (22, None), (25, None), (17, None)])
 def _check_04_3(answer: Any) -> str | None:
-    registers = [0x0001, 0xE240]
-    expected = decode_value(registers, "uint32", "ABCD")
-    got = int_answer(answer, "the value")
+    pdu = ReadHoldingRegistersResponse(registers=(0, 0, 0))
+    expected = len(AsciiFrame(unit=5, pdu=pdu).encode())
+    rtu = len(RtuFrame(unit=5, pdu=pdu).encode())
+    got = int_answer(answer, "a number of characters")
     if isinstance(got, str):
         return got
     if got == expected:
         return None
-    if got == registers[1]:
-        return "that is only the second register; the first one holds the high 16 bits."
-    if got == decode_value(registers, "uint32", "CDAB"):
-        return "you took the second register as the high half; here the first register is the high one."
-    return f"{got} is not the value of the registers 0x0001 0xE240."
+    if got == rtu:
+        return f"{rtu} is the length of the RTU frame, in bytes; ASCII writes every byte as two characters."
+    if got == rtu - 1:
+        return "that is the number of bytes (address, PDU, LRC); ASCII writes each as two characters."
+    if got == expected - 2:
+        return name("ascii-without-crlf") + " Those two characters count too."
+    if got == expected - 1:
+        return "the ':' that starts the frame counts too."
+    if got == 2 * rtu + 3:
+        return "an ASCII frame carries a 1-byte LRC, not RTU's 2-byte CRC."
+    return f"{got} is not the number of characters from ':' to CR LF."
 
 
 @exercise("04.4", "the PDU inside an ASCII frame",
           hint="decode the frame (mb.AsciiFrame.decode(frame, role='response')) and encode its .pdu; "
                "the PDU starts with the function code, after the address.",
-          wrong="05 03 04 FF 06 00 64")
+          accepts=["03 04 FF 06 00 64", "0304ff060064", bytes.fromhex("0304FF060064")],
+          refuses=[("05 03 04 FF 06 00 64", "unit-in-pdu"), ("03 04 FF 06 00 64 8B", "frame-for-pdu"),
+                   ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None)])
 def _check_04_4(answer: Any) -> str | None:
     frame = AsciiFrame.decode(parse_hex(":050304FF0600648B"), role="response")
     expected = frame.pdu.encode()
     got = as_bytes(answer)
-    if got == bytes([frame.unit]) + expected:
-        return "the first byte, 05, is the slave address: it belongs to the envelope, not to the PDU."
-    if got == expected + b"\x8B":
-        return "the last byte, 8B, is the LRC: it belongs to the envelope, not to the PDU."
+    named = diagnose("unit-in-pdu", got, expected, frame.unit) or diagnose("frame-for-pdu", got, expected)
+    if named:
+        return named
     if got[:1] == b":":
         return "give the bytes of the PDU, not the ASCII characters of the frame."
     return compare_bytes(got, expected, "your PDU")
@@ -92,11 +118,9 @@ def _lrc_inputs(rng) -> tuple:
 
 
 def _diagnose_lrc(args, expected, got) -> str | None:
-    total = sum(args[0]) & 0xFF
-    if got == total:
-        return "that is the 8-bit sum itself; the LRC is its two's complement, (-sum) & 0xFF."
-    if got == (~total) & 0xFF:
-        return "that is the one's complement (every bit inverted); the two's complement adds 1 to it."
+    named = diagnose(("lrc-plain-sum", "lrc-ones-complement"), args[0], got)
+    if named:
+        return named
     if isinstance(got, int) and got > 255:
         return "keep only the low 8 bits: & 0xFF."
     return None
@@ -107,4 +131,7 @@ build_exercise(
     reference=_library_lrc, inputs=_lrc_inputs,
     edge_cases=[(b"",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),), (b"\xff" * 3,)],
     hint="add up the bytes, keep the low 8 bits, and take the two's complement: (-sum(data)) & 0xFF.",
-    wrong=lambda data: sum(data) & 0xFF, diagnose=_diagnose_lrc)
+    refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,
+                                                                "lrc-ones-complement"),
+             (lambda data: -sum(data), None)],
+    diagnose=_diagnose_lrc)

@@ -14,12 +14,13 @@ from ..pdu import (
     decode_pdu,
 )
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise, int_answer
+from .core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis
+from .misconceptions import diagnose
 
 
 @exercise("05.1", "read a transaction id",
           hint="the transaction identifier is bytes 0-1 of the MBAP header, big-endian (high byte first).",
-          wrong=10752)
+          accepts=[42, 0x2A], refuses=[(10752, "mbap-little-endian"), (43, None)])
 def _check_05_1(answer: Any) -> str | None:
     frame = parse_hex("00 2A 00 00 00 06 11 03 00 6B 00 03")
     expected = TcpFrame.decode(frame).transaction_id
@@ -28,33 +29,43 @@ def _check_05_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    if got == int.from_bytes(frame[:2], "little"):
-        return "you read the two bytes low byte first; every MBAP field is big-endian."
+    named = diagnose("mbap-little-endian", got, expected)
+    if named:
+        return named
     return f"{got} is not the transaction id of that frame."
 
 
 @exercise("05.2", "build a Modbus/TCP frame",
           hint="mb.TcpFrame(transaction_id=..., unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., "
                "value=...)).encode(); the length field counts the unit identifier and the PDU.",
-          wrong="07 00 00 00 00 06 01 06 00 00 04 D2")
+          accepts=["00 07 00 00 00 06 01 06 00 00 04 D2", "0007000000060106000004d2",
+                   bytes.fromhex("00 07 00 00 00 06 01 06 00 00 04 D2")],
+          refuses=[("07 00 00 00 00 06 01 06 00 00 04 D2", "mbap-little-endian"),
+                   ("00 07 00 00 06 00 01 06 00 00 04 D2", "mbap-little-endian"),
+                   ("00 07 00 00 00 05 01 06 00 00 04 D2", "mbap-length"),
+                   ("00 07 00 00 00 08 01 06 00 00 04 D2 89 B5", "crc-on-tcp"),
+                   ("00 07 00 00 00 06 01 06 00 01 04 D2", "one-based-address"),
+                   ("00 07 00 00 00 06 01 06 00 00 04 D3", None)])
 def _check_05_2(answer: Any) -> str | None:
     pdu = WriteSingleRegisterRequest(address=0, value=1234)
     expected = TcpFrame(transaction_id=7, unit=1, pdu=pdu).encode()
     got = as_bytes(answer)
     if got == expected:
         return None
-    if len(got) == len(expected) and got[2:] == expected[2:] and got[:2] == expected[1::-1]:
-        return "the transaction id is written low byte first; every MBAP field is big-endian."
+    named = diagnose(("mbap-little-endian", "crc-on-tcp"), got, expected) or (
+        pdu_address_diagnosis(got[7:], expected[7:]) if got[:7] == expected[:7] else None)
+    if named:
+        return named
     if len(got) == len(expected) and got[:4] == expected[:4] and got[6:] == expected[6:]:
-        return (f"the length field is wrong: it counts the bytes after it, the unit identifier and the PDU "
-                f"({expected[5]} bytes), big-endian.")
-    return compare_bytes(got, expected, "your frame")
+        return (diagnose("mbap-length", int.from_bytes(got[4:6], "big"), expected[5])
+                or f"the length field is wrong: it counts the unit identifier and the PDU ({expected[5]}).")
+    return diagnose("crc-on-tcp", got, expected) or compare_bytes(got, expected, "your frame")
 
 
 @exercise("05.3", "the MBAP length of a response",
           hint="the length counts the bytes after the length field: unit identifier (1) + function code (1) "
                "+ byte count (1) + 2 bytes per register.",
-          wrong=22)
+          accepts=[23, 0x17], refuses=[(22, "mbap-length"), (29, "mbap-length"), (25, None)])
 def _check_05_3(answer: Any) -> str | None:
     frame = TcpFrame(transaction_id=1, unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode()
     expected = int.from_bytes(frame[4:6], "big")
@@ -63,29 +74,52 @@ def _check_05_3(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    if got == expected - 1:
-        return "the length also counts the unit identifier."
-    if got == len(frame):
-        return "that is the whole frame; the length counts only the bytes after the length field."
+    named = diagnose("mbap-length", got, expected)
+    if named:
+        return named
     return f"{got} is not the length field of that response."
 
 
 @exercise("05.4", "spot the wrong MBAP field",
           hint="decode the frame with mb.explain(frame, mode='tcp'): the row marked as a problem is the one. "
                "Answer with the field's name, e.g. 'protocol identifier'.",
-          wrong="transaction identifier")
+          accepts=["length", "Length field", "the length", "the length field", "LENGTH", "MBAP length",
+                   "length field (bytes 4-5)", "Length"],
+          refuses=[("transaction identifier", None), ("protocol id", None), ("unit identifier", None),
+                   ("lenght of the header", None), ("", None)])
 def _check_05_4(answer: Any) -> str | None:
     dissection = explain("01 18 00 00 06 00 01 03 00 00 00 01", mode="tcp")
+    fields = [row.field for row in dissection.rows]
     expected = next(row.field for row in dissection.rows if not row.ok)
     if not isinstance(answer, str):
         return "answer with the name of a field, as a string."
-    got = answer.strip().lower()
-    if got and (got == expected or (got in expected and len(got) >= 4)):
+    got = _field_name(answer, fields)
+    if got == expected:
         return None
-    if "transaction" in got:
+    if got is None:
+        return (f"{answer.strip()!r} is not the name of a field of that frame; its fields are "
+                f"{', '.join(fields)}.")
+    if got == "transaction identifier":
         return ("0x0118 is a perfectly good transaction id (big-endian, 280); look at the field that must "
                 "count the bytes that follow.")
-    return f"{answer!r} is right in that frame; another field is not."
+    return f"the {got} of that frame holds what it should; another field does not."
+
+
+def _field_name(answer: str, fields: list[str]) -> str | None:
+    """The field of ``fields`` that ``answer`` names ("the Length field", "protocol id", "MBAP length"),
+    or None."""
+    import re
+
+    words = [word for word in re.findall(r"[a-z]+", answer.lower())
+             if word not in ("the", "field", "mbap", "header", "s", "bytes", "byte")]
+    if not words:
+        return None
+    aliases = {"id": "identifier", "tid": "transaction identifier", "pid": "protocol identifier",
+               "len": "length"}
+    text = " ".join(aliases.get(word, word) for word in words)
+    matches = [field for field in fields if text == field or text in field.split()
+               or (len(text) >= 4 and field.startswith(text))]
+    return matches[0] if len(matches) == 1 else None
 
 
 def _mbap_header(tid: int, unit: int, pdu: bytes) -> bytes:
@@ -104,10 +138,11 @@ def _mbap_inputs(rng) -> tuple:
 def _diagnose_mbap(args, expected, got) -> str | None:
     if not isinstance(got, (bytes, bytearray)) or len(got) != 7:
         return None
-    if got[:2] == expected[1::-1] and got[2:] == expected[2:]:
-        return "your transaction id is low byte first; every MBAP field goes high byte first."
-    if got[:4] == expected[:4] and got[6] == expected[6] and int.from_bytes(got[4:6], "big") == len(args[2]):
-        return "the length counts the bytes after it: the unit identifier (1) and the PDU."
+    named = diagnose("mbap-little-endian", got, expected)
+    if named:
+        return named
+    if got[:4] == expected[:4] and got[6] == expected[6]:
+        return diagnose("mbap-length", int.from_bytes(got[4:6], "big"), int.from_bytes(expected[4:6], "big"))
     return None
 
 
@@ -118,6 +153,8 @@ build_exercise(
                 (65535, 255, bytes.fromhex("03 00 6B 00 03"))],
     hint="seven bytes: transaction id (2 bytes), protocol id 0 (2 bytes), length = 1 + len(pdu) (2 bytes), "
          "unit (1 byte); every 2-byte field high byte first: tid.to_bytes(2, 'big').",
-    wrong=lambda tid, unit, pdu: tid.to_bytes(2, "little") + bytes(2) + (len(pdu) + 1).to_bytes(2, "big")
-    + bytes([unit]),
+    refuses=[(lambda tid, unit, pdu: tid.to_bytes(2, "little") + bytes(2) + (len(pdu) + 1).to_bytes(2, "big")
+              + bytes([unit]), "mbap-little-endian"),
+             (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big")
+              + bytes([unit]), "mbap-length")],
     diagnose=_diagnose_mbap)

@@ -6,13 +6,14 @@ from typing import Any
 
 from ..crc import crc_bytes
 from ..datamodel import DataBank
-from ..errors import ModbusError, ModbusExceptionError
+from ..errors import ChecksumError, CrcError, ModbusError, ModbusExceptionError, ModbusTimeoutError
 from ..framing import RtuFrame
 from ..links.loopback import loopback_serial
 from ..master import Master
 from ..slave import Slave
 from .build import build_exercise
 from .core import exercise, int_answer, number_answer, real_answer
+from .misconceptions import diagnose, name
 
 
 def _one_read_time(baudrate: int, count: int) -> float:
@@ -25,7 +26,9 @@ def _one_read_time(baudrate: int, count: int) -> float:
 @exercise("06.1", "the time of one transaction",
           hint="request characters + 3.5 characters of silence + response characters + 3.5 characters, "
                "each character 10 bits at 9600 baud; or measure link.clock.now around a read.",
-          wrong=22.92)
+          accepts=[41.67, 41.6667, 41.666666],
+          refuses=[(0.04167, "seconds-for-milliseconds"), (34.38, "silences-forgotten"), (22.92, None),
+                   (45.0, None)])
 def _check_06_1(answer: Any) -> str | None:
     expected = _one_read_time(9600, 10) * 1000
     got = real_answer(answer, "a time in milliseconds")
@@ -33,13 +36,16 @@ def _check_06_1(answer: Any) -> str | None:
         return got
     if abs(got - _one_read_time(9600, 1) * 1000) <= 0.01:
         return "22.92 ms is the time for 1 register; this response carries 10 (20 more data bytes)."
+    named = diagnose("silences-forgotten", got, (8 + 25) * 10 / 9600 * 1000)
+    if named:
+        return named
     return number_answer(got, expected, decimals=2, unit="ms", what="the time of that transaction")
 
 
 @exercise("06.2", "an exception the master reports",
           hint="try it: master.write_single_coil(unit=1, address=0, value=True) inside try/except "
                "mb.ModbusExceptionError as error, and look at error.code.",
-          wrong=1)
+          accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, None)])
 def _check_06_2(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 20)
@@ -54,16 +60,17 @@ def _check_06_2(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    if got == 1:
-        return ("01 (illegal function) would mean the slave does not implement function 5 at all; it does, "
-                "but coil 0 does not exist in its bank.")
+    if diagnose("illegal-function-for-address", got, expected):
+        return (name("illegal-function-for-address") + " The slave implements function 5, but coil 0 does "
+                "not exist in its bank.")
     return f"exception code {got:02X} is not what the slave answers."
 
 
 @exercise("06.3", "the most transactions per second",
           hint="one transaction (FC3, 1 register) takes (8 + 3.5 + 7 + 3.5) characters; a character is "
                "10 bits at 8N1; at 19200 baud one bit takes 1/19200 s.",
-          wrong=43.6)
+          accepts=[87.3, 87.27],
+          refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (43.6, None), (80.0, None)])
 def _check_06_3(answer: Any) -> str | None:
     expected = 1 / _one_read_time(19200, 1)
     got = real_answer(answer, "a rate")
@@ -71,19 +78,24 @@ def _check_06_3(answer: Any) -> str | None:
         return got
     if abs(got - 1 / _one_read_time(9600, 1)) <= 0.1:
         return "that is the rate at 9600 baud; at 19200 every character takes half the time."
-    if abs(got - _one_read_time(19200, 1)) <= 1e-6:
-        return "that is the time of one transaction in seconds; the question asks how many fit in a second."
+    named = diagnose("time-for-rate", got, expected) or diagnose("silences-forgotten", got,
+                                                                 19200 / 10 / (8 + 7))
+    if named:
+        return named
     return number_answer(got, expected, decimals=1, what="the most transactions per second")
 
 
-@exercise("06.4", "what a wrong unit looks like",
-          hint="try it: read from unit 2 on a line where only slave 1 listens, inside try/except "
-               "mb.ModbusError as error, and give type(error).",
-          wrong=ModbusError)
+@exercise("06.4", "what a damaged request looks like",
+          hint="try it: on a loopback line with slave 1, call link.faults.flip_bits(1, target='request'), "
+               "then read from unit 1 inside try/except mb.ModbusError as error, and give type(error).",
+          accepts=[ModbusTimeoutError, ModbusTimeoutError("no answer")],
+          refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
+                   (ChecksumError, "answer-to-damaged-request"), ("timeout", None)])
 def _check_06_4(answer: Any) -> str | None:
-    master = Master(loopback_serial(Slave(unit=1)), timeout=0.5)
+    link = loopback_serial(Slave(unit=1))
+    link.faults.flip_bits(1, target="request")
     try:
-        master.read_holding_registers(unit=2, address=0, count=1)
+        Master(link, timeout=0.5).read_holding_registers(unit=1, address=0, count=1)
         return "the checker expected an error here and got none; please tell your teacher."
     except ModbusError as error:
         expected = type(error)
@@ -92,8 +104,10 @@ def _check_06_4(answer: Any) -> str | None:
         return None
     if isinstance(got, type) and issubclass(expected, got):
         return f"{got.__name__} is too general: which subclass exactly?"
-    return (f"{getattr(got, '__name__', got)} is not what the master raises: no slave 2 listens, so "
-            f"what does the master get back?")
+    if isinstance(got, type) and issubclass(got, ChecksumError):
+        return diagnose("answer-to-damaged-request", "checksum error", "timeout")
+    return (f"{getattr(got, '__name__', got)} is not what the master raises: the slave cannot trust the "
+            f"damaged request, so what does the master get back?")
 
 
 def _slave_answer(registers: list, pdu: bytes) -> bytes:
@@ -104,7 +118,27 @@ def _slave_answer(registers: list, pdu: bytes) -> bytes:
         bank.holding_registers[address] = value
     body = bytes([1]) + pdu
     request = body + crc_bytes(body)  # built by hand: a slave must also answer requests it refuses
-    return RtuFrame.decode(Slave(unit=1, bank=bank).handle(request, mode="rtu"), "response").pdu.encode()
+    answer = RtuFrame.decode(Slave(unit=1, bank=bank).handle(request, mode="rtu"), "response").pdu.encode()
+    registers[:] = bank.holding_registers.read(0, len(registers))  # what the slave stored, as a learner would
+    return answer
+
+
+def _read_it_back(args: tuple, state: tuple) -> tuple | None:
+    """After a write (FC 6) to a register that exists, the read (FC 3) of that register."""
+    registers, pdu = args
+    address = int.from_bytes(pdu[1:3], "big")
+    if pdu[:1] != b"\x06" or address >= len(registers):
+        return None
+    return state[0], bytes([3]) + pdu[1:3] + (1).to_bytes(2, "big")
+
+
+def _diagnose_handler(args, expected, got) -> str | None:
+    registers, pdu = args
+    address = int.from_bytes(pdu[1:3], "big")
+    if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
+        return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
+                        expected)
+    return None
 
 
 def _handler_inputs(rng) -> tuple:
@@ -119,6 +153,20 @@ def _handler_inputs(rng) -> tuple:
     return registers, pdu
 
 
+def _echo_without_storing(registers: list, pdu: bytes) -> bytes:
+    """A plausible wrong handler: right in every answer, but a write is only echoed, never stored."""
+    function, address = pdu[0], int.from_bytes(pdu[1:3], "big")
+    if function == 6:
+        return bytes(pdu) if address < len(registers) else bytes([0x86, 2])
+    count = int.from_bytes(pdu[3:5], "big")
+    if not 1 <= count <= 125:
+        return bytes([0x83, 3])
+    if address + count > len(registers):
+        return bytes([0x83, 2])
+    data = b"".join(value.to_bytes(2, "big") for value in registers[address:address + count])
+    return bytes([3, len(data)]) + data
+
+
 build_exercise(
     "06.5", "write a slave's request handler",
     reference=_slave_answer, inputs=_handler_inputs,
@@ -128,4 +176,6 @@ build_exercise(
     hint="read the function code; FC3: address and count (2 bytes each, high first), answer 03, byte count, "
          "the registers; FC6: store the value, answer with the request itself. An address outside the list "
          "gets the exception response bytes([function | 0x80, 2]); a count outside 1..125, code 3.",
-    wrong=lambda registers, pdu: bytes([3, 2]) + registers[0].to_bytes(2, "big"))
+    refuses=[(_echo_without_storing, "write-not-stored"),
+             (lambda registers, pdu: bytes([3, 2]) + registers[0].to_bytes(2, "big"), None)],
+    read_back=_read_it_back, diagnose=_diagnose_handler)

@@ -12,14 +12,16 @@ from ..master import Master
 from ..pdu import ExceptionCode, ExceptionResponse
 from ..slave import Slave
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise
+from .core import as_bytes, compare_rtu_frame, exercise
+from .misconceptions import diagnose, name
 
 
 @exercise("07.1", "read an exception response",
           hint="in a response, a function code of 0x80 or more is an exception: subtract 0x80 to get the "
                "request's function; the next byte is the exception code. mb.RtuFrame.decode(..., "
                "role='response').pdu reads it for you.",
-          wrong=(0x83, 2))
+          accepts=[(3, 2), [3, 2], (0x03, 0x02)],
+          refuses=[((0x83, 2), "exception-code-as-function"), ((3, 3), None), ((2, 3), None)])
 def _check_07_1(answer: Any) -> str | None:
     pdu = RtuFrame.decode(parse_hex("11 83 02 C1 34"), role="response").pdu
     expected = (pdu.function, pdu.code)
@@ -29,8 +31,7 @@ def _check_07_1(answer: Any) -> str | None:
     if isinstance(function, bool) or not isinstance(function, int) or not isinstance(code, int):
         return "both numbers should be ints, e.g. (1, 3)."
     if function == pdu.function_code:
-        return (f"0x{function:02X} is the function code *of the response*, with the exception bit set; "
-                "the request's function is that minus 0x80.")
+        return diagnose("exception-code-as-function", function, expected[0])
     if function != expected[0]:
         return f"the request's function is not {function}."
     if code != expected[1]:
@@ -41,18 +42,24 @@ def _check_07_1(answer: Any) -> str | None:
 @exercise("07.2", "build an exception response",
           hint="unit 17, function code 1 + 0x80, exception code 02 (illegal data address): "
                "mb.RtuFrame(unit=17, pdu=mb.ExceptionResponse(function=..., code=...)).encode()",
-          wrong="11 01 02 C1 34")
+          accepts=["11 81 02 C0 54", "118102c054", bytes.fromhex("11 81 02 C0 54")],
+          refuses=[("11 01 02 C1 34", "exception-bit-missing"), ("17 81 02 20 55", "decimal-written-as-hex"),
+                   ("11 81 02 54 C0", "crc-swapped"), ("11 81 01 80 55", "illegal-function-for-address"),
+                   ("11 81 03 01 94", None)])
 def _check_07_2(answer: Any) -> str | None:
     code = int(ExceptionCode.ILLEGAL_DATA_ADDRESS)
     expected = RtuFrame(unit=17, pdu=ExceptionResponse(function=1, code=code)).encode()
     got = as_bytes(answer)
-    if got[:1] == b"\x17":
-        return "17 is decimal: the slave address byte is 17 = 0x11, not 0x17."
+    named = diagnose("crc-swapped", got, expected) or (
+        diagnose("decimal-written-as-hex", got[0], expected[0]) if got else None)
+    if named:
+        return named
     if len(got) > 1 and got[1] == 0x01:
-        return "an exception response sets the top bit of the function code: 0x01 becomes 0x81."
+        return name("exception-bit-missing")
     if len(got) > 2 and got[1] == 0x81 and got[2] != expected[2]:
-        return f"exception code {got[2]:02X} is not the one for an address the slave does not have."
-    return compare_bytes(got, expected, "your exception response")
+        return (diagnose("illegal-function-for-address", got[2], expected[2])
+                or f"exception code {got[2]:02X} is not the one for an address the slave does not have.")
+    return compare_rtu_frame(got, expected, "your exception response")
 
 
 _OUTCOMES = ("valid", "exception", "timeout", "checksum error", "mismatch")
@@ -99,7 +106,13 @@ def _outcome_of(situation: str) -> str:
           hint="silence (no answer) is a timeout; a damaged answer is a checksum error; a refusal is an "
                "exception; an answer from the wrong unit is a mismatch. Try each on mb.loopback_serial "
                "with link.faults.",
-          wrong=dict.fromkeys(_SITUATIONS, "checksum error"))
+          accepts=[dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception", "mismatch"))),
+                   dict(zip(_SITUATIONS, ("Timeout", " timeout", "Checksum error", "EXCEPTION",
+                                          "mismatch")))],
+          refuses=[(dict.fromkeys(_SITUATIONS, "checksum error"), "answer-to-damaged-request"),
+                   (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception",
+                                           "timeout"))), None),
+                   (dict.fromkeys(_SITUATIONS, "valid"), None)])
 def _check_07_3(answer: Any) -> str | None:
     if not isinstance(answer, dict):
         return "answer with a dict {situation: outcome}, using the five situations of the exercise."
@@ -112,9 +125,9 @@ def _check_07_3(answer: Any) -> str | None:
             return f"{answer[situation]!r} is not one of {', '.join(_OUTCOMES)}."
         expected = _outcome_of(situation)
         if got != expected:
-            if expected == "timeout" and got == "checksum error":
-                return (f"{situation}: the slave cannot trust a damaged request or ignores one for another "
-                        "unit; it stays silent, so the master sees no frame to check.")
+            named = diagnose("answer-to-damaged-request", got, expected)
+            if named:
+                return f"{situation}: {named}"
             return f"{situation}: the master does not see {got!r}."
     return None
 
@@ -128,9 +141,12 @@ def _exception_inputs(rng) -> tuple:
 
 
 build_exercise(
-    "07.5", "write an exception response",
+    "07.4", "write an exception response",
     reference=_exception_pdu, inputs=_exception_inputs,
     edge_cases=[(3, 2), (16, 1), (1, 4), (127, 11)],
     hint="two bytes: the function code with its top bit set (function | 0x80, or function + 128) and the "
          "exception code.",
-    wrong=lambda function, code: bytes([function, code]))
+    refuses=[(lambda function, code: bytes([function, code]), "exception-bit-missing"),
+             (lambda function, code: bytes([function | 0x80, 2]), None)],
+    diagnose=lambda args, expected, got: diagnose("exception-bit-missing", got[0], expected[0])
+    if isinstance(got, bytes) and got else None)

@@ -7,13 +7,17 @@ from typing import Any
 from ..datamodel import DataBank, parse_reference, table_kind
 from ..devices.arduino import SLOW_LOOP, expected_answered_fraction, loop_time_experiment
 from .build import build_exercise
-from .core import exercise, real_answer
+from .core import address_diagnosis, exercise, real_answer
+from .misconceptions import diagnose, name
 
 
 @exercise("09.1", "function and address for a reference number",
           hint="3xxxx are input registers, read with function 4; the address in the frame is the number "
                "after the prefix minus one. mb.parse_reference('30010') does it.",
-          wrong=(4, 10))
+          accepts=[(4, 9), [4, 9], (0x04, 0x09)],
+          refuses=[((3, 9), "holding-for-input"), ((4, 10), "one-based-address"), ((4, 30009),
+                                                                                   "reference-number"),
+                   ((4, 30010), "reference-number"), ((4, 8), None)])
 def _check_09_1(answer: Any) -> str | None:
     ref = parse_reference("30010")
     function = next(fc for fc in (1, 2, 3, 4) if table_kind(fc) == ref.kind)
@@ -21,29 +25,28 @@ def _check_09_1(answer: Any) -> str | None:
         return "answer with a pair of ints: (function, address)."
     got_function, got_address = answer
     if got_function != function:
-        if got_function == 3:
-            return "function 3 reads holding registers (4xxxx); 3xxxx are input registers."
-        return f"function {got_function!r} does not read the table 30010 is in."
+        return (diagnose("holding-for-input", got_function, function)
+                or f"function {got_function!r} does not read the table 30010 is in.")
     if got_address != ref.address:
-        if got_address == ref.address + 1:
-            return "that is the register's number; the frame carries the address, which is one less."
-        if got_address == 30010 or got_address == 30009:
-            return "the prefix 3 only names the table; it is not part of the address."
-        return f"address {got_address!r} is not where 30010 is."
+        return address_diagnosis(got_address,
+                                 ref.address) or f"address {got_address!r} is not where 30010 is."
     return None
 
 
-def _registers_150_175_and_200_225_off_by_one() -> Any:
+def _bank_of(*runs: tuple[int, int]) -> Any:
+    """A sparse bank declaring holding registers at each (first address, count) of ``runs``."""
     bank = DataBank(sparse=True)
-    for first in (150, 200):
-        bank.holding_registers.declare(first, 26)
+    for first, count in runs:
+        bank.holding_registers.declare(first, count)
     return bank
 
 
 @exercise("09.2", "a sparse bank with holding registers 150-175 and 200-225",
           hint="board = ArduinoSlave(unit=1, sketch=False); for number in range(150, 176): "
                "board.add(40000 + number); the same for 200-225.",
-          wrong=_registers_150_175_and_200_225_off_by_one())
+          accepts=[_bank_of((149, 26), (199, 26))],
+          refuses=[(_bank_of((150, 26), (200, 26)), "one-based-address"),
+                   (_bank_of((149, 25), (199, 25)), "range-one-end"), (_bank_of((149, 26)), None)])
 def _check_09_2(answer: Any) -> str | None:
     bank = getattr(answer, "bank", answer)
     if not isinstance(bank, DataBank):
@@ -59,7 +62,10 @@ def _check_09_2(answer: Any) -> str | None:
     if got == expected:
         return None
     if got == [a + 1 for a in expected]:
-        return "off by one: register 150 is reference 40150, which is address 149."
+        return address_diagnosis(got[0], expected[0])
+    named = diagnose("range-one-end", len(got), len(expected), 2)
+    if named:
+        return named
     if len(got) != len(expected):
         return (f"the bank holds {len(got)} holding registers, it should hold {len(expected)} "
                 "(150 to 175 and 200 to 225, both ends included).")
@@ -69,11 +75,14 @@ def _check_09_2(answer: Any) -> str | None:
 @exercise("09.3", "a master timeout that copes with the slow loop",
           hint="a request may wait up to the longest loop (1.65 s + 10%) plus the time of the reply; "
                "try loop_time_experiment([SLOW_LOOP], timeout=...) with a few values.",
-          wrong=1.5)
+          accepts=[1.9, 2.0, 2.5, 2],
+          refuses=[(2000, "milliseconds-for-seconds"), (1.5, None), (3.0, None)])
 def _check_09_3(answer: Any) -> str | None:
     got = real_answer(answer, "a timeout in seconds")
     if isinstance(got, str):
         return got
+    if got > 100 and got / 1000 <= 2.5:
+        return name("milliseconds-for-seconds")
     if got > 2.5:
         return f"{got:g} s works, but it is longer than needed: stay at or below 2.5 s."
     if got <= 0:
@@ -102,17 +111,17 @@ def _diagnose_answered(args, expected, got) -> str | None:
     loop_time, timeout, reply = args
     if isinstance(got, (int, float)) and abs(got - (timeout - reply) / loop_time) < 1e-9:
         return "a fraction stays between 0 and 1: clamp it with max(0.0, min(1.0, ...))."
-    if isinstance(got, (int, float)) and abs(got - 100 * expected) < 1e-6:
-        return "give a fraction (0.6), not a percentage (60)."
-    return None
+    return diagnose("percentage-for-fraction", got, expected) if expected else None
 
 
 build_exercise(
-    "09.5", "how many requests a slow loop answers",
+    "09.4", "how many requests a slow loop answers",
     reference=_answered, inputs=_answered_inputs,
     edge_cases=[(1.65, 1.0, 0.0), (0.01, 1.0, 0.0), (2.0, 1.0, 0.02), (1.0, 0.01, 0.02)],
     hint="a request arrives at a random moment of the loop; it is answered in time if the loop reaches it "
          "within timeout - reply seconds: the fraction is (timeout - reply) / loop_time, kept between 0 "
          "and 1.",
-    wrong=lambda loop_time, timeout, reply: timeout / loop_time,
+    refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply),
+              "percentage-for-fraction"),
+             (lambda loop_time, timeout, reply: timeout / loop_time, None)],
     diagnose=_diagnose_answered, compare=_fraction_close)

@@ -9,13 +9,15 @@ from ..devices.meter import METER_BY_NAME, TRIALS, meter_blocks
 from ..framing import RtuFrame, parse_hex
 from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
-from .core import close, exercise, number_answer, real_answer
+from .core import address_diagnosis, exercise, number_answer, real_answer
+from .misconceptions import diagnose
 
 
 @exercise("10.1", "a voltage from a register pair",
           hint="the two registers after the byte count form one 32-bit number, high word first; VL2 is in "
                "tenths of a volt. METER_BY_NAME['VL2'].value(registers) does both steps.",
-          wrong=4105)
+          accepts=[410.5, 410.50, 410.48],
+          refuses=[(4105, "raw-for-scaled"), (26902528.0, "word-order"), (41.05, None)])
 def _check_10_1(answer: Any) -> str | None:
     registers = RtuFrame.decode(parse_hex("01 03 04 00 00 10 09 37 F5"), role="response").pdu.registers
     expected = METER_BY_NAME["VL2"].value(registers)
@@ -23,17 +25,19 @@ def _check_10_1(answer: Any) -> str | None:
     if isinstance(got, str):
         return got
     raw = decode_value(registers, "uint32", "ABCD")
-    if close(got, raw):
-        return "that is the raw register value; Table 5 says V x 10: divide by 10."
-    if close(got, decode_value(registers, "uint32", "CDAB") / 10):
-        return "you put the words in the wrong order: the high word (0x0000) comes first."
+    named = (diagnose("raw-for-scaled", got, raw, expected)
+             or diagnose("word-order", registers, "uint32", round(got * 10), "ABCD"))
+    if named:
+        return named
     return number_answer(got, expected, decimals=1, unit="V", what="what those registers carry")
 
 
 @exercise("10.2", "the registers that carry a current",
           hint="288.9 A is 288 900 mA; split it into a high and a low 16-bit word, high word first: "
                "mb.encode_value(288900, 'uint32', 'ABCD'), or METER_BY_NAME['AL1'].registers(288.9).",
-          wrong=[0x6884, 0x0004])
+          accepts=[[0x0004, 0x6884], (4, 26756)],
+          refuses=[([0x6884, 0x0004], "word-order"), ([288900], "one-register-for-32-bits"),
+                   ([0, 2889], "current-not-in-milliamperes"), ([4, 0x6885], None)])
 def _check_10_2(answer: Any) -> str | None:
     expected = METER_BY_NAME["AL1"].registers(_al1_of_trial_2())
     if not isinstance(answer, (list, tuple)) or any(
@@ -42,40 +46,50 @@ def _check_10_2(answer: Any) -> str | None:
     got = list(answer)
     if got == expected:
         return None
-    if got == expected[::-1]:
-        return "the words are swapped: this meter sends the high word at the lower address."
-    if len(got) == 1:
-        return f"{got[0]} does not fit in one 16-bit register (at most 65535): it takes two."
-    if len(got) == 2 and got[0] * 65536 + got[1] == 2889:
-        return "the current travels in milliamperes: 288.9 A is 288 900 mA."
+    value = round(_al1_of_trial_2() * 1000)
+    named = diagnose("one-register-for-32-bits", len(got), 2) or (
+        diagnose("word-order", got, "uint32", value, "ABCD")
+        or diagnose("current-not-in-milliamperes", got[0] * 65536 + got[1], _al1_of_trial_2())
+        if len(got) == 2 else None)
+    if named:
+        return named
     return f"{got} is not 288 900 mA split high word first."
 
 
 def _al1_of_trial_2() -> float:
-    """AL1 of trial 2 in the power-meter paper's Table 6, from the library's copy of the table."""
+    """AL1 of the meter's trial 2, from the library's copy of the published trials."""
     return TRIALS[2]["AL1"]
 
 
-@exercise("10.3", "one request for PF2, VL3 and AL3",
-          hint="look up the three pairs in Table 5 (METER_BY_NAME[...].address): they are consecutive; "
-               "one FC3 request from the first address, two registers each.",
-          wrong=(3, 0x12, 3))
+_10_3_NAMES = ("THD_AL1", "THD_AL2", "THD_AL3")
+
+
+@exercise("10.3", "one request for the three current THDs",
+          hint="look up the three pairs in the register map (METER_BY_NAME[...].address): they are "
+               "consecutive; one FC3 request from the first address, two registers each, and nothing more.",
+          accepts=[(3, 54, 6), [3, 0x36, 6]],
+          refuses=[((3, 55, 6), "one-based-address"), ((3, 54, 3), "one-register-for-32-bits"),
+                   ((4, 54, 6), "holding-for-input"), ((3, 40055, 6), "reference-number"),
+                   ((3, 0x30, 6), None), ((3, 54, 5), None)])
 def _check_10_3(answer: Any) -> str | None:
-    members = [METER_BY_NAME[name] for name in ("PF2", "VL3", "AL3")]
+    members = [METER_BY_NAME[name] for name in _10_3_NAMES]
     [(address, count, _)] = meter_blocks(members)
     expected = (3, address, count)
     if not isinstance(answer, (tuple, list)) or len(answer) != 3:
         return "answer with three ints: (function, address, count)."
     function, got_address, got_count = answer
     if function != 3:
-        return "the meter is read with function 3, read holding registers."
+        return (diagnose("holding-for-input", function, 3)
+                or "the meter is read with function 3, read holding registers.")
     if got_address != address:
-        if got_address == address + 1:
-            return "the address in the frame is 0-based: 0x12 is address 18, not reference 40019."
-        return f"address {got_address!r} is not where PF2 starts."
+        if got_address == 0x30:
+            return "0x30 is where the THD of the voltages starts; the question asks for the currents' only."
+        return (address_diagnosis(got_address, address)
+                or f"address {got_address!r} is not where THD_AL1 starts.")
     if got_count != count:
-        if got_count == len(members):
-            return "each quantity takes a pair of registers: count registers, not quantities."
+        named = diagnose("one-register-for-32-bits", got_count, count, len(members))
+        if named:
+            return named
         return f"{got_count!r} registers do not cover exactly the three pairs."
     return None if tuple(answer) == expected else "not quite."
 
@@ -94,10 +108,7 @@ def _float_inputs(rng) -> tuple:
 
 def _diagnose_float(args, expected, got) -> str | None:
     registers, order = args
-    for other in ORDERS:
-        if other != order and isinstance(got, float) and decode_value(registers, "float32", other) == got:
-            return f"your result is the {other} reading; the question asks for {order}."
-    return None
+    return diagnose("word-order", registers, "float32", got, order) if isinstance(got, float) else None
 
 
 build_exercise(
@@ -108,5 +119,6 @@ build_exercise(
     hint="put the four bytes in the order A B C D that the order names (register 0 holds the first two "
          "letters), then struct.unpack('>f', ...)[0]. CDAB swaps the registers; BADC swaps the bytes inside "
          "each register; DCBA does both.",
-    wrong=lambda registers, order: _float32(registers, "ABCD"),
+    refuses=[(lambda registers, order: _float32(registers, "ABCD"), "word-order"),
+             (lambda registers, order: _float32(registers[::-1], order), "word-order")],
     diagnose=_diagnose_float)

@@ -7,15 +7,21 @@ from typing import Any
 from ..framing import RtuFrame, TcpFrame, parse_hex
 from ..pdu import ReadHoldingRegistersRequest
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise
+from .core import address_diagnosis, as_bytes, compare_bytes, exercise
+from .misconceptions import diagnose
+
+_11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
 
 
 @exercise("11.1", "decode a captured Modbus/TCP request",
           hint="MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then the "
                "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
-          wrong=(0x0200, 6, 5, 0x63))
+          accepts=[(42, 6, 16, 500), [0x2A, 6, 0x10, 0x01F4]],
+          refuses=[((0x2A00, 6, 16, 500), "mbap-little-endian"), ((42, 6, 17, 500), "one-based-address"),
+                   ((42, 6, 10, 500), "hex-read-as-decimal"), ((42, 17, 16, 500), None),
+                   ((42, 6, 16, 0xF401), None)])
 def _check_11_1(answer: Any) -> str | None:
-    frame = TcpFrame.decode(parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
+    frame = TcpFrame.decode(parse_hex(_11_1_FRAME), role="request")
     expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
     if not isinstance(answer, (tuple, list)) or len(answer) != 4:
         return "answer with four ints: (transaction_id, function, address, value)."
@@ -23,15 +29,18 @@ def _check_11_1(answer: Any) -> str | None:
         return "all four should be ints."
     tid, function, address, value = answer
     if tid != expected[0]:
-        if tid == int.from_bytes(bytes.fromhex("0002"), "little"):
-            return "the transaction id is big-endian (high byte first): 00 02 is 2, not 512."
-        return f"the transaction id is in bytes 0-1; {tid} is not it."
+        return (diagnose("mbap-little-endian", tid, expected[0])
+                or f"the transaction id is in bytes 0-1; {tid} is not it.")
     if function != expected[1]:
+        if function == frame.unit:
+            return "byte 6 is the unit identifier; the function code is byte 7, right after it."
         return f"the function code is byte 7, right after the unit identifier; it is not {function}."
     if address != expected[2]:
-        return f"the address is the two bytes after the function code; {address} is not it."
+        return (address_diagnosis(address, expected[2]) or diagnose("hex-read-as-decimal", address,
+                                                                    f"{expected[2]:X}")
+                or f"the address is the two bytes after the function code; {address} is not it.")
     if value != expected[3]:
-        return f"the value is the last two bytes, 0x0063; {value} is not it."
+        return f"the value is the last two bytes, read high byte first; {value} is not it."
     return None
 
 
@@ -39,21 +48,32 @@ def _check_11_1(answer: Any) -> str | None:
           hint="keep the unit and the PDU (drop the CRC), put an MBAP header in front: "
                "mb.TcpFrame(transaction_id=7, unit=..., pdu=...).encode(); mb.RtuFrame.decode reads the RTU "
                "frame.",
-          wrong="00 07 00 00 00 08 03 03 00 00 00 03 04 29")
+          accepts=["00 07 00 00 00 06 03 03 00 00 00 03", "000700000006030300000003",
+                   bytes.fromhex("00 07 00 00 00 06 03 03 00 00 00 03")],
+          refuses=[("00 07 00 00 00 08 03 03 00 00 00 03 04 29", "crc-on-tcp"),
+                   ("00 07 00 00 00 06 03 03 00 00 00 03 04 29", "crc-on-tcp"),
+                   ("07 00 00 00 00 06 03 03 00 00 00 03", "mbap-little-endian"),
+                   ("00 07 00 00 00 05 03 03 00 00 00 03", "mbap-length"),
+                   ("00 07 00 00 00 06 01 03 00 00 00 03", None)])
 def _check_11_2(answer: Any) -> str | None:
     rtu = RtuFrame.decode(parse_hex("03 03 00 00 00 03 04 29"), role="request")
     expected = TcpFrame(transaction_id=7, unit=rtu.unit, pdu=rtu.pdu).encode()
     got = as_bytes(answer)
+    named = diagnose(("crc-on-tcp", "mbap-little-endian"), got, expected)
+    if named:
+        return named
     if got.endswith(parse_hex("04 29")):
-        return "Modbus/TCP frames carry no CRC: TCP checks the bytes itself. Drop the last two bytes."
-    if got[:2] == b"\x07\x00":
-        return "the transaction id goes big-endian: 00 07."
+        return diagnose("crc-on-tcp", expected + b"\x04\x29", expected)
+    if len(got) == len(expected) and got[:4] == expected[:4] and got[6:] == expected[6:]:
+        return diagnose("mbap-length", int.from_bytes(got[4:6], "big"), expected[5])
     return compare_bytes(got, expected, "your Modbus/TCP frame")
 
 
 @exercise("11.3", "a pyserial URL for a serial device server",
           hint="pyserial's URL for a serial line carried over raw TCP is socket://<host>:<port>.",
-          wrong="tcp://192.168.1.60:4001")
+          accepts=["socket://192.168.1.60:4001", " socket://192.168.1.60:4001 "],
+          refuses=[("tcp://192.168.1.60:4001", None), ("rfc2217://192.168.1.60:4001", None),
+                   ("socket://192.168.1.60:502", None), ("/dev/ttyUSB0", None)])
 def _check_11_3(answer: Any) -> str | None:
     import serial
     from serial.urlhandler.protocol_socket import Serial as SocketSerial
@@ -104,5 +124,11 @@ build_exercise(
     hint="int.from_bytes(frame[0:2], 'big') is the transaction id; then protocol (2 bytes), length "
          "(2 bytes), unit (1 byte), and the PDU is frame[7:]. Raise an exception when the length does not "
          "equal len(frame) - 6.",
-    wrong=lambda frame: (int.from_bytes(frame[0:2], "little"), 0, int.from_bytes(frame[4:6], "big"), frame[6],
-                         frame[7:]))
+    refuses=[(lambda frame: (int.from_bytes(frame[0:2], "little"), 0, int.from_bytes(frame[4:6], "big"),
+                             frame[6],
+                             frame[7:]), "mbap-little-endian"),
+             (lambda frame: (int.from_bytes(frame[0:2], "big"), 0, int.from_bytes(frame[4:6], "big"),
+                             frame[6],
+                             frame[7:]), None)],
+    diagnose=lambda args, expected, got: diagnose("mbap-little-endian", got[0], expected[0])
+    if isinstance(got, tuple) and isinstance(expected, tuple) and got and got[0] != expected[0] else None)

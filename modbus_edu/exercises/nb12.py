@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..crc import crc_bytes
 from ..datamodel import DataBank
 from ..devices.generators import increment_fill
 from ..framing import TcpFrame, parse_hex
@@ -11,13 +12,15 @@ from ..pdu import ReadHoldingRegistersRequest
 from ..values import format_registers
 from ..widgets.testtool import TestTool
 from .build import build_exercise
-from .core import exercise
+from .core import address_diagnosis, exercise
+from .misconceptions import diagnose
 
 
 @exercise("12.1", "a grid cell in hex",
           hint="the fill gives 100, 110, 120, ... so address 5 holds 100 + 5 x 10; "
                "mb.format_registers([...], 'hex') shows a register as the test tool's grid does.",
-          wrong="0x008C")
+          accepts=["0x0096", "0X0096", " 0x0096 "],
+          refuses=[("0x008C", "one-based-address"), ("150", None), ("0x0097", None)])
 def _check_12_1(answer: Any) -> str | None:
     bank = DataBank(sparse=False)
     increment_fill(bank.holding_registers, 0, 10, 100, 10)
@@ -31,7 +34,7 @@ def _check_12_1(answer: Any) -> str | None:
     if got == str(value):
         return f"{got} is the unsigned display; in hex it is written with 0x and four hex digits."
     if got.lower() == format_registers([value - 10], "hex")[0].lower():
-        return "addresses start at 0: address 5 is the sixth cell."
+        return address_diagnosis(5, 4) + " Address 5 is the sixth cell."
     return f"{got!r} is not how the hex display shows address 5."
 
 
@@ -41,7 +44,19 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
 @exercise("12.2", "set up a master tool",
           hint="TestTool('rtu_master', unit=..., function=..., address=..., length=..., interval=...); "
                "input registers are read with function 4.",
-          wrong={"role": "rtu_master", "unit": 7, "function": 3, "address": 10, "length": 4, "interval": 0.5})
+          accepts=[{"role": "rtu_master", "unit": 7, "function": 4, "address": 10, "length": 4,
+                    "interval": 0.5},
+                   {"role": "tcp_client", "unit": 7, "function": 4, "address": 10, "length": 4,
+                    "interval": 0.5}],
+          refuses=[({"role": "rtu_master", "unit": 7, "function": 3, "address": 10, "length": 4,
+                     "interval": 0.5},
+                    "holding-for-input"),
+                   ({"role": "rtu_master", "unit": 7, "function": 4, "address": 11, "length": 4,
+                     "interval": 0.5},
+                    "one-based-address"),
+                   ({"role": "rtu_slave", "unit": 7, "function": 4, "address": 10, "length": 4,
+                     "interval": 0.5},
+                    None)])
 def _check_12_2(answer: Any) -> str | None:
     config = answer.config() if isinstance(answer, TestTool) else answer
     if not isinstance(config, dict):
@@ -55,16 +70,17 @@ def _check_12_2(answer: Any) -> str | None:
         return f"a {config['role']!r} answers requests; the tool must ask: a master (or a client)."
     for key in _12_2_KEYS[1:]:
         if config[key] != reference[key]:
-            if key == "function" and config[key] == 3:
-                return "function 3 reads holding registers; input registers are read with function 4."
-            return f"{key} is {config[key]!r}, it should be {reference[key]!r}."
+            named = (diagnose("holding-for-input", config[key], reference[key]) if key == "function" else
+                     address_diagnosis(config[key], reference[key]) if key == "address" else None)
+            return named or f"{key} is {config[key]!r}, it should be {reference[key]!r}."
     return None
 
 
 @exercise("12.3", "the transaction id after three polls",
           hint="the transaction id goes up by one per request: 280, 281, 282 are used; the MBAP header "
                "writes it high byte first.",
-          wrong=(283, "1B 01"))
+          accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
+          refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:
     server = TestTool("tcp_server", unit=1, length=1)
     client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
@@ -80,8 +96,9 @@ def _check_12_3(answer: Any) -> str | None:
             return "that is the id of the third request; the question asks for the next one."
         return f"the next transaction id is not {got_tid!r}."
     got = parse_hex(got_bytes) if isinstance(got_bytes, str) else bytes(got_bytes)
-    if got == first_two[::-1]:
-        return "the bytes are swapped: the MBAP header is big-endian, high byte first (000 says otherwise)."
+    named = diagnose("mbap-little-endian", got, first_two)
+    if named:
+        return named
     if got != first_two:
         return f"{got.hex(' ').upper()} is not how {tid} starts the request."
     return None
@@ -97,11 +114,19 @@ def _request_inputs(rng) -> tuple:
     return rng.randrange(65536), rng.randrange(256), rng.randrange(0, 65536 - count + 1), count
 
 
+def _with_crc(frame: bytes) -> bytes:
+    """A plausible wrong Modbus/TCP frame: a CRC appended, as on a serial line."""
+    return frame + crc_bytes(frame[6:])
+
+
 build_exercise(
     "12.4", "your own master's read request",
     reference=_read_request, inputs=_request_inputs,
     edge_cases=[(280, 1, 0, 1), (1, 1, 0, 10), (65535, 255, 65535, 1)],
     hint="MBAP header (tid, 0, length 6, unit), then the PDU 03, address, count: every 2-byte field high "
          "byte first.",
-    wrong=lambda tid, unit, address, count: tid.to_bytes(2, "little") + bytes([0, 0, 0, 6, unit, 3])
-    + address.to_bytes(2, "big") + count.to_bytes(2, "big"))
+    refuses=[(lambda tid, unit, address, count: tid.to_bytes(2, "little") + bytes([0, 0, 0, 6, unit, 3])
+              + address.to_bytes(2, "big") + count.to_bytes(2, "big"), "mbap-little-endian"),
+             (lambda tid, unit, address, count: _with_crc(_read_request(tid, unit, address, count)),
+              "crc-on-tcp")],
+    diagnose=lambda args, expected, got: diagnose(("mbap-little-endian", "crc-on-tcp"), got, expected))

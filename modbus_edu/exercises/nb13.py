@@ -15,7 +15,9 @@ from ..pdu import ReadHoldingRegistersRequest
 from ..slave import Slave
 from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
-from .core import close, compare_rtu_frame, exercise, real_answer
+from .core import address_diagnosis, compare_rtu_frame, exercise, real_answer, rtu_request_diagnosis
+from .misconceptions import ORDER_WORDS, diagnose
+from .misconceptions import name as misconception
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
 _LAB_SEED = 13
@@ -87,7 +89,11 @@ def lab(puzzle: str) -> Any:
                "request for another address; checksum_errors: bytes that arrived garbled, as a receiver "
                "at another baud rate assembles them) and its log, link.slaves[0].log. "
                "No slave at all leaves no trace.",
-          wrong={"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"})
+          accepts=[{"A": "wrong unit id", "B": "no slave on the line", "C": "wrong baud rate or parity"},
+                   {"A": "Wrong unit id", "B": " no slave on the line", "C": "WRONG BAUD RATE OR PARITY"}],
+          refuses=[({"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"}, None),
+                   ({"A": "wrong unit id", "B": "wrong baud rate or parity", "C": "no slave on the line"},
+                    None)])
 def _check_13_1(answer: Any) -> str | None:
     truth = _silent_wires()[1]
     if not isinstance(answer, dict) or set(answer) != set(truth):
@@ -104,45 +110,59 @@ def _check_13_1(answer: Any) -> str | None:
 @exercise("13.2", "a current with an unknown word order",
           hint="read holding registers 0-1 and decode them with mb.decode_value(registers, 'uint32', order) "
                "for the orders 'ABCD' and 'CDAB'; only one gives a current a sensor could measure (in mA).",
-          wrong=("ABCD", 292880.386))
+          accepts=[("CDAB", 135.541), ("CDAB", 135.5), ("cdab", 135.54), ["CDAB", 135.6]],
+          refuses=[(("ABCD", 292880.386), "word-order"), (("CDAB", 135541), "milliamperes-for-amperes"),
+                   (("CDAB", 135.4), None), (("CDAB", 136), None)])
 def _check_13_2(answer: Any) -> str | None:
     _device, order, amperes = _word_order_device()
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
         return "answer with a pair: (order, current in amperes), e.g. ('ABCD', 12.5)."
     got_order, got_amperes = answer
     if str(got_order).upper() != order:
-        return f"with the order {got_order!r} the current makes no physical sense; try the other one."
+        used = str(got_order).upper()
+        if used not in ORDER_WORDS:
+            return f"{got_order!r} is not a word order: try 'ABCD' and 'CDAB'."
+        return misconception("word-order", used=used, used_words=ORDER_WORDS[used], right="another order") + \
+            " With this one the current makes no physical sense."
     value = real_answer(got_amperes, "the current")
     if isinstance(value, str):
         return value
-    if close(value, amperes * 1000):
-        return "that is in milliamperes; give amperes."
-    if not close(value, amperes, rel=1e-4):
-        return f"{value:g} A is not what those registers carry."
+    named = diagnose("milliamperes-for-amperes", value, amperes)
+    if named:
+        return named
+    if abs(value - amperes) > CURRENT_TOLERANCE:
+        return f"{value:g} A is not what those registers carry (to {CURRENT_TOLERANCE:g} A)."
     return None
+
+
+CURRENT_TOLERANCE = 0.06
+"""Exercise 13.2 takes the current to 0.1 A, as a clamp meter shows it: 135.5 for 135.541 A."""
 
 
 @exercise("13.3", "off by one",
           hint="a reference number counts from 1, the address in the frame from 0: 40001 is address 0. "
                "mb.parse_reference('40021') gives the address.",
-          wrong=21)
+          accepts=[20, 0x14],
+          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"), (19,
+                                                                                                         None)])
 def _check_13_3(answer: Any) -> str | None:
     expected = parse_reference("40021").address
     if isinstance(answer, bool) or not isinstance(answer, int):
         return "answer with the address, an int."
     if answer == expected:
         return None
-    if answer == expected + 1:
-        return "that is the number after the prefix; the frame carries the address, one less."
-    if answer == 40021 or answer == 40020:
-        return "the prefix 4 names the table (holding registers); it is not part of the address."
+    named = address_diagnosis(answer, expected)
+    if named:
+        return named
     return f"address {answer} is not where register 40021 is."
 
 
 @exercise("13.4", "a little-endian transaction id",
           hint="a spec-following server reads the MBAP transaction id high byte first: "
                "mb.TcpFrame.decode(...).transaction_id; a correct client sends 3 as 00 03.",
-          wrong=(3, "03 00"))
+          accepts=[(768, "00 03"), (0x0300, b"\x00\x03"), [768, "0003"]],
+          refuses=[((3, "00 03"), "mbap-little-endian"), ((768, "03 00"), "mbap-little-endian"),
+                   ((769, "00 03"), None)])
 def _check_13_4(answer: Any) -> str | None:
     captured = TcpFrame.decode(parse_hex("03 00 00 00 00 06 01 03 00 00 00 01"), role="request")
     correct = TcpFrame(transaction_id=3, unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
@@ -150,29 +170,35 @@ def _check_13_4(answer: Any) -> str | None:
         return "answer with a pair: (the id the server reads, 'XX XX')."
     seen, first_two = answer
     if seen != captured.transaction_id:
-        if seen == 3:
-            return "3 is what the client meant; the server reads the two bytes high byte first."
+        named = diagnose("mbap-little-endian", seen, captured.transaction_id)
+        if named:
+            return named + " 3 is what the client meant; the server reads 03 00."
         return f"the server does not read {seen!r} from 03 00."
     got = parse_hex(first_two) if isinstance(first_two, str) else bytes(first_two)
     if got != correct[:2]:
-        return f"{got.hex(' ').upper()} is not transaction id 3 written high byte first."
+        return (diagnose("mbap-little-endian", got, correct[:2])
+                or f"{got.hex(' ').upper()} is not transaction id 3 written high byte first.")
     return None
 
 
 @exercise("13.5", "a CRC that does not match",
           hint="mb.explain(frame) says what CRC it computed; compare it with the two bytes the frame "
                "carries. The CRC goes low byte first.",
-          wrong="01 03 00 00 00 01 0A 84")
+          accepts=["01 03 00 00 00 01 84 0A", "010300000001840a", bytes.fromhex("01 03 00 00 00 01 84 0A")],
+          refuses=[("01 03 00 00 00 01 0A 84", "crc-swapped"), ("01 03 00 01 00 01 D5 CA",
+                                                                "one-based-address"),
+                   ("01 03 00 00 00 01", "crc-forgotten"), ("01 03 00 00 00 02 C4 0B", None)])
 def _check_13_5(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
-    return compare_rtu_frame(answer, expected, "your corrected frame", "that is the frame as the faulty "
-                             "tool sent it: the CRC bytes are still swapped.")
+    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(
+        answer, expected, "your corrected frame", "That is the frame as the faulty tool sent it.")
 
 
 @exercise("13.6", "estimate a slave's loop time",
           hint="poll 300 times, one request every 5 s, with a 1 s timeout; the fraction answered is about "
                "(timeout - 0.013 s) / loop time, so loop time ~ 0.99 / fraction.",
-          wrong=1.0)
+          accepts=[2.2, 2.0, 2.4, 2],
+          refuses=[(2200, "milliseconds-for-seconds"), (1.0, None), (5.0, None)])
 def _check_13_6(answer: Any) -> str | None:
     board = _slow_board()
     got = real_answer(answer, "a loop time in seconds")
@@ -180,6 +206,8 @@ def _check_13_6(answer: Any) -> str | None:
         return got
     if abs(got - board.loop_time) <= 0.25 * board.loop_time:
         return None
+    if abs(got / 1000 - board.loop_time) <= 0.25 * board.loop_time:
+        return misconception("milliseconds-for-seconds")
     if got < board.loop_time:
         return (f"{got:g} s is too short: a loop that fast would answer more requests in time than this "
                 "one does.")
@@ -209,9 +237,15 @@ def _diagnose_order(args, expected, got) -> str | None:
     if not expected:
         return f"no order gives {value:g} from these registers: return None."
     if got in ORDERS:
-        return (f"in {got} order these registers hold {decode_value(registers, 'float32', got):g}; "
-                f"{value:g} comes out in {' or '.join(sorted(expected))}.")
+        return (misconception("word-order", used=got, used_words=ORDER_WORDS[got],
+                              right=_orders_in_words(expected))
+                + f" In {got} order these registers hold {decode_value(registers, 'float32', got):g}.")
     return f"return one of the names in mb.ORDERS, such as {sorted(expected)[0]!r}."
+
+
+def _orders_in_words(expected: frozenset) -> str:
+    """The orders a 13.7 answer may name, in plain words: 'CDAB', 'ABCD or BADC', or None."""
+    return " or ".join(repr(order) for order in sorted(expected)) if expected else "None (no order fits)"
 
 
 build_exercise(
@@ -220,5 +254,6 @@ build_exercise(
     edge_cases=[([0x4396, 0x8000], 301.0), ([0x8000, 0x4396], 301.0), ([0, 0], 0.0), ([0x4396, 0x8000], 7.0)],
     hint="try the four orders of mb.ORDERS with mb.decode_value(registers, 'float32', order), and return the "
          "first whose value is close to the expected one (math.isclose(..., rel_tol=1e-6)); None if none is.",
-    wrong=lambda registers, expected: "ABCD",
-    compare=_order_accepted, diagnose=_diagnose_order)
+    refuses=[(lambda registers, expected: "ABCD", "word-order"),
+             (lambda registers, expected: "CDAB", "word-order")],
+    compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words)

@@ -20,7 +20,15 @@ Slave faults (every loopback link):
 
 * :meth:`delay` -- a slave answers ``seconds`` later than it would;
 * :meth:`silence` -- a slave is cut off the bus: it hears nothing and answers nothing;
-* :meth:`answer_as` -- a slave answers with another unit id in its response.
+* :meth:`answer_as` -- a slave answers with another unit id in its response;
+* :meth:`swap_ab` -- a slave's A and B wires are swapped (serial links): its transceiver sees every
+  level inverted, so its receiver assembles garbage (:func:`~modbus_edu.links.wire.uart_receive` with
+  ``inverted=True``), the CRC fails and it never answers.
+
+Adapter fault (serial links):
+
+* :attr:`echo` -- the master's USB-RS485 adapter keeps its receiver on while it transmits, so every
+  request comes back to the master as a frame of its own, before any answer.
 
 Each of them is counted in :attr:`injected` and noted on the link's monitor.  All randomness comes from
 ``random.Random(seed)``.
@@ -93,9 +101,12 @@ class Faults:
         self._delays: dict[int, _SlaveFault] = {}
         self._silenced: dict[int, _SlaveFault] = {}
         self._answer_as: dict[int, _SlaveFault] = {}
+        self._swapped: set[int] = set()
+        self._echo = False
         self.injected: Counter[str] = Counter()
         """How many faults of each kind were injected: ``bits_flipped``, ``bytes_dropped``, ``gaps``,
-        ``delayed``, ``silenced``, ``wrong_unit``."""
+        ``delayed``, ``silenced``, ``wrong_unit``, ``inverted`` (frames a slave heard through swapped
+        A/B wires), ``echoed`` (requests the adapter echoed)."""
 
     def __repr__(self) -> str:
         active = []
@@ -107,6 +118,8 @@ class Faults:
         active += [f"delay unit {u}: +{f.value} s" for u, f in self._delays.items()]
         active += [f"silence unit {u}" for u in self._silenced]
         active += [f"unit {u} answers as {f.value}" for u, f in self._answer_as.items()]
+        active += [f"unit {u}: A/B swapped" for u in sorted(self._swapped)]
+        active += ["the adapter echoes requests"] if self._echo else []
         return f"<Faults: {', '.join(active) if active else 'none'}>"
 
     # -- rates ------------------------------------------------------------------------------------
@@ -174,9 +187,39 @@ class Faults:
             raise ConfigError(f"answer_as: other_unit must be 0..255, got {other_unit!r}")
         self._answer_as[unit] = _SlaveFault(other_unit, requests)
 
+    def swap_ab(self, unit: int, swapped: bool = True) -> None:
+        """Connect slave ``unit`` with its A and B wires swapped (``swapped=False`` puts them right).
+
+        The pair carries a voltage difference; swapped, its sign flips, and the slave's receiver sees
+        the idle line as 0 and every bit inverted.  Nothing is damaged, nothing answers.
+        """
+        if isinstance(unit, bool) or not isinstance(unit, int) or not 0 <= unit <= 255:
+            raise ConfigError(f"swap_ab: unit must be 0..255, got {unit!r}")
+        if swapped:
+            self._swapped.add(unit)
+        else:
+            self._swapped.discard(unit)
+
+    def swapped(self, unit: int | None) -> bool:
+        """True if slave ``unit`` is wired with A and B swapped."""
+        return unit in self._swapped
+
+    @property
+    def echo(self) -> bool:
+        """True if the master's adapter echoes each request back to the master (local echo)."""
+        return self._echo
+
+    @echo.setter
+    def echo(self, value: bool) -> None:
+        if not isinstance(value, bool):
+            raise ConfigError(f"echo must be True or False, got {value!r}")
+        self._echo = value
+
     def clear(self) -> None:
         """Remove every fault (rates back to 0).  The :attr:`injected` counts stay."""
         self._bit_error_rate = self._drop_rate = 0.0
+        self._swapped.clear()
+        self._echo = False
         self.pending.clear()
         self._delays.clear()
         self._silenced.clear()

@@ -249,7 +249,16 @@ class LoopbackSerialLink(_LoopbackLink):
                 self._annotate(f"{slave.name} is silenced: it does not hear this frame")
             return
         uart = self.uart_of(slave)
-        if uart is not None:
+        if faults.swapped(slave.unit):
+            # A and B swapped at its terminals: its transceiver sees every level inverted
+            faults.injected["inverted"] += 1
+            reading = uart_receive(frame, self.timing, uart or self.timing, inverted=True)
+            self._annotate(f"{slave.name} is wired with A and B swapped: its receiver assembles "
+                           f"{reading.describe()}")
+            frame = reading.data
+            if not frame:
+                return
+        elif uart is not None:
             # the slave's UART samples the line with its own settings: it assembles something else
             reading = uart_receive(frame, self.timing, uart)
             self._annotate(f"{slave.name} listens at {uart}: its receiver assembles {reading.describe()}")
@@ -278,6 +287,10 @@ class LoopbackSerialLink(_LoopbackLink):
     def _on_frame(self, frame: bytes, when: float) -> None:
         self._inbox.append(frame)
 
+    def _echo_back(self, frame: bytes) -> None:
+        self._annotate("the adapter echoed this request back to the master")
+        self._inbox.append(frame)
+
     # -- the Link interface ---------------------------------------------------------------------------
     def send(self, frame: bytes) -> None:
         """Put one frame on the line (now, or as soon as the line is free)."""
@@ -289,7 +302,12 @@ class LoopbackSerialLink(_LoopbackLink):
         unit = _frame_unit(data, self.mode)
         if unit is not None:
             dest = "broadcast" if unit == 0 else f"unit {unit}"
-        self._node.transmit(data, dest)
+        end = self._node.transmit(data, dest)
+        if self.faults.echo and data:
+            # the adapter's receiver stays on while it transmits: the request comes back to the master,
+            # a frame of its own once the line has been quiet for 3.5 characters
+            self.faults.injected["echoed"] += 1
+            self.clock.schedule(end + self.timing.frame_gap, self._echo_back, data)
 
     def flush(self) -> None:
         """Run the clock until the line is free: what was sent has arrived and its 3.5-char silence passed."""

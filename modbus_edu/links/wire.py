@@ -234,7 +234,8 @@ def _parity_bit(value: int, parity: str) -> int:
     return ones if parity == "E" else ones ^ 1
 
 
-def uart_receive(data: bytes, sent: SerialTiming, heard: SerialTiming) -> UartReading:
+def uart_receive(data: bytes, sent: SerialTiming, heard: SerialTiming, *,
+                 inverted: bool = False) -> UartReading:
     """What a UART set to ``heard`` assembles from ``data`` sent back to back with ``sent``'s settings.
 
     Bit-level and exact (times are fractions): the sender's characters become a waveform, and the
@@ -242,6 +243,11 @@ def uart_receive(data: bytes, sent: SerialTiming, heard: SerialTiming) -> UartRe
     each of its own bit times (data bits lowest first, the parity bit, the first stop bit).  A stop bit
     read as 0 is a framing error, a parity bit that disagrees a parity error; then the receiver hunts
     for the next falling edge.  With equal settings the bytes come back unchanged, without errors.
+
+    ``inverted``: the receiver sees every level the other way round, as a transceiver whose A and B
+    wires are swapped does (the pair's voltage difference changes sign).  The idle line then reads 0,
+    each start bit 1 and each stop bit 0: the receiver starts characters on the sender's 0-to-1 edges
+    and assembles garbage, mostly with framing errors.
 
     >>> line, fast = SerialTiming(9600), SerialTiming(19200)
     >>> uart_receive(bytes.fromhex("01 03"), line, line).data.hex(" ")
@@ -276,11 +282,17 @@ def uart_receive(data: bytes, sent: SerialTiming, heard: SerialTiming) -> UartRe
     end = t
     edges = [s for s, lv in zip(starts, levels) if lv == 0]
 
+    idle = 1
+    if inverted:  # A and B swapped: every level the other way round, the idle line included
+        levels = [1 - lv for lv in levels]
+        edges = [s for s, lv in zip(starts, levels) if lv == 0]
+        idle = 0
+
     def line_at(when: Fraction) -> int:
         if when < 0 or when >= end:
-            return 1
+            return idle
         index = bisect_right(starts, when) - 1
-        return levels[index] if index >= 0 else 1
+        return levels[index] if index >= 0 else idle
 
     # the receiver
     rbit = 1 / Fraction(heard.baudrate)

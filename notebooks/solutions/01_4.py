@@ -1,8 +1,8 @@
-# Declare numbers 150-175 and 200-225 (addresses 149-174 and 199-224) in a sparse bank and count them.
+# Declare numbers 100-149 and 300-309 (addresses 99-148 and 299-308) in a sparse bank and count them.
 import modbus_edu as mb
 
 bank = mb.DataBank(sparse=True)
-bank.holding_registers.declare(149, 26)   # numbers 150..175: 175 - 150 + 1 = 26 registers
-bank.holding_registers.declare(199, 26)   # numbers 200..225
+bank.holding_registers.declare(99, 50)    # numbers 100..149: 149 - 100 + 1 = 50 registers
+bank.holding_registers.declare(299, 10)   # numbers 300..309: 10 registers
 answer = len(bank.holding_registers)
-print(answer)   # 52
+print(answer)   # 60

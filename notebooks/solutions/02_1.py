@@ -1,5 +1,5 @@
-# Write Multiple Registers: 10 | address 00 01 | quantity 00 02 | byte count 04 | 00 0A | 01 02
+# Write Multiple Registers: 10 | address 00 04 | quantity 00 02 | byte count 04 | 01 F4 | 03 E8
 import modbus_edu as mb
 
-answer = mb.WriteMultipleRegistersRequest(address=1, values=[10, 258]).encode()
-print(answer.hex(" ").upper())   # 10 00 01 00 02 04 00 0A 01 02
+answer = mb.WriteMultipleRegistersRequest(address=4, values=[500, 1000]).encode()
+print(answer.hex(" ").upper())   # 10 00 04 00 02 04 01 F4 03 E8

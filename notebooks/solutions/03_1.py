@@ -1,7 +1,7 @@
-# crc16 gives the register value 0x8776; the low byte 0x76 goes on the wire first, then 0x87.
+# crc16 gives the register value 0x98B2; the low byte 0xB2 goes on the wire first, then 0x98.
 import modbus_edu as mb
 
-data = mb.parse_hex("11 03 00 6B 00 03")
-print(hex(mb.crc16(data)))        # 0x8776
+data = mb.parse_hex("11 04 00 08 00 01")
+print(hex(mb.crc16(data)))        # 0x98b2
 answer = mb.crc_bytes(data)       # wire order
-print(answer.hex(" ").upper())    # 76 87
+print(answer.hex(" ").upper())    # B2 98

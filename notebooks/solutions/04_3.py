@@ -1,5 +1,6 @@
-# High register first (ABCD): 0x0001 x 65536 + 0xE240 = 65536 + 57920 = 123456.
+# ':' + 2 characters per byte (address 05, PDU 03 06 + 6 data bytes, LRC) + CR LF = 1 + 2 x 10 + 2.
 import modbus_edu as mb
 
-answer = mb.decode_value([0x0001, 0xE240], "uint32", "ABCD")
-print(answer)   # 123456
+response = mb.ReadHoldingRegistersResponse(registers=[0, 0, 0])
+answer = len(mb.AsciiFrame(unit=5, pdu=response).encode())
+print(answer)   # 23

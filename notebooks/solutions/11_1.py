@@ -1,7 +1,7 @@
-# MBAP: 00 02 = transaction 2 (big-endian), 00 00 = protocol, 00 06 = length, 01 = unit;
-# PDU: 06 = write single register, 00 05 = address 5, 00 63 = value 99.
+# MBAP: 00 2A = transaction 42 (big-endian), 00 00 = protocol, 00 06 = length, 11 = unit 17;
+# PDU: 06 = write single register, 00 10 = address 16, 01 F4 = value 500.
 import modbus_edu as mb
 
-frame = mb.TcpFrame.decode(mb.parse_hex("00 02 00 00 00 06 01 06 00 05 00 63"), role="request")
+frame = mb.TcpFrame.decode(mb.parse_hex("00 2A 00 00 00 06 11 06 00 10 01 F4"), role="request")
 answer = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
-print(answer)          # (2, 6, 5, 99)
+print(answer)          # (42, 6, 16, 500)

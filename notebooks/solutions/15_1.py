@@ -1,2 +1,4 @@
-# (8 + 3.5 + 7 + 3.5) characters of 10 bits at 9600 baud, in milliseconds.
-answer = 22 * 10 / 9600 * 1000
+# FC 3 for two registers: request 8 bytes, response 3 + 2 x 2 + 2 = 9 bytes, and 3.5 characters of silence after
+# each. At 19200 baud 8E1 a character is 11 bits (start, 8 data, parity, stop).
+answer = (8 + 3.5 + 9 + 3.5) * 11 / 19200 * 1000
+print(f"{answer:.2f} ms")   # 13.75 ms

@@ -1,10 +1,8 @@
-# Five digits: 3xxxx / 4xxxx; six digits: 3xxxxx / 4xxxxx. The rest after the table digit, minus one.
-def to_address(number: int) -> int:
-    if 30001 <= number <= 39999 or 40001 <= number <= 49999:
-        return number % 10000 - 1
-    if 300001 <= number <= 365536 or 400001 <= number <= 465536:
-        return number % 100000 - 1
-    raise ValueError(f"{number} is not a 3x/4x reference number")
+# 30001 -> address 0, 30007 -> 6, 30013 -> 12, 30071 and 30073 -> 70..73 (neighbours: one request).
+# Each float32 takes two registers. Unit 1 (the meter's factory Addr), function 04, CRC low byte first.
+import modbus_edu as mb
 
-
-answer = to_address
+answer = [mb.RtuFrame(unit=1, pdu=mb.ReadInputRegistersRequest(address=address, count=count)).encode()
+          for address, count in [(0, 2), (6, 2), (12, 2), (70, 4)]]
+for frame in answer:
+    print(frame.hex(" ").upper())

@@ -6,5 +6,5 @@ def answered_fraction(loop_time: float, timeout: float, reply: float) -> float:
     return max(0.0, min(1.0, (timeout - reply) / loop_time))
 
 
-print(round(answered_fraction(1.65, 1.0, 0.0), 2))   # 0.61: the slow sketch of the Arduino slave paper
+print(round(answered_fraction(1.65, 1.0, 0.0), 2))   # 0.61: the slow sketch of notebook 09
 answer = answered_fraction
