@@ -392,6 +392,18 @@ def _echo_unchecked(sent: Any, received: Any, got: Any) -> bool:
     return _bytes(got) and bytes(got) == received[len(sent):] and received[:len(sent)] != sent
 
 
+@_entry("first-address-only", "a multiple write judged by its first address", "pdu: a write-multiple "
+        "request PDU (bytes), limit: the last address allowed, got: the learner's verdict (None: allowed)",
+        "a write of N registers from address A touches A to A + N - 1: a rule about addresses holds for the "
+        "last one too, so read the quantity (bytes 3-4) and check A + N - 1.")
+def _first_address_only(pdu: Any, limit: int, got: Any) -> bool:
+    pdu = bytes(pdu)
+    if got is not None or pdu[0] not in (15, 16):
+        return False
+    address, quantity = int.from_bytes(pdu[1:3], "big"), int.from_bytes(pdu[3:5], "big")
+    return address <= limit < address + quantity - 1
+
+
 @_entry("crc-forgotten", "a frame without its CRC", "got, expected: frame lengths (int)",
         "an RTU frame ends with its two CRC bytes.")
 def _crc_forgotten(got: Any, expected: Any) -> bool:

@@ -6,6 +6,7 @@ from typing import Any
 
 from .build import build_exercise
 from .core import exercise, int_answer, show
+from .misconceptions import diagnose
 
 #: The request of exercise 17.1, as a capture shows it.
 CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
@@ -15,7 +16,8 @@ CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
           hint="after the 7-byte MBAP header comes the PDU: function code 06, then the register address "
                "(2 bytes) and the value (2 bytes), each high byte first. mb.explain(frame, 'tcp', "
                "'request') shows every field.",
-          wrong=10)
+          accepts=[500, 0x01F4],
+          refuses=[(10, None), (0xF401, None), (6, None), (7, None), (0x000A, None)])
 def _check_17_1(answer: Any) -> str | None:
     got = int_answer(answer, "a register value")
     if isinstance(got, str):
@@ -34,7 +36,8 @@ def _check_17_1(answer: Any) -> str | None:
 @exercise("17.2", "an operator's write of 3 registers at address 98",
           hint="the course's role table lets an operator write addresses 0..99 only; a write of 3 "
                "registers from 98 touches 98, 99 and 100. A refused request gets exception 01.",
-          wrong=0)
+          accepts=[1, 0x01],
+          refuses=[(0, None), (2, None), (0x90, None), (3, None)])
 def _check_17_2(answer: Any) -> str | None:
     got = int_answer(answer, "an exception code (or 0 for allowed)")
     if isinstance(got, str):
@@ -86,6 +89,18 @@ def _draw(rng: Any) -> tuple[bytes, str]:
     return _request(function, address, count), rng.choice(_ROLES)
 
 
+def _first_address_only(pdu: bytes, role: str) -> bytes | None:
+    """A wrong answer: the operator's writes judged by their first address alone."""
+    allowed = {"engineer": True, "viewer": pdu[0] <= 4,
+               "operator": pdu[0] <= 4 or int.from_bytes(pdu[1:3], "big") <= 99}.get(role, False)
+    return None if allowed else bytes([pdu[0] | 0x80, 0x01])
+
+
+def _viewer_only(pdu: bytes, role: str) -> bytes | None:
+    """A wrong answer: only a viewer's writes are refused."""
+    return None if role != "viewer" or pdu[0] <= 4 else bytes([pdu[0] | 0x80, 0x01])
+
+
 def _diagnose(args: Any, expected: Any, got: Any) -> str | None:
     pdu, role = args
     if isinstance(got, int) and not isinstance(got, bool):
@@ -94,8 +109,9 @@ def _diagnose(args: Any, expected: Any, got: Any) -> str | None:
         return f"{role} may send this request: return None."
     if expected is not None and got is None:
         if role == "operator" and pdu[0] in (15, 16):
-            return ("an operator may write 0..99 only, and a multiple write touches address .. address + "
-                    "quantity - 1: check the last address too.")
+            return diagnose("first-address-only", pdu, 99, got) or (
+                "an operator may write 0..99 only, and a multiple write touches address .. address + "
+                "quantity - 1: check the last address too.")
         return f"{role} may not send this request: return bytes([function | 0x80, 0x01])."
     if isinstance(got, (bytes, bytearray)) and len(got) == 2 and got[1] != 1:
         return "a refused request gets exception 01, illegal function (the role may not use it)."
@@ -116,4 +132,4 @@ build_exercise(
          "and writes (5, 6, 15, 16) within 0..99; an engineer does everything; anyone else nothing. "
          "Refused: bytes([pdu[0] | 0x80, 0x01]).",
     diagnose=_diagnose,
-    wrong=lambda pdu, role: None if role != "viewer" or pdu[0] <= 4 else bytes([pdu[0] | 0x80, 1]))
+    refuses=[(_first_address_only, "first-address-only"), (_viewer_only, None)])
