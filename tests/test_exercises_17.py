@@ -56,7 +56,7 @@ def test_17_3_forgetting_the_last_address_of_a_multiple_write_is_named():
             return None
         return right
 
-    assert "a multiple write judged by its first address" in _message("17.3", decide)
+    assert "a multiple write judged by its first address" in _message("17.3", decide).lower()
 
 
 def test_17_3_a_code_instead_of_a_pdu_and_a_wrong_exception_code_are_named():
