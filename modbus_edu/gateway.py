@@ -242,7 +242,7 @@ class _Forwarder:
         else:
             del self._queues[unit]
         wait = now - job.queued_at
-        if wait > self.worst_wait.get(unit, 0.0):
+        if wait >= self.worst_wait.get(unit, 0.0):
             self.worst_wait[unit] = wait
         return job, now
 

@@ -80,3 +80,146 @@ def test_ten_clients_get_their_own_replies():
             t.join(timeout=60)
     assert errors == []
     assert gw.counters["forwarded"] == 200
+
+
+# ------------------------------------------------------------------------------------------------------
+# isolation: a late answer reaches nobody, a dead unit stalls nobody, the queues are bounded
+# ------------------------------------------------------------------------------------------------------
+REQUEST_AIRTIME = 8 * 10 / 9600  # an FC 3 request, 8 characters at 9600 baud 8N1
+
+
+def _ask(gw, unit, address, timeout=10):
+    """One read through the gateway on a connection of its own: the value, or the exception code."""
+    with mb.tcp_link(*gw.address) as tcp:
+        try:
+            return mb.Master(tcp, timeout=timeout).read_holding_registers(unit=unit, address=address, count=1)
+        except mb.ModbusExceptionError as exc:
+            return exc.code
+
+
+def _slow_bus(slave):
+    slave.bank.holding_registers[0:3] = [2000, 2100, 2200]
+    return mb.loopback_serial([mb.Slave(unit=1), slave], baudrate=9600)
+
+
+class _SlowOnce(mb.Slave):
+    """A slave whose first answer takes longer than the gateway waits; the others come at once."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.delays = [0.25]
+
+    def response_delay(self, arrival_time):
+        return self.delays.pop() if self.delays else 0.0
+
+
+def test_a_late_answer_reaches_nobody():
+    # unit 2 answers A (register 0, 2000) after the gateway gave up; B asks for register 1 next
+    bus = _slow_bus(_SlowOnce(unit=2, bank=mb.DataBank()))
+    with mb.TcpGateway(bus, timeout=0.2) as gw:
+        assert _ask(gw, 2, 0) == 0x0B  # A
+        assert _ask(gw, 2, 1) == [2100]  # B reads its own register, never A's 2000
+        assert gw.counters["late"] == 1 and gw.counters["no_response"] == 1
+
+
+def test_a_slave_slower_than_the_timeout_never_answers_the_wrong_request():
+    slave = mb.Slave(unit=2, bank=mb.DataBank(), processing_time=0.25)
+    bus = _slow_bus(slave)
+    with mb.TcpGateway(bus, timeout=0.2) as gw:
+        assert _ask(gw, 2, 0) == 0x0B  # A: its answer (2000) comes 0.25 s after the request
+        assert _ask(gw, 2, 1) == 0x0B  # B: 0B, because the slave is too slow for B too - but never 2000
+        slave.processing_time = 0.0
+        assert _ask(gw, 2, 2) == [2200]  # C after the slave has recovered: its own, not B's late 2100
+        assert _ask(gw, 1, 0) == [0]
+        assert gw.counters["late"] == 2
+    # without the late window, the same bus gives B the answer to A: what the window is for
+    slave = mb.Slave(unit=2, bank=mb.DataBank(), processing_time=0.25)
+    bus = _slow_bus(slave)
+    with mb.TcpGateway(bus, timeout=0.2, late_window=0) as gw:
+        assert _ask(gw, 2, 0) == 0x0B
+        assert _ask(gw, 2, 1) == [2000]
+
+
+def test_a_frame_that_arrives_before_the_request_has_left_is_not_its_answer():
+    from modbus_edu.clock import VirtualClock
+    from modbus_edu.gateway import _Line
+    from modbus_edu.links.base import Link
+    from modbus_edu.links.wire import SerialTiming
+
+    class Scripted(Link):
+        """A line on which frames arrive at given times, whatever is sent."""
+
+        timing = SerialTiming(9600)
+
+        def __init__(self, arrivals):
+            self.clock, self.arrivals = VirtualClock(), list(arrivals)
+
+        def send(self, frame):
+            pass
+
+        def receive(self, timeout):
+            if self.arrivals and self.arrivals[0][0] <= self.clock.now + timeout:
+                when, frame = self.arrivals.pop(0)
+                self.clock.advance(max(0.0, when - self.clock.now))
+                return frame
+            self.clock.advance(timeout)
+            return None
+
+    early, answer = bytes.fromhex("02 03 02 07 D0 BB 28"), bytes.fromhex("02 03 02 08 34 BA 93")
+    line = _Line(Scripted([(0.005, early), (0.020, answer)]))
+    line.send(bytes.fromhex("02 03 00 01 00 01 D5 F9"))  # leaves after 8.33 ms
+    assert abs(line.left_at - REQUEST_AIRTIME) < 1e-12
+    assert line.receive(1.0) == answer and line.early == 1  # the frame complete at 5 ms was dropped
+
+
+def test_a_dead_unit_keeps_a_live_client_waiting_one_timeout_at_most():
+    bus, a, _ = _bus()
+    a.bank.holding_registers[0] = 1234
+    timeout = 0.25
+    results, errors = [], []
+    with mb.TcpGateway(bus, timeout=timeout) as gw:
+
+        def dead_client():
+            for _ in range(3):
+                results.append(_ask(gw, 5, 0, timeout=30))
+
+        def live_client():
+            for _ in range(10):
+                got = _ask(gw, 1, 0, timeout=30)
+                if got != [1234]:
+                    errors.append(got)
+
+        threads = [threading.Thread(target=dead_client) for _ in range(8)] + [threading.Thread(target=live_client)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(timeout=60)
+        # bus time a live request waited before its turn: at most the dead transaction under way
+        print("worst waits", gw.worst_wait)
+        assert gw.worst_wait[1] <= timeout + REQUEST_AIRTIME + 1e-9
+        assert gw.counters["busy"] == 0
+    assert errors == [] and results == [0x0B] * 24
+
+
+def test_the_queues_are_bounded_and_answer_busy_beyond():
+    bus, _, _ = _bus()
+    gw = mb.TcpGateway(bus, timeout=0.2, max_queued_per_unit=2, max_queued=3)
+    gw.server.start()  # the server reads and queues; the bus thread has not started yet
+    try:
+        links = [mb.tcp_link(*gw.address) for _ in range(5)]
+        request = mb.ReadHoldingRegistersRequest(address=0, count=1)
+        for i, (link, unit) in enumerate(zip(links, (1, 1, 1, 2, 2))):
+            link.send(mb.TcpFrame(transaction_id=i, unit=unit, pdu=request).encode())
+        # the third request for unit 1, and a fourth in all, are answered 06 (server device busy) at once
+        for i in (2, 4):
+            frame = links[i].receive(5.0)
+            assert frame is not None and frame[7:] == bytes([0x83, 0x06]), frame
+        gw.start()  # the bus thread serves what was queued
+        for i in (0, 1, 3):
+            frame = links[i].receive(5.0)
+            assert frame is not None and frame[7] == 0x03, frame
+        assert gw.counters["busy"] == 2 and gw.counters["forwarded"] == 3
+    finally:
+        for link in links:
+            link.close()
+        gw.close()
