@@ -120,7 +120,7 @@ class _Forwarder:
         self._turns: deque[int] = deque()  # units with requests waiting, in the order of their turns
         self._queued = 0
         self._quiet_until: dict[int, float] = {}  # a unit that timed out gets nothing before this
-        self._silent: set[int] = set()  # units whose latest transaction got no answer
+        self._answering: set[int] = set()  # units whose latest transaction got an answer
         self._after_silence = False  # the latest transaction got no answer: an answering unit goes next
         self._line_down = False
         self._reopen_at = 0.0
@@ -232,7 +232,7 @@ class _Forwarder:
             return None, min(self._quiet_until[u] for u in self._turns)
         unit = ready[0]
         if self._after_silence:
-            unit = next((u for u in ready if u not in self._silent), unit)
+            unit = next((u for u in ready if u in self._answering), unit)
         self._turns.remove(unit)
         queue = self._queues[unit]
         job = queue.popleft()
@@ -279,7 +279,7 @@ class _Forwarder:
             return exception_reply(frame, GATEWAY_PATH_UNAVAILABLE)
         except ModbusError as exc:  # timeout, CRC errors, mismatches on every attempt
             self.no_response += 1
-            self._silent.add(unit)
+            self._answering.discard(unit)
             self._after_silence = True
             if isinstance(exc, (ModbusTimeoutError, TransactionMismatchError)):
                 # the answer may still come: nothing more to this unit until the late window is over
@@ -287,7 +287,7 @@ class _Forwarder:
             return exception_reply(frame, GATEWAY_TARGET_FAILED)
         finally:
             self.late += stats.mismatches + getattr(link, "stale", 0) + line.early - before
-        self._silent.discard(unit)
+        self._answering.add(unit)
         self._after_silence = False
         if response is None:  # pragma: no cover - unit 0 is refused in submit
             return None

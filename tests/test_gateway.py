@@ -2,6 +2,7 @@
 gets 0x0B for an absent unit after the gateway's timeout, and 10 clients at once get their own replies."""
 
 import threading
+import time
 
 from pymodbus.client import ModbusTcpClient
 
@@ -172,12 +173,60 @@ def test_a_frame_that_arrives_before_the_request_has_left_is_not_its_answer():
     assert line.receive(1.0) == answer and line.early == 1  # the frame complete at 5 ms was dropped
 
 
+def _queue_then_serve(gw, units):
+    """Send one FC 3 request per unit in ``units``, each on its own connection, while the bus thread has
+    not started (the server reads and queues them); then start it. The open links, in that order."""
+    gw.server.start()
+    links = [mb.tcp_link(*gw.address) for _ in units]
+    request = mb.ReadHoldingRegistersRequest(address=0, count=1)
+    for i, (link, unit) in enumerate(zip(links, units)):
+        link.send(mb.TcpFrame(transaction_id=i, unit=unit, pdu=request).encode())
+    deadline = time.monotonic() + 5
+    while gw.server.counters.requests < len(units) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return links
+
+
 def test_a_dead_unit_keeps_a_live_client_waiting_one_timeout_at_most():
+    # eight clients ask a silent unit, then one asks a live unit: the live one goes second, not ninth
+    bus, a, _ = _bus()
+    timeout = 0.25
+    with mb.TcpGateway(bus, timeout=timeout) as gw:
+        links = _queue_then_serve(gw, [5] * 8 + [1])
+        try:
+            gw.start()
+            answers = [link.receive(10.0) for link in links]
+        finally:
+            for link in links:
+                link.close()
+    assert [f[7:9] for f in answers[:8]] == [bytes([0x83, 0x0B])] * 8
+    assert answers[8][7:] == bytes([0x03, 0x02, 0x00, 0x0B])
+    # its wait in bus time: the one dead transaction under way (8 characters, then the timeout)
+    assert abs(gw.worst_wait[1] - (REQUEST_AIRTIME + timeout)) < 1e-9
+    assert gw.worst_wait[5] > 7 * timeout
+
+
+def test_after_a_silence_a_unit_that_answers_goes_first():
+    # four dead units and a live one that has answered before: the live one waits one dead transaction
+    bus, _, _ = _bus()
+    with mb.TcpGateway(bus, timeout=0.1, late_window=0) as gw:
+        links = _queue_then_serve(gw, [1, 5, 6, 7, 8, 5, 6, 7, 8, 1])
+        try:
+            gw.start()
+            answers = [link.receive(10.0) for link in links]
+        finally:
+            for link in links:
+                link.close()
+    assert [f[8] for f in answers] == [0x02] + [0x0B] * 8 + [0x02]
+    # turns: 1, 5, then 1 (it answers) before 6, 7, 8; its second request waited 2 transactions
+    assert abs(gw.worst_wait[1] - (22 * 10 / 9600 + REQUEST_AIRTIME + 0.1)) < 1e-9
+
+
+def test_many_clients_of_a_dead_unit_and_one_live_client_at_once():
     bus, a, _ = _bus()
     a.bank.holding_registers[0] = 1234
-    timeout = 0.25
     results, errors = [], []
-    with mb.TcpGateway(bus, timeout=timeout) as gw:
+    with mb.TcpGateway(bus, timeout=0.25) as gw:
 
         def dead_client():
             for _ in range(3):
@@ -194,9 +243,7 @@ def test_a_dead_unit_keeps_a_live_client_waiting_one_timeout_at_most():
             t.start()
         for t in threads:
             t.join(timeout=60)
-        # bus time a live request waited before its turn: at most the dead transaction under way
-        print("worst waits", gw.worst_wait)
-        assert gw.worst_wait[1] <= timeout + REQUEST_AIRTIME + 1e-9
+        assert gw.worst_wait[1] <= 0.25 + REQUEST_AIRTIME + 1e-9
         assert gw.counters["busy"] == 0
     assert errors == [] and results == [0x0B] * 24
 
@@ -204,12 +251,8 @@ def test_a_dead_unit_keeps_a_live_client_waiting_one_timeout_at_most():
 def test_the_queues_are_bounded_and_answer_busy_beyond():
     bus, _, _ = _bus()
     gw = mb.TcpGateway(bus, timeout=0.2, max_queued_per_unit=2, max_queued=3)
-    gw.server.start()  # the server reads and queues; the bus thread has not started yet
     try:
-        links = [mb.tcp_link(*gw.address) for _ in range(5)]
-        request = mb.ReadHoldingRegistersRequest(address=0, count=1)
-        for i, (link, unit) in enumerate(zip(links, (1, 1, 1, 2, 2))):
-            link.send(mb.TcpFrame(transaction_id=i, unit=unit, pdu=request).encode())
+        links = _queue_then_serve(gw, [1, 1, 1, 2, 2])
         # the third request for unit 1, and a fourth in all, are answered 06 (server device busy) at once
         for i in (2, 4):
             frame = links[i].receive(5.0)
