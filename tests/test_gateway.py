@@ -1,6 +1,7 @@
 """TcpGateway: pymodbus's TCP client reads and writes two slaves on a loopback serial bus through it,
 gets 0x0B for an absent unit after the gateway's timeout, and 10 clients at once get their own replies."""
 
+import socket
 import threading
 import time
 
@@ -238,7 +239,8 @@ def test_many_clients_of_a_dead_unit_and_one_live_client_at_once():
                 if got != [1234]:
                     errors.append(got)
 
-        threads = [threading.Thread(target=dead_client) for _ in range(8)] + [threading.Thread(target=live_client)]
+        threads = [threading.Thread(target=dead_client) for _ in range(8)]
+        threads.append(threading.Thread(target=live_client))
         for t in threads:
             t.start()
         for t in threads:
@@ -266,3 +268,110 @@ def test_the_queues_are_bounded_and_answer_busy_beyond():
         for link in links:
             link.close()
         gw.close()
+
+
+# ------------------------------------------------------------------------------------------------------
+# a real line over socket://: lost and reopened; a babbling unit
+# ------------------------------------------------------------------------------------------------------
+def _device_server(port=0):
+    """A serial device server on 127.0.0.1 (raw TCP) with unit 1 on its line: (server, port)."""
+    slave = mb.Slave(unit=1, bank=mb.DataBank())
+    slave.bank.holding_registers[0] = 77
+    server = mb.SerialServer(slave, mb.TcpSerialPort("127.0.0.1", port), mode="rtu").start()
+    return server, server.port.address[1]
+
+
+def test_a_lost_socket_line_is_reopened_when_the_device_server_returns():
+    server, port = _device_server()
+    link = mb.serial_link(f"socket://127.0.0.1:{port}", baudrate=9600)
+    try:
+        with mb.TcpGateway(link, timeout=0.3) as gw:
+            assert _ask(gw, 1, 0) == [77]
+            server.close()  # the device server goes away
+            assert _ask(gw, 1, 0) == 0x0A
+            assert _ask(gw, 1, 0) == 0x0A  # answered at once while the line is down
+            server, _ = _device_server(port)  # it comes back on the same port
+            deadline = time.monotonic() + 10
+            got = None
+            while got != [77] and time.monotonic() < deadline:
+                got = _ask(gw, 1, 0)
+                assert got in ([77], 0x0A)
+                time.sleep(0.05)
+            assert got == [77] and gw.counters["reopened"] >= 1
+    finally:
+        server.close()
+        link.close()
+
+
+def test_a_babbling_unit_does_not_stall_the_other_clients():
+    # a device server whose unit 7 answers a request with a stream of frames (about 200 kB in 2 s);
+    # unit 1 on the same line answers as usual, between the babble's frames
+    slave = mb.Slave(unit=1, bank=mb.DataBank())
+    slave.bank.holding_registers[0] = 77
+    babble = mb.RtuFrame(unit=7, pdu=mb.ReadHoldingRegistersResponse(registers=list(range(100)))).encode()
+    listener = socket.create_server(("127.0.0.1", 0))
+    stop = threading.Event()
+    lock = threading.Lock()
+
+    def babbler(conn):
+        end = time.monotonic() + 2.0
+        try:
+            while time.monotonic() < end and not stop.is_set():
+                with lock:
+                    conn.sendall(babble)
+                time.sleep(0.001)
+        except OSError:
+            pass
+
+    def device():
+        conn, _ = listener.accept()
+        splitter = mb.RtuSplitter(role="request")
+        conn.settimeout(0.05)
+        while not stop.is_set():
+            try:
+                data = conn.recv(4096)
+            except TimeoutError:
+                continue
+            except OSError:
+                return
+            if not data:
+                return
+            for frame in splitter.feed(data):
+                if frame[0] == 7:
+                    threading.Thread(target=babbler, args=(conn,), daemon=True).start()
+                elif frame[0] == 1:
+                    answer = slave.handle(frame, "rtu")
+                    with lock:
+                        conn.sendall(answer)
+
+    threading.Thread(target=device, daemon=True).start()
+    link = mb.serial_link(f"socket://127.0.0.1:{listener.getsockname()[1]}", baudrate=9600)
+    waits, results = [], []
+    try:
+        with mb.TcpGateway(link, timeout=0.25) as gw:
+
+            def babble_client():
+                for _ in range(3):
+                    results.append(_ask(gw, 7, 0))
+
+            def live_client():
+                for _ in range(10):
+                    start = time.monotonic()
+                    results.append(_ask(gw, 1, 0))
+                    waits.append(time.monotonic() - start)
+
+            threads = [threading.Thread(target=babble_client) for _ in range(2)]
+            threads.append(threading.Thread(target=live_client))
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join(timeout=60)
+            late = gw.counters["late"]
+    finally:
+        stop.set()
+        link.close()
+        listener.close()
+    assert all(r in (0x0B, [77]) for r in results), results
+    assert results.count([77]) >= 5 and late > 0
+    # each live request: at most one babbling transaction (the timeout) before its own, with room
+    assert max(waits) < 1.5, waits
