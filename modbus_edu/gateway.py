@@ -46,6 +46,7 @@ tried again after the back-off; a link closed by its owner stays unavailable.
 
 from __future__ import annotations
 
+import logging
 import threading
 import time
 from collections import deque
@@ -63,7 +64,7 @@ from .errors import (
 )
 from .framing import TcpFrame, encode_frame
 from .links.base import Link
-from .links.routing import exception_reply
+from .links.routing import SERVER_DEVICE_FAILURE, exception_reply
 from .links.tcp import TcpServer
 from .master import Master
 from .pdu import ExceptionResponse
@@ -80,6 +81,7 @@ SERVER_DEVICE_BUSY = 0x06
 REOPEN_FIRST = 0.1
 #: ... up to this many.
 REOPEN_MAX = 2.0
+_log = logging.getLogger("modbus_edu.gateway")
 #: The longest the bus thread listens without looking at its queues (waiting out a late window).
 _LISTEN_STEP = 0.01
 
@@ -257,8 +259,14 @@ class _Forwarder:
             self._lost()
 
     def _serve(self, job: _Job) -> None:
-        """One transaction on the bus for ``job``, and its answer to the client."""
-        job.reply(self._transact(job))
+        """One transaction on the bus for ``job``, and its answer to the client (exception 04, server
+        device failure, if the transaction failed in a way it should not: the bus thread carries on)."""
+        try:
+            answer = self._transact(job)
+        except Exception:
+            _log.exception("gateway failed on request %s", job.frame.hex(" "))
+            answer = exception_reply(job.frame, SERVER_DEVICE_FAILURE)
+        job.reply(answer)
 
     def _transact(self, job: _Job) -> bytes | None:
         frame, unit, request = job.frame, job.unit, job.request.pdu

@@ -387,3 +387,13 @@ def test_a_babbling_unit_does_not_stall_the_other_clients():
     assert all(r in (0x0B, [77]) for r in results), results
     assert max(waits) < 1.5, waits
     assert late > 0
+
+
+def test_a_failure_inside_the_bus_thread_is_answered_04_and_the_thread_carries_on():
+    bus, _, _ = _bus()
+    with mb.TcpGateway(bus, timeout=0.2) as gw:
+        execute = gw.master.execute
+        gw.master.execute = lambda *args, **kwargs: 1 / 0
+        assert _ask(gw, 1, 0) == 0x04
+        gw.master.execute = execute
+        assert _ask(gw, 1, 0) == [11]
