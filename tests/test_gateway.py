@@ -189,19 +189,24 @@ def _queue_then_serve(gw, units):
     return links
 
 
+def _answers_in_turn(gw, units):
+    """Queue one request per unit (in that order), then start the bus thread: the answers, in order."""
+    links = _queue_then_serve(gw, units)
+    try:
+        gw.start()
+        return [link.receive(10.0) for link in links]
+    finally:
+        for link in links:
+            link.close()
+        gw.close()
+
+
 def test_a_dead_unit_keeps_a_live_client_waiting_one_timeout_at_most():
     # eight clients ask a silent unit, then one asks a live unit: the live one goes second, not ninth
     bus, a, _ = _bus()
     timeout = 0.25
     gw = mb.TcpGateway(bus, timeout=timeout)
-    links = _queue_then_serve(gw, [5] * 8 + [1])
-    try:
-        gw.start()
-        answers = [link.receive(10.0) for link in links]
-    finally:
-        for link in links:
-            link.close()
-        gw.close()
+    answers = _answers_in_turn(gw, [5] * 8 + [1])
     assert [f[7:9] for f in answers[:8]] == [bytes([0x83, 0x0B])] * 8
     assert answers[8][7:] == bytes([0x03, 0x02, 0x00, 0x0B])
     # its wait in bus time: the one dead transaction under way (8 characters, then the timeout)
@@ -213,14 +218,7 @@ def test_after_a_silence_a_unit_that_answers_goes_first():
     # four dead units and a live one that has answered before: the live one waits one dead transaction
     bus, _, _ = _bus()
     gw = mb.TcpGateway(bus, timeout=0.1, late_window=0)
-    links = _queue_then_serve(gw, [1, 5, 6, 7, 8, 5, 6, 7, 8, 1])
-    try:
-        gw.start()
-        answers = [link.receive(10.0) for link in links]
-    finally:
-        for link in links:
-            link.close()
-        gw.close()
+    answers = _answers_in_turn(gw, [1, 5, 6, 7, 8, 5, 6, 7, 8, 1])
     assert [f[8] for f in answers] == [0x02] + [0x0B] * 8 + [0x02]
     # turns: 1, 5, then 1 (it answers) before 6, 7, 8; its second request waited 2 transactions
     assert abs(gw.worst_wait[1] - (22 * 10 / 9600 + REQUEST_AIRTIME + 0.1)) < 1e-9
