@@ -189,6 +189,15 @@ def _queue_then_serve(gw, units):
     return links
 
 
+def _together(clients):
+    """Run the client functions at once, each on its own thread; return when all are done."""
+    threads = [threading.Thread(target=client) for client in clients]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=60)
+
+
 def _answers_in_turn(gw, units):
     """Queue one request per unit (in that order), then start the bus thread: the answers, in order."""
     links = _queue_then_serve(gw, units)
@@ -240,12 +249,7 @@ def test_many_clients_of_a_dead_unit_and_one_live_client_at_once():
                 if got != [1234]:
                     errors.append(got)
 
-        threads = [threading.Thread(target=dead_client) for _ in range(8)]
-        threads.append(threading.Thread(target=live_client))
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join(timeout=60)
+        _together([dead_client] * 8 + [live_client])
         assert gw.worst_wait[1] <= 0.25 + REQUEST_AIRTIME + 1e-9
         assert gw.counters["busy"] == 0
     assert errors == [] and results == [0x0B] * 24
@@ -369,12 +373,7 @@ def test_a_babbling_unit_does_not_stall_the_other_clients():
                     results.append(_ask(gw, 1, 0))
                     waits.append(time.monotonic() - start)
 
-            threads = [threading.Thread(target=babble_client) for _ in range(2)]
-            threads.append(threading.Thread(target=live_client))
-            for t in threads:
-                t.start()
-            for t in threads:
-                t.join(timeout=60)
+            _together([babble_client] * 2 + [live_client])
             late = gw.counters["late"]
     finally:
         stop.set()
