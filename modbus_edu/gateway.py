@@ -359,9 +359,13 @@ class _Line(Link):
         self.early = 0
 
     def airtime(self, size: int) -> float:
-        """Seconds ``size`` characters take to leave the line (0 on a link without line timing)."""
+        """Seconds ``size`` characters take to leave the line: 0 on a link without line timing (TCP,
+        and pyserial's URLs such as ``socket://``, where bytes travel at network speed)."""
         timing = getattr(self.link, "timing", None)
-        return size * timing.char_time if timing is not None else 0.0
+        port = getattr(self.link, "port", None)
+        if timing is None or type(port).__module__.startswith("serial.urlhandler."):
+            return 0.0
+        return size * timing.char_time
 
     def send(self, frame: bytes) -> None:
         self.link.send(frame)
