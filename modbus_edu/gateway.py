@@ -17,7 +17,9 @@ What the client sees when the serial side fails (*Modbus Application Protocol* V
 
 **The timeout starts when the request has left**, as a serial-line master's response timeout does:
 a silent unit costs the request's characters on the line plus ``timeout`` (at 9600 baud 8N1, an 8-byte
-request takes 8.33 ms, so a 200 ms timeout ends 208.33 ms after the request began).
+request takes 8.33 ms, so a 200 ms timeout ends 208.33 ms after the request began). Over a pyserial URL
+such as ``socket://`` the bytes travel at network speed, with no line timing: there the timeout starts
+when the request is written.
 
 **One bus, many clients.** The serial bus carries one transaction at a time. The TCP server keeps
 accepting and reading while the bus is busy: each request goes into its unit's queue, and one bus
@@ -32,10 +34,11 @@ slave's processing + response characters + 3.5 characters, at the bus's characte
 slave that answers after the gateway gave up on it would, on a bus that moved on, seem to answer the next
 request to the same unit with the same function. So after a unit has timed out, the gateway sends it
 nothing for ``late_window`` seconds (the gateway's ``timeout`` unless told otherwise) while the other
-units' requests go first, and drops whatever comes in that window; and a frame that arrives whole before
-the request it would answer has left the line is not taken for its answer. Each dropped frame is
-counted in ``counters["late"]``. A slave slower than ``timeout + late_window`` still cannot be told apart
-from a prompt one: make the timeout longer than the slowest answer on the bus.
+units' requests go first, and drops whatever comes in that window; and (on a line with timing) a
+frame that arrives whole before the request it would answer has left the line is not taken for its
+answer. Each dropped frame is counted in ``counters["late"]``. A slave slower than
+``timeout + late_window`` still cannot be told apart from a prompt one: make the timeout longer than the
+slowest answer on the bus.
 
 **A lost line is reopened.** When the serial port fails (a ``socket://`` device server that went away,
 a USB adapter unplugged), the gateway answers 0x0A and reopens the port when a request comes, with a
