@@ -8,7 +8,7 @@ from modbus_edu.exercises import lab
 
 answer = {}
 for name, wire in lab("silent").items():
-    mb.Master(wire, timeout=0.2).poll(count=3, function=3, unit=1, address=0, quantity=1)
+    mb.Master(wire, timeout=0.2).poll(polls=3, function=3, unit=1, address=0, quantity=1)
     if not wire.slaves:
         answer[name] = "no slave on the line"
     elif wire.slaves[0].counters.other_unit:

@@ -5,7 +5,7 @@ import modbus_edu as mb
 from modbus_edu.exercises import lab
 
 poller = mb.Master(lab("slow slave"), timeout=1.0)
-outcomes = poller.poll(interval=5.0, count=300, function=4, unit=1, address=0, quantity=2)
+outcomes = poller.poll(interval=5.0, polls=300, function=4, unit=1, address=0, quantity=2)
 fraction = poller.stats.valid_responses / poller.stats.requests
 answer = (1.0 - 0.013) / fraction
 print(f"{fraction:.0%} answered: loop time about {answer:.2f} s")
