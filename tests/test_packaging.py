@@ -355,3 +355,13 @@ def test_the_learner_pins_over_a_hub_base_image_pass_pip_check(tmp_path):
         assert done.returncode == 0, done.stderr[-3000:]
     check = subprocess.run([hub, "-m", "pip", "check"], capture_output=True, text=True)
     assert check.returncode == 0, check.stdout + check.stderr
+
+
+def test_the_teaching_guide_names_every_exercise_and_the_readme_links_it():
+    from modbus_edu.exercises import EXERCISES
+
+    guide = (ROOT / "TEACHING.md").read_text(encoding="utf-8")
+    rows = set(re.findall(r"^\| (\d\d\.\d+) \|", guide, re.M))
+    assert rows == set(EXERCISES), set(EXERCISES) ^ rows
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert "https://github.com/modbus-edu/modbus_edu/blob/main/TEACHING.md" in readme
