@@ -40,6 +40,8 @@ from pathlib import Path
 
 RIGHT, WRONG, NOT_ANSWERED, ERRORED = "right", "wrong", "not answered", "errored"
 RECORDER = "__modbus_edu_record__"
+STARTUP_TIMEOUT = 120
+"""Seconds a kernel may take to start (not counted in a notebook's time limit)."""
 OUTPUT_LIMIT = 1_000_000
 """Characters of output a notebook may print before the grader reports an output flood (and keeps none)."""
 
@@ -226,9 +228,15 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
                     run.problems.append(f"printed more than {OUTPUT_LIMIT:,} characters (output discarded)")
                 return None
 
-        deadline = start + timeout
-        client = Client(notebook, kernel_name=_kernel_spec(folder), allow_errors=True, startup_timeout=120,
-                        timeout_func=lambda cell: max(1.0, deadline - time.monotonic()),
+        deadline: list[float] = []  # the time limit counts from the first cell, once the kernel has started
+
+        def time_left(cell) -> float:
+            if not deadline:
+                deadline.append(time.monotonic() + timeout)
+            return max(1.0, deadline[0] - time.monotonic())
+
+        client = Client(notebook, kernel_name=_kernel_spec(folder), allow_errors=True,
+                        startup_timeout=STARTUP_TIMEOUT, timeout_func=time_left,
                         resources={"metadata": {"path": str(path.parent.resolve())}})
         try:
             client.execute()
@@ -261,14 +269,27 @@ def _worker(argv: list[str]) -> None:
 
 def run_isolated(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
     """:func:`run_notebook` in a separate process, with a backstop deadline of its own."""
+    backstop = 2 * timeout + 2 * STARTUP_TIMEOUT
     try:
         done = subprocess.run([sys.executable, "-m", "modbus_edu.course.grade", str(path), str(timeout),
-                               str(memory_mb)], capture_output=True, text=True, timeout=timeout + 120)
+                               str(memory_mb)], capture_output=True, text=True, timeout=backstop)
         return NotebookRun(**json.loads(done.stdout))
     except subprocess.TimeoutExpired:
-        return NotebookRun(path.name, problems=[f"did not finish within {timeout:g} s (grader stopped)"])
+        problem = f"did not finish within {backstop:g} s (its grader was stopped)"
     except (json.JSONDecodeError, TypeError):
-        return NotebookRun(path.name, problems=["its grader failed: " + (done.stderr.strip()[-300:] or "?")])
+        problem = "its grader failed: " + (done.stderr.strip()[-300:] or "?")
+    return NotebookRun(path.name, keys=_keys_of(path), problems=[problem])
+
+
+def _keys_of(path: Path) -> list[str]:
+    """The exercise keys a notebook checks, read from the file (for a notebook whose grader failed)."""
+    try:
+        import nbformat
+
+        cells = nbformat.read(path, as_version=4).cells
+    except Exception:
+        return []
+    return [key for cell in cells if cell.cell_type == "code" for key in exercise_keys(cell.source)]
 
 
 # --- a class: learners, exercises, the gradebook ----------------------------------------------------------
