@@ -352,7 +352,7 @@ def verdicts(runs: list[NotebookRun]) -> dict[str, Verdict]:
 def misconception(message: str) -> str:
     """A checker's feedback without the learner's own numbers, so that the same slip counts once."""
     text = message.split("\nHint:")[0].removeprefix("Not yet: ")
-    text = re.sub(r"0x[0-9A-Fa-f]+|\b[0-9A-F]{2}(?: [0-9A-F]{2})+\b|\d+(?:\.\d+)?", "#", text)
+    text = re.sub(r"0x[0-9A-Fa-f]+|\b[0-9A-F]{2}(?: [0-9A-F]{2})+\b|\b\d+(?:\.\d+)?\b", "#", text)
     return text.strip()
 
 
