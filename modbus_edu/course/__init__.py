@@ -14,6 +14,10 @@ nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the cou
 * introduce before use: every library name a code cell uses (``mb.Master``, ``from modbus_edu.widgets
   import TestTool``) is introduced first, in the prose (markdown) or in a comment of that notebook or an
   earlier one.
+
+``python -m modbus_edu.course release DIR`` (``make release``) writes a copy of the course for a class,
+without the worked solutions (:mod:`.release`); ``modbus-edu grade`` grades a class's notebooks
+(:mod:`.grade`).
 """
 
 from .check import Problem, check_course, check_notebook, source_shorthands, used_before_introduced
