@@ -28,6 +28,7 @@ import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from datetime import datetime
+from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
 from . import __version__
@@ -873,6 +874,7 @@ def build_parser() -> argparse.ArgumentParser:
         (_options_identify, cmd_identify),
         (_options_gateway, cmd_gateway),
         (_options_scan, cmd_scan),
+        (_options_grade, cmd_grade),
     ):
         sub = add(subs)
         _common(sub)
@@ -1023,6 +1025,37 @@ def _options_scan(subs: Any) -> argparse.ArgumentParser:
     p.add_argument("--parities", help="serial parities to try, e.g. N,E (default --parity)")
     p.add_argument("--timeout", type=float, default=0.1, help="wait per question, seconds (default 0.1)")
     p.add_argument("--budget", type=float, default=120.0, help="stop after this many seconds (default 120)")
+    return p
+
+
+def cmd_grade(args: argparse.Namespace) -> int:
+    from .course.grade import grade
+
+    summary = grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
+                    progress=not args.quiet)
+    print(f"graded {summary['learners']} learner(s) in {summary['seconds']:.1f} s: {args.out}/gradebook.csv, "
+          f"{args.out}/summary.html, {args.out}/learners/")
+    for row in summary["exercises"]:
+        print(f"  {row['exercise']:>6}  {row['success rate']:4.0%} right")
+    for learner, flags in summary["flags"].items():
+        print(f"  {learner}: {'; '.join(flags)}")
+    return 0
+
+
+def _options_grade(subs: Any) -> argparse.ArgumentParser:
+    """The ``grade`` subcommand's options."""
+    p = subs.add_parser("grade", help="grade a class's notebooks into a gradebook",
+                        description="Run every learner's notebooks in fresh kernels, each exercise checked "
+                                    "by the library's own checker as it runs, and write a CSV gradebook, a "
+                                    "feedback page per learner and a class summary. SUBMISSIONS: folders of "
+                                    "learners' folders, a learner's folder, or notebooks named by learner "
+                                    "(ada_03_rtu_and_crc.ipynb). Example: modbus-edu grade class --out out")
+    p.add_argument("submissions", nargs="+", type=Path, metavar="SUBMISSIONS")
+    p.add_argument("--out", type=Path, default=Path("grades"), help="folder to write into (default grades)")
+    p.add_argument("--timeout", type=float, default=300.0, help="seconds per notebook (default 300)")
+    p.add_argument("--memory", type=int, default=1024, help="MB of memory per kernel (default 1024)")
+    p.add_argument("--jobs", type=int, default=None, help="notebooks run at once (default: the CPU count)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return p
 
 

@@ -194,6 +194,25 @@ class NumberError(ModbusError):
     """A number that no Modbus setting or field can hold: thousands of digits, or too large for a float."""
 
 
+class MissingDependencyError(ModbusError, ImportError):
+    """A part of the library needs a package that is not installed: the widgets and plots need the
+    ``course`` extra (JupyterLab, ipywidgets, matplotlib); the message says what to install."""
+
+
+def require(module: str, user: str, extra: str = "course") -> Any:
+    """Import ``module`` for ``user`` (a part of the library), or raise :class:`MissingDependencyError`
+    saying how to install it: ``pip install "modbus-edu[course]"``."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise MissingDependencyError(
+            f"{user} needs {module.split('.')[0]}, which is not installed here ({exc}); it comes with the "
+            f"course's extra: pip install \"modbus-edu[{extra}]\" (or `make lab` in a clone of the course)"
+        ) from None
+
+
 def shown(value: object, limit: int = 60) -> str:
     """``repr(value)`` for a message, safe for any value: huge ints by size, long reprs cut."""
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:

@@ -16,7 +16,9 @@ from __future__ import annotations
 
 from typing import Any
 
-import matplotlib as mpl
+from .errors import require
+
+mpl = require("matplotlib", "modbus_edu.plotstyle")
 
 WIDTH = 9.0
 """Inches: at the notebook's 100 dpi, about 900 px, inside the 968 px output area of a 1400 px screen."""

@@ -21,6 +21,10 @@ nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the cou
   notebook, or is a named specification example; the prose names a source at most 3 times (the closing
   "Where this comes from" box aside) and never "its Table N"; every notebook has that box before its Next
   link.
+
+``python -m modbus_edu.course release DIR`` (``make release``) writes a copy of the course for a class,
+without the worked solutions (:mod:`.release`); ``modbus-edu grade`` grades a class's notebooks
+(:mod:`.grade`).
 """
 
 from .check import (

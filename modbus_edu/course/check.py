@@ -155,7 +155,8 @@ def check_course(folder: Path | str) -> list[Problem]:
 # --- the course as one: the map, the links, quoted frames and the sources ------------------------------
 
 TITLE_PATTERN = re.compile(r"^#\s+(?:\d+\.\s*)?(.+?)\s*$", re.M)
-NOTEBOOK_LINK = re.compile(r"\[([^\]\n]+)\]\(((?:notebooks/)?\d\d_[a-z0-9_]+\.ipynb)\)")
+NOTEBOOK_LINK = re.compile(
+    r"\[([^\]\n]+)\]\((?:https://github\.com/[\w.-]+/[\w.-]+/blob/[\w.-]+/)?((?:notebooks/)?\d\d_[a-z0-9_]+\.ipynb)\)")
 NEXT_LINK = re.compile(r"\bnext\b[^\n\[]*\[([^\]\n]+)\]\((\d\d_[a-z0-9_]+\.ipynb)\)", re.I)
 CALLS_ITSELF_LAST = re.compile(
     r"\b(?:this|the present)\s+(?:last|final)\s+notebook\b"
@@ -245,7 +246,8 @@ def map_problems(notebooks: list[Path]) -> list[Problem]:
 
 
 def readme_problems(readme: Path | str, notebooks: list[Path]) -> list[Problem]:
-    """The README's course table (rows linking notebooks/NN_name.ipynb) lists exactly the notebooks."""
+    """The README's course table (rows linking notebooks/NN_name.ipynb, or its address on GitHub, as a
+    README on PyPI needs) lists exactly the notebooks."""
     text = Path(readme).read_text(encoding="utf-8")
     rows = [NOTEBOOK_LINK.search(line) for line in text.splitlines() if line.startswith("|")]
     listed = [(row.group(1), row.group(2)) for row in rows if row]

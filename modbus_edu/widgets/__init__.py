@@ -14,10 +14,15 @@ static picture (:mod:`.picture`), labelled "run this cell to use it".
 
 from __future__ import annotations
 
-from .crcexplorer import CrcExplorer
-from .dashboard import MeterDashboard
-from .framebuilder import FrameBuilder
-from .framedecoder import FrameDecoder
-from .testtool import TestTool
+from ..errors import require
+
+require("ipywidgets", "modbus_edu.widgets")  # the course extra: say how to install it, not a bare ImportError
+require("matplotlib", "modbus_edu.widgets")
+
+from .crcexplorer import CrcExplorer  # noqa: E402
+from .dashboard import MeterDashboard  # noqa: E402
+from .framebuilder import FrameBuilder  # noqa: E402
+from .framedecoder import FrameDecoder  # noqa: E402
+from .testtool import TestTool  # noqa: E402
 
 __all__ = ["FrameBuilder", "FrameDecoder", "CrcExplorer", "TestTool", "MeterDashboard"]

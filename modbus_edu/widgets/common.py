@@ -12,6 +12,7 @@ import asyncio
 import html
 import traceback
 from collections.abc import Callable, Iterable
+from pathlib import PurePath
 from typing import Any
 
 import ipywidgets as W
@@ -209,7 +210,7 @@ class MessageLine(W.HTML):
             self.show(f"{type(exc).__name__}: {exc}", "error")
         else:  # a bug, not bad input: still never raise into the notebook, but say it is unexpected
             last = traceback.extract_tb(exc.__traceback__)[-1:] if exc.__traceback__ else []
-            where = f" (at {last[0].filename.rsplit('/', 1)[-1]}:{last[0].lineno})" if last else ""
+            where = f" (at {PurePath(last[0].filename).name}:{last[0].lineno})" if last else ""
             self.show(f"unexpected {type(exc).__name__}: {exc}{where}", "error")
 
     def clear(self) -> None:
