@@ -15,6 +15,8 @@ from .codes import exception_meaning
 
 __all__ = [
     "ModbusError",
+    "MissingDependencyError",
+    "SecurityError",
     "CaptureError",
     "FrameError",
     "ChecksumError",

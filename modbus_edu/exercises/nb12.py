@@ -10,7 +10,6 @@ from ..devices.generators import increment_fill
 from ..framing import TcpFrame, parse_hex
 from ..pdu import ReadHoldingRegistersRequest
 from ..values import format_registers
-from ..widgets.testtool import TestTool
 from .build import build_exercise
 from .core import address_diagnosis, exercise
 from .misconceptions import diagnose
@@ -58,6 +57,8 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
                      "interval": 0.5},
                     None)])
 def _check_12_2(answer: Any) -> str | None:
+    from ..widgets.testtool import TestTool  # the course extra: imported when a learner checks, not before
+
     config = answer.config() if isinstance(answer, TestTool) else answer
     if not isinstance(config, dict):
         return "give the TestTool or its config() dict."
@@ -82,6 +83,8 @@ def _check_12_2(answer: Any) -> str | None:
           accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
           refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:
+    from ..widgets.testtool import TestTool  # the course extra: imported when a learner checks, not before
+
     server = TestTool("tcp_server", unit=1, length=1)
     client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
     client.run_polls(3)
