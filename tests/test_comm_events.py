@@ -35,8 +35,9 @@ def test_a_value_that_is_not_a_byte_is_refused():
 
 
 def test_the_slaves_log_reads_as_the_story_that_happened():
-    link = mb.loopback_serial(mb.Slave(unit=1))
-    master = mb.Master(link)
+    slave = mb.Slave(unit=1)
+    slave.bank.files.sparse = True  # a device with no files: a file record read is exception 02
+    master = mb.Master(mb.loopback_serial(slave))
     master.read_holding_registers(unit=1, address=0, count=1)
     with pytest.raises(mb.ModbusExceptionError):
         master.read_file_record(unit=1, file=9, record=0, count=1)   # exception 02
