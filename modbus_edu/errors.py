@@ -45,6 +45,7 @@ __all__ = [
     "LinkError",
     "ConfigError",
     "NumberError",
+    "BrowserError",
     "shown",
     "guard_numbers",
 ]
@@ -253,3 +254,11 @@ class CaptureError(ModbusError):
 
 class SecurityError(ModbusError):
     """Modbus/TCP Security cannot go on: a certificate, a key or a role that is missing or not valid."""
+
+
+class BrowserError(ModbusError):
+    """Asked for a socket in a browser (JupyterLite, Pyodide), where no socket can be opened.
+
+    A web page cannot listen on a port, and it cannot open a TCP or UDP connection to a device: servers,
+    gateways and links to real devices need a local Python or Binder.
+    """

@@ -71,6 +71,7 @@ from .links.routing import SERVER_DEVICE_FAILURE, exception_reply
 from .links.tcp import TcpServer
 from .master import Master
 from .pdu import ExceptionResponse
+from .platform import require_sockets
 
 __all__ = ["GATEWAY_PATH_UNAVAILABLE", "GATEWAY_TARGET_FAILED", "SERVER_DEVICE_BUSY", "TcpGateway"]
 
@@ -423,6 +424,7 @@ class TcpGateway:
         max_queued: int = 64,
         **server_options: Any,
     ) -> None:
+        require_sockets("a Modbus gateway (TcpGateway)")
         for name, value in (("max_queued_per_unit", max_queued_per_unit), ("max_queued", max_queued)):
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ConfigError(f"{name} must be a whole number >= 1 (requests waiting for the bus), "

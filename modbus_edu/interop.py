@@ -24,6 +24,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from .errors import LinkError
+from .platform import require_sockets
 
 
 @contextmanager
@@ -36,6 +37,7 @@ def pymodbus_server(device: Any, framer: str = "socket", host: str = "127.0.0.1"
     Yields the ``(host, port)`` the server listens on; on leaving the block the server shuts down.
     Raises :class:`~modbus_edu.errors.LinkError` if it does not start or stop within ``timeout`` seconds.
     """
+    require_sockets("pymodbus's server (pymodbus_server)")
     from pymodbus.framer import FramerType
     from pymodbus.server import ModbusTcpServer
 

@@ -8,7 +8,8 @@ the input (it raises a :class:`~modbus_edu.ModbusError`, as for a frame with a b
 function must raise too.
 
 The learner's function runs in a worker thread with a time limit (2 s for all the inputs together), so a
-function that never returns is reported, and stopped, instead of hanging the notebook.  Whatever it does
+function that never returns is reported, and stopped, instead of hanging the notebook (in a browser, where
+no thread can start, a trace function keeps the same limit: :func:`run_within`).  Whatever it does
 (raise, return the wrong type, print), the checker answers with a message and never raises.
 """
 
@@ -18,7 +19,9 @@ import copy
 import ctypes
 import math
 import random
+import sys
 import threading
+import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
@@ -38,6 +41,52 @@ class _Refused:
 
     def __init__(self, error: ModbusError) -> None:
         self.error = error
+
+
+def run_within(work: Callable[[], None], time_limit: float, name: str = "exercise") -> bool:
+    """Run ``work()``; stop it with :class:`_Stopped` after ``time_limit`` seconds. True if it finished.
+
+    ``work`` runs in a worker thread, stopped from outside when time is up.  Where no thread can start
+    (Pyodide, in a browser), it runs here under a trace function that raises :class:`_Stopped` inside the
+    learner's code once the deadline has passed, so an endless loop is still stopped (a single call into
+    C that never returns is not: only Python lines are counted).
+    """
+    worker = threading.Thread(target=work, name=name, daemon=True)
+    try:
+        if sys.platform == "emscripten":
+            raise RuntimeError("a browser cannot start threads")
+        worker.start()
+    except RuntimeError:  # can't start new thread
+        return _run_traced(work, time_limit)
+    worker.join(time_limit)
+    if worker.is_alive():
+        stop = ctypes.py_object(_Stopped)
+        ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(worker.ident), stop)
+        worker.join(0.5)
+        return False
+    return True
+
+
+def _run_traced(work: Callable[[], None], time_limit: float) -> bool:
+    """:func:`run_within` in this thread: the clock is read every 1000 Python lines and calls."""
+    deadline = time.monotonic() + time_limit
+    events = [0]
+    late = [False]
+
+    def tracer(frame: Any, event: str, arg: Any) -> Any:
+        events[0] += 1
+        if events[0] % 1000 == 0 and time.monotonic() > deadline:
+            late[0] = True
+            raise _Stopped  # raised in the traced frame: the learner's function stops here
+        return tracer
+
+    previous = sys.gettrace()
+    sys.settrace(tracer)
+    try:
+        work()
+    finally:
+        sys.settrace(previous)
+    return not late[0]
 
 
 def same(expected: Any, got: Any) -> bool:
@@ -133,13 +182,7 @@ class BuildChecker:
             except BaseException as exc:  # SystemExit, KeyboardInterrupt raised by the learner's code
                 progress["verdict"] = f"your function raised {type(exc).__name__}, which stops everything."
 
-        worker = threading.Thread(target=work, name=f"exercise {self.key}", daemon=True)
-        worker.start()
-        worker.join(self.time_limit)
-        if worker.is_alive():
-            stop = ctypes.py_object(_Stopped)
-            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(worker.ident), stop)
-            worker.join(0.5)
+        if not run_within(work, self.time_limit, name=f"exercise {self.key}"):
             args = cases[progress["index"]][0]
             return (f"your function did not finish within {self.time_limit:g} s (it was still working on "
                     f"{self._call(name, args)}, input {progress['index'] + 1} of {len(cases)}). "

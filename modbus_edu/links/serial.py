@@ -87,7 +87,7 @@ try:
     import termios
 
     _OS_REFUSALS: tuple[type[BaseException], ...] = (termios.error,)
-except ImportError:  # pragma: no cover - Windows has no termios
+except (ImportError, AttributeError):  # Windows has no termios; Pyodide's stand-in has no termios.error
     _OS_REFUSALS = ()
 
 

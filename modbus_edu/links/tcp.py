@@ -53,6 +53,7 @@ from ..codes import MBAP_HEADER_SIZE
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpSplitter, splitter_for
 from ..pdu import REQUEST_CLASSES
+from ..platform import require_sockets
 from .base import Link
 from .routing import (  # noqa: F401 (routing's names, re-exported where they were first defined)
     DIRECT_UNITS,
@@ -271,6 +272,7 @@ class TcpServer:
         handshake_timeout: float | None = None,
         authorization: Any = None,
     ) -> None:
+        require_sockets("a Modbus/TCP server (TcpServer)")
         self.slaves = normalize_slaves(slaves)
         if framing not in FRAMINGS:
             raise ConfigError(
@@ -1148,6 +1150,7 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str =
     (port 802 by convention); a handshake that fails (the server's certificate expired, another
     authority's, another host's; ours refused) raises :class:`~modbus_edu.errors.LinkError` saying why.
     """
+    require_sockets("a link to a Modbus/TCP device (tcp_link)")
     return TcpLink(host, port, timeout=timeout, framing=framing, tls=tls)
 
 

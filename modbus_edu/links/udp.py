@@ -22,6 +22,7 @@ from typing import Any
 from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError
 from ..framing import TcpSplitter
+from ..platform import require_sockets
 from .base import Link
 from .routing import dispatch, normalize_slaves
 from .tcp import _check_host, _is_int, _positive_seconds, is_loopback_host
@@ -61,6 +62,7 @@ class UdpServer:
     """
 
     def __init__(self, slaves: Any, host: str = "127.0.0.1", port: int = 0) -> None:
+        require_sockets("a Modbus/UDP server (UdpServer)")
         _check_host(host, "listen on", '"127.0.0.1"')
         if not _is_int(port) or not 0 <= port <= 65535:
             raise ConfigError(f"UDP port must be an integer 0..65535 (0 = any free port), got {port!r}")
@@ -218,5 +220,6 @@ def udp_link(host: str, port: int = 502, *, timeout: float = 3.0) -> UdpLink:
         with mb.udp_link("127.0.0.1", port) as link:
             mb.Master(link, retries=2).read_holding_registers(unit=1, address=0, count=2)
     """
+    require_sockets("a link to a Modbus/UDP device (udp_link)")
     _positive_seconds("timeout", timeout, "(seconds)")
     return UdpLink(host, port)
