@@ -16,7 +16,7 @@ from pymodbus.simulator import DataType, SimData, SimDevice
 
 import modbus_edu as mb
 from modbus_edu import exercises, platform
-from modbus_edu.exercises import core
+from modbus_edu.exercises import misconceptions
 from modbus_edu.exercises.build import build_exercise, run_within
 from modbus_edu.interop import pymodbus_server
 
@@ -88,7 +88,7 @@ def no_threads(monkeypatch):
 
 
 def test_without_threads_a_right_function_is_accepted(no_threads, crc_exercise):
-    result = exercises.evaluate("99.9", core.crc16_reflected)
+    result = exercises.evaluate("99.9", misconceptions.crc16_reflected)
     assert result.ok is True, result.message
 
 
