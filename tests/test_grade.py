@@ -127,7 +127,7 @@ def test_what_the_notebooks_did_is_reported(graded):
 def test_the_feedback_pages_and_the_class_summary(graded):
     _, _, out = graded
     bob = (out / "learners" / "bob.html").read_text(encoding="utf-8")
-    assert "Modbus starts it at 0xFFFF" in bob and "Hint:" in bob
+    assert "Modbus starts the register at 0xFFFF" in bob and "Hint:" in bob
     with (out / "summary.csv").open(encoding="utf-8") as stream:
         summary = {row["exercise"]: row for row in csv.DictReader(stream)}
     assert summary["01.1"]["success rate"] == "50%"  # ada, dee, eve of six

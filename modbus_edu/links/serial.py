@@ -132,7 +132,7 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
 #: The most bytes one read takes before the caller looks at its deadline and its frames again.
 READ_CHUNK = 4096
 #: The longest a request spends dropping stale input: a peer still streaming is not waited out.
-DRAIN_SECONDS = 0.05
+DRAIN_SECONDS = 0.1
 DRAIN_CHUNK = 1 << 16
 _DRAIN_PAUSE = 0.001
 

@@ -918,7 +918,7 @@ def _close_socket(sock: socket.socket) -> None:
 # the client link
 # --------------------------------------------------------------------------------------------------
 #: The longest a request spends dropping stale input before it is sent.
-DRAIN_SECONDS = 0.05
+DRAIN_SECONDS = 0.1
 _DRAIN_SIZE = 1 << 16
 _DRAIN_PAUSE = 0.001
 
