@@ -131,7 +131,7 @@ def test_the_feedback_pages_and_the_class_summary(graded):
     with (out / "summary.csv").open(encoding="utf-8") as stream:
         summary = {row["exercise"]: row for row in csv.DictReader(stream)}
     assert summary["01.1"]["success rate"] == "50%"  # ada, dee, eve of six
-    assert "starting value: Modbus starts it at #" in summary["03.5"]["most frequent misconception"]
+    assert "A CRC register started at #" in summary["03.5"]["most frequent misconception"]
     assert "Notebooks to look at" in (out / "summary.html").read_text(encoding="utf-8")
 
 
