@@ -25,7 +25,7 @@ from ..framing import TcpSplitter
 from ..platform import require_sockets
 from .base import Link
 from .routing import dispatch, normalize_slaves
-from .tcp import _check_host, _is_int, _positive_seconds, is_loopback_host
+from .sockets import _check_host, _is_int, _positive_seconds, is_loopback_host
 
 __all__ = ["UdpLink", "UdpServer", "udp_link"]
 
