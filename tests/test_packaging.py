@@ -229,6 +229,29 @@ def test_make_help_lists_every_target_and_clean_exists():
     assert listed <= set(phony)
 
 
+def test_the_class_copys_makefile_offers_only_what_works_there_and_it_has_a_gitignore(tmp_path):
+    from modbus_edu.course.release import CLASS_TARGETS, release
+
+    if not shutil.which("make"):
+        pytest.skip("make is not installed")
+    release(ROOT, tmp_path)
+    done = subprocess.run(["make", "--no-print-directory", "help"], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=60)
+    listed = [line.split(":")[0] for line in done.stdout.splitlines() if not line.startswith(" ")]
+    assert listed == list(CLASS_TARGETS)
+    makefile = (tmp_path / "Makefile").read_text(encoding="utf-8")
+    assert "$(call venv,$(TEST_PINS))" not in makefile  # a learner's environment, never the test tools
+    for target in listed:  # every file a target's recipe names is in the copy
+        dry = subprocess.run(["make", "--no-print-directory", "-n", target], capture_output=True, text=True,
+                             cwd=tmp_path, timeout=60, env={**os.environ, "PYTHON": sys.executable})
+        assert dry.returncode == 0, dry.stderr
+        named = re.findall(r"(?<![\w./-])((?:notebooks|binder|modbus_edu|tests|bench)/[\w./-]*)", dry.stdout)
+        for path in named:
+            assert (tmp_path / path).exists(), (target, path)
+    ignored = (tmp_path / ".gitignore").read_text(encoding="utf-8").split()
+    assert {".venv/", "__pycache__/", ".ipynb_checkpoints/"} <= set(ignored)
+
+
 # --- slow: packages, virtual environments, the class copy, a hub's base image ------------------------------
 
 @pytest.mark.slow
