@@ -187,7 +187,8 @@ def test_the_version_is_written_once():
 
 def test_licences_metadata_and_absolute_readme_links():
     project = PYPROJECT["project"]
-    assert project["license"] == "MIT" and project["license-files"] == ["LICENSE", "LICENSE-COURSE"]
+    assert project["license"] == "MIT AND CC-BY-4.0"  # the sdist carries the notebooks
+    assert project["license-files"] == ["LICENSE", "LICENSE-COURSE"]
     assert "MIT License" in (ROOT / "LICENSE").read_text()
     course = (ROOT / "LICENSE-COURSE").read_text(encoding="utf-8")
     assert "Creative Commons Attribution 4.0 International" in course
