@@ -135,7 +135,7 @@ def test_the_feedback_pages_and_the_class_summary(graded):
     assert summary["03.5"]["who"] == "bob" and "your function gives 0" in summary["03.5"]["example feedback"]
     page = (out / "summary.html").read_text(encoding="utf-8")
     assert "Notebooks to look at" in page
-    assert "the cell that did not finish: code cell 2 (&#x27;import time&#x27;)" in page  # dee's loop
+    assert "the cell that did not finish: code cell 3 (&#x27;import time&#x27;)" in page  # dee's loop
 
 
 def test_the_recorder_finds_checks_and_rebinding_by_parsing():

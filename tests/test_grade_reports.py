@@ -10,6 +10,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+import test_grade
 
 from modbus_edu.cli import main
 from modbus_edu.course import grade as grading
@@ -132,7 +133,7 @@ def test_copies_of_one_notebook_are_resolved_by_answers_then_age_and_said(tmp_pa
     assert [s.path.name for s, _ in chosen["hal"]] == ["03_rtu_and_crc-Copy1.ipynb"]
     assert [s.path.name for s, _ in chosen["ada"]] == ["03_rtu_and_crc (1).ipynb"]  # one answer each: newest
     assert choices["hal"] == [f"03_rtu_and_crc graded from '03_rtu_and_crc-Copy1.ipynb' ({len(KEYS_03)} "
-                              "answers; the most, then the newest), not '03_rtu_and_crc.ipynb' (0)"]
+                              "answered; the most, then the newest), not '03_rtu_and_crc.ipynb' (0 answered)"]
     _, runs_kept, _ = course_keys(chosen)
     assert {verdict.status for verdict in verdicts(runs_kept["hal"]).values()} == {RIGHT}
 
@@ -284,3 +285,41 @@ def test_make_help_lists_grading():
     listed = subprocess.run(["make", "-s", "help"], cwd=ROOT, capture_output=True, text=True, timeout=30,
                             check=True).stdout
     assert "grade: " in listed and "SUBMISSIONS=" in listed
+
+
+# --- the same, in real kernels -------------------------------------------------------------------------
+
+@pytest.mark.slow
+def test_a_class_named_the_way_platforms_name_files_graded_in_real_kernels(tmp_path, capsys):
+    """Six notebooks in real kernels: platform names, a duplicate, a formula and markup for a name, made-up
+    keys, a checkpoint folder and a link; every honest row is what its answers earn."""
+    room = tmp_path / "class"
+    setup, write, solved, template = test_grade.SETUP, test_grade.write, test_grade.right, test_grade.template
+    write(room, "Hal_03_rtu_and_crc (1)", [setup, solved("03.1"), test_grade.wrong("03.2")])
+    write(room, "hal_01_data_model", [setup, solved("01.1"), template("01.2")])
+    write(room, "cy - 03_rtu_and_crc", [setup, template("03.1"), template("03.2")])
+    write(room, "cy - 03_rtu_and_crc-Copy1", [setup, solved("03.1"), template("03.2")])
+    os.utime(room / "cy - 03_rtu_and_crc-Copy1.ipynb", (1_000_000_000, 1_000_000_000))  # the older one
+    formula = '=HYPERLINK("x","y")'
+    write(room, f"{formula}_03_rtu_and_crc", [setup, solved("03.1"), f"check({XSS!r}, 1)",
+                                             f"check({ESCAPES!r}, 1)\ncheck('99.1', 2)"])
+    write(room / ".ipynb_checkpoints", "zed_03_rtu_and_crc-checkpoint", [setup, solved("03.1")])
+    (room / "mal_03_rtu_and_crc.ipynb").symlink_to(room / "hal_01_data_model.ipynb")
+    out = tmp_path / "grades"
+    assert main(["grade", str(room), "--out", str(out), "--timeout", "60", "-q"]) == 0
+    printed = capsys.readouterr().out
+    assert "\x1b" not in printed and "\\x1b[2J" in printed
+    with (out / "gradebook.csv").open(encoding="utf-8") as stream:
+        rows = {row["learner"]: row for row in csv.DictReader(stream)}
+    assert sorted(rows) == ["'" + formula.casefold(), "cy", "hal", "mal"]
+    keys = ["01.1", "01.2", "03.1", "03.2"]
+    assert list(next(iter(rows.values())))[1:5] == keys  # no made-up key is a column
+    assert [rows["hal"][k] for k in keys] == ["right", "not answered", "right", "wrong"]
+    assert rows["hal"]["score"] == "2/4" and rows["hal"]["flags"] == ""
+    assert [rows["cy"][k] for k in keys] == ["not answered", "not answered", "right", "not answered"]
+    assert "graded from 'cy - 03_rtu_and_crc-Copy1.ipynb' (1 answered;" in rows["cy"]["flags"]
+    assert rows["mal"]["score"] == "0/4" and "symbolic link" in rows["mal"]["flags"]
+    assert "'99.1'" in rows["'" + formula.casefold()]["flags"]
+    page = (out / "summary.html").read_text(encoding="utf-8")
+    assert "<img" not in page and "hal: one learner from" in page
+    assert not list((out / "learners").glob("zed*"))

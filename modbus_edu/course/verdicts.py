@@ -63,9 +63,10 @@ def pick_copies(graded: list[tuple[Submission, NotebookRun]]
         best = max(copies, key=lambda pair: (answers(pair[1]), pair[0].mtime, pair[0].path.name))
         chosen.setdefault(learner, []).append(best)
         if len(copies) > 1:
-            others = ", ".join(f"{s.path.name!r} ({answers(r)})" for s, r in copies if s is not best[0])
+            others = ", ".join(f"{other.path.name!r} ({answers(run)} answered)" for other, run in copies
+                               if other is not best[0])
             choices.setdefault(learner, []).append(
-                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answers; the most, then "
+                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answered; the most, then "
                 f"the newest), not {others}")
     return chosen, choices
 
