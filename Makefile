@@ -20,8 +20,10 @@ TEST_PINS    := binder/requirements-test.txt
 MIN_PYTHON := $(shell sed -n 's/^requires-python = ">=\([0-9.]*\)".*/\1/p' pyproject.toml)
 UV     := uv==0.13.9
 RELEASE ?= release
+SUBMISSIONS ?= submissions
+OUT ?= grades
 
-.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release clean
+.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release grade clean
 
 ## help: list these targets
 help:
@@ -123,6 +125,13 @@ requirements:
 release:
 	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
 	$(BIN)/python -m modbus_edu.course release $(RELEASE)
+
+## grade: grade a class's notebooks (SUBMISSIONS=folder, default submissions/) into a gradebook,
+##     a page per learner and a class summary in $(OUT)/ (OUT=dir to change it); each notebook runs
+##     in a fresh, limited kernel (modbus-edu grade --help for the time and memory limits)
+grade:
+	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
+	$(BIN)/python -m modbus_edu grade $(SUBMISSIONS) --out $(OUT)
 
 ## clean: remove the virtual environment, the caches and what the targets above wrote
 clean:

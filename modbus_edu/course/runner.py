@@ -140,6 +140,7 @@ class NotebookRun:
     errored_cells: dict[str, str] = field(default_factory=dict)  # exercise key -> the error
     problems: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    unfinished: str = ""  # the cell that was running when the notebook was stopped or its kernel died
 
 
 def _kernel_spec(folder: Path) -> str:
@@ -167,6 +168,8 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
         return run
     cell_keys: dict[int, list[str]] = {}
     cells = [c for c in notebook.cells if c.cell_type == "code"]
+    first_lines = [(c.source.strip().splitlines() or [""])[0][:80] for c in cells]
+    started: list[int] = [0]  # the index of the cell running (0: the grader's set-up)
     for index, cell in enumerate(cells):
         keys = exercise_keys(cell.source)
         cell_keys[index + 1] = keys
@@ -214,13 +217,19 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
 
         client = Client(notebook, kernel_name=_kernel_spec(folder), allow_errors=True,
                         startup_timeout=STARTUP_TIMEOUT, timeout_func=time_left,
-                        resources={"metadata": {"path": str(path.parent.resolve())}})
+                        resources={"metadata": {"path": str(path.parent.resolve())}},
+                        on_cell_start=lambda cell, cell_index: started.append(cell_index))
+        def stopped_in() -> str:  # the learner's code cell that was running, and its first line
+            return f"code cell {started[-1]} ({first_lines[started[-1] - 1]!r})" if started[-1] else ""
+
         try:
             client.execute()
         except CellTimeoutError:
             run.problems.append(f"did not finish within {timeout:g} s (stopped)")
+            run.unfinished = stopped_in()
         except DeadKernelError:
             run.problems.append("killed its kernel (the kernel died)")
+            run.unfinished = stopped_in()
         except Exception as exc:  # a learner's notebook must never stop the grading of the others
             run.problems.append(f"could not be run to the end ({type(exc).__name__}: {str(exc)[:200]})")
         if log.exists():
