@@ -55,6 +55,7 @@ from .framing import (
     _check_mode,
     decode_frame,
     detect_mode,
+    detect_mode_why,
     parse_hex,
 )
 
@@ -96,6 +97,9 @@ class Dissection:
     frame: Frame | None = None
     error: ModbusError | None = None
     pdu: _pdu.Pdu | None = None
+    detected: str = ""
+    """Why the mode was chosen, when it was detected (:func:`~modbus_edu.framing.detect_mode_why`);
+    empty when the caller gave the mode."""
 
     @property
     def ok(self) -> bool:
@@ -631,8 +635,9 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             if strict:
                 raise
             return Dissection(data=b"", mode=mode or "rtu", role=role, error=exc)
+    detected = ""
     if mode is None:
-        mode = detect_mode(raw)
+        mode, detected = detect_mode_why(raw)
 
     frame: Frame | None = None
     error: ModbusError | None = None
@@ -651,7 +656,8 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             role = _guess_role(raw, mode)
         error = errors[role]
     rows = _fill_gaps(_ROW_BUILDERS[mode](raw, role), raw, "characters" if mode == "ascii" else "bytes")
-    result = Dissection(data=raw, mode=mode, role=role, rows=rows, frame=frame, error=error)
+    result = Dissection(data=raw, mode=mode, role=role, rows=rows, frame=frame, error=error,
+                        detected=detected)
     if strict and error is not None:
         raise error
     return result

@@ -198,8 +198,16 @@ def test_frame_decoder_decodes_the_vector_frame_back(mode, fields, expected):
     # a write response echoes its request: only the chosen role tells them apart
     fd.role.value = {"exception": "response"}.get(fields.get("role"), fields.get("role", "request"))
     assert fd.dissection.frame == FrameBuilder(mode=mode, **fields).adu
-    assert "(detected)" in fd.message.text and fd.message.kind == "ok"
+    assert f"{mode.upper()} (detected: " in fd.message.text and fd.message.kind == "ok"
     assert "modbus-edu-dissection" in fd.dissection_view.value
+
+
+def test_frame_decoder_takes_a_tcp_frame_with_a_swapped_length_for_tcp_and_says_why():
+    fd = FrameDecoder("01 18 00 00 05 00 01 03 02 04 D2")  # the length 00 05 written low byte first
+    assert fd.dissection.mode == "tcp" and fd.message.kind == "error"
+    assert fd.message.text.startswith("TCP (detected: protocol 0 in bytes 2-3, and the length, read low "
+                                      "byte first, counts the 5 bytes that follow): MbapError")
+    assert "CrcError" not in fd.message.text
 
 
 def test_frame_builder_to_frame_decoder_round_trip():
