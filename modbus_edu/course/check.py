@@ -451,6 +451,27 @@ def panel_problems(path: Path | str) -> list[Problem]:
     return problems
 
 
+def solution_problems(folder: Path | str) -> list[Problem]:
+    """Worked solutions (``solutions/NN_k.py``) that do not end with their own ``check("NN.k", ...)``:
+    ``%load`` replaces the exercise's cell, check call included, so the solution must bring it back."""
+    problems = []
+    for path in sorted(Path(folder).glob("[0-9][0-9]_*.py")):
+        key = path.stem.replace("_", ".", 1)
+        try:
+            body = ast.parse(path.read_text(encoding="utf-8")).body
+        except SyntaxError as exc:
+            problems.append(Problem(f"solutions/{path.name}",
+                                    f"it does not parse: {exc.msg} (line {exc.lineno})"))
+            continue
+        last = body[-1] if body else None
+        call = last.value if isinstance(last, ast.Expr) else None
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "check"
+                and call.args and isinstance(call.args[0], ast.Constant) and call.args[0].value == key):
+            problems.append(Problem(f"solutions/{path.name}", f'it does not end with check("{key}", ...): '
+                                                              "%load replaces the cell, its check included"))
+    return problems
+
+
 def where_box_problems(path: Path | str) -> list[Problem]:
     """A "Where this comes from" section, placed before the notebook's Next link (notebook 00's "Sources"
     section, which cites every source in full, counts as its box)."""
@@ -467,8 +488,8 @@ def where_box_problems(path: Path | str) -> list[Problem]:
 
 def check_integrity(folder: Path | str, readme: Path | str | None = None) -> list[Problem]:
     """The course as one: the map in 00 and the README's table, the Next links, who calls itself the last,
-    links in code, quoted frames, sources in the prose and the "Where this comes from" boxes, and panels
-    that name a source's table."""
+    links in code, quoted frames, sources in the prose and the "Where this comes from" boxes, panels
+    that name a source's table, and worked solutions that do not end with their check."""
     notebooks = course_notebooks(folder)
     readme = Path(folder).resolve().parent / "README.md" if readme is None else Path(readme)
     problems = map_problems(notebooks)
@@ -481,4 +502,5 @@ def check_integrity(folder: Path | str, readme: Path | str | None = None) -> lis
         problems.extend(source_problems(path))
         problems.extend(where_box_problems(path))
         problems.extend(panel_problems(path))
+    problems.extend(solution_problems(Path(folder) / "solutions"))
     return problems
