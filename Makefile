@@ -42,7 +42,10 @@ define venv
 	if [ -z "$$want" ]; then echo "$(PYTHON) does not run: install Python $(MIN_PYTHON) or newer, or give make PYTHON=..."; exit 1; fi; \
 	if [ "$$have" != "$$want" ] && [ "$$have" != "$$also" ]; then \
 	    if [ -d $(VENV) ]; then \
-	        if [ -z "$$have" ]; then why="its install never finished"; else why="it was built by $$have, now $$want"; fi; \
+	        if [ -z "$$have" ]; then why="its install never finished"; \
+	        elif [ "$${have% *}" = "$${want% *}" ]; then \
+	            why="it was built from other pins than $(1) (the learner's pins of make lab lack the test tools, or the pins changed)"; \
+	        else why="it was built by $${have% *}, now $${want% *}"; fi; \
 	        echo "rebuilding $(VENV) from $(1): $$why"; \
 	    fi; \
 	    rm -rf $(VENV) && $(PYTHON) -m venv $(VENV) && \

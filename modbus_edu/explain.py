@@ -45,7 +45,16 @@ from . import pdu as _pdu
 from .codes import _hex
 from .crc import crc16, lrc
 from .errors import ConfigError, FrameError, ModbusError
-from .framing import MAX_SERIAL_UNIT, ROLES, Frame, TcpFrame, decode_frame, detect_mode, parse_hex
+from .framing import (
+    MAX_SERIAL_UNIT,
+    ROLES,
+    Frame,
+    TcpFrame,
+    decode_frame,
+    detect_mode,
+    detect_mode_why,
+    parse_hex,
+)
 from .framing.base import _HEX_DIGITS, _as_bytes, _check_mode
 
 __all__ = ["Row", "Dissection", "explain", "explain_pdu"]
@@ -86,6 +95,9 @@ class Dissection:
     frame: Frame | None = None
     error: ModbusError | None = None
     pdu: _pdu.Pdu | None = None
+    detected: str = ""
+    """Why the mode was chosen, when it was detected (:func:`~modbus_edu.framing.detect_mode_why`);
+    empty when the caller gave the mode."""
 
     @property
     def ok(self) -> bool:
@@ -621,8 +633,9 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             if strict:
                 raise
             return Dissection(data=b"", mode=mode or "rtu", role=role, error=exc)
+    detected = ""
     if mode is None:
-        mode = detect_mode(raw)
+        mode, detected = detect_mode_why(raw)
 
     frame: Frame | None = None
     error: ModbusError | None = None
@@ -641,7 +654,8 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             role = _guess_role(raw, mode)
         error = errors[role]
     rows = _fill_gaps(_ROW_BUILDERS[mode](raw, role), raw, "characters" if mode == "ascii" else "bytes")
-    result = Dissection(data=raw, mode=mode, role=role, rows=rows, frame=frame, error=error)
+    result = Dissection(data=raw, mode=mode, role=role, rows=rows, frame=frame, error=error,
+                        detected=detected)
     if strict and error is not None:
         raise error
     return result

@@ -258,6 +258,10 @@ class Slave:
         self.last_error: BaseException | None = None
         """The exception a hook raised last (the cause of an exception 04), for debugging."""
         self._direct = False  # True while handle_direct() runs: the unit id does not choose this slave
+        self.listeners: list[Callable[[Slave], Any]] = []
+        """Called with the slave after each request it handled (from any link, in the link's thread), its
+        answer already logged: a panel that shows the slave follows its traffic this way.  A listener
+        must be quick and must not raise; the list is empty unless someone watches."""
 
     def __repr__(self) -> str:
         unit = "any" if self.unit is None else self.unit
@@ -340,6 +344,8 @@ class Slave:
         if answer is not None:
             log.record(now, "tx", mode, answer, self.name, "master",
                        pdu_note(response) if hasattr(response, "summary") else "", "response")
+        if self.listeners:
+            self._notify()
         return answer
 
     def _handle(self, data: bytes, mode: str) -> tuple[bytes | None, Pdu | None, str]:
@@ -433,7 +439,13 @@ class Slave:
         counters.responses += 1
         if isinstance(response, ExceptionResponse):
             counters.exceptions += 1
+        if self.listeners:
+            self._notify()
         return response
+
+    def _notify(self) -> None:
+        for listener in tuple(self.listeners):  # a listener may remove itself
+            listener(self)
 
     def process(self, request: Pdu) -> Pdu:
         """The heart of the slave: the bank read or written, the response built.  Counts nothing.

@@ -161,6 +161,7 @@ TROUBLESHOOTING: dict[str, tuple[tuple[str, str], ...]] = {
         ("wiring", "A, B and common\n(0 V) connected?"),
         ("A/B", "swap A and B\n(harmless)"),
         ("settings", "baud, parity as\nthe meter's menu?"),
+        ("first answer", "just switched on?\ntimeout 1 s,\nor retries=1"),
         ("unit", "unit = the\nmeter's Addr?"),
     ),
     "exception 02\n(illegal data address)": (
