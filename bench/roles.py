@@ -5,6 +5,7 @@ Usage (from the repository root)::
     .venv/bin/python bench/roles.py              # about 30 seconds
     .venv/bin/python bench/roles.py --quick      # shorter runs, for a smoke test
     .venv/bin/python bench/roles.py --seconds 3 --repeat 5
+    .venv/bin/python bench/roles.py --servers-only   # (a) alone
 
 What is measured
 ----------------
@@ -15,7 +16,10 @@ What is measured
     raw-socket client processes (a pre-built request, the 29-byte answer read back, one request at a
     time each) drive each server for ``--seconds`` seconds; round trips per second, added over the
     clients, best of ``--repeat`` runs, and the ratios to pymodbus and to the bare loop.  Every
-    client checks one answer before timing.
+    client checks one answer before timing.  Beside them, each server's CPU time per request (user +
+    system, read from ``/proc/PID/stat`` before and after a run, divided by every request of the run):
+    less sensitive to the machine's load than the rates.  The three servers take turns within each
+    repeat, so that a change of load touches them alike.
 
 (b) **The virtual serial line** (:func:`~modbus_edu.links.loopback.loopback_serial`): a Master
     reading one holding register (FC3) from a Slave, RTU 8N1.
@@ -35,6 +39,7 @@ import argparse
 import asyncio
 import gc
 import logging
+import os
 import socket
 import sys
 import threading
@@ -211,7 +216,8 @@ def _serve_in_process(kind: str, ports) -> None:
 
 
 def _client_in_process(port: int, seconds: float, start_at: float, results) -> None:
-    """A raw-socket client process: FC3 round trips, one at a time, counted from ``start_at``."""
+    """A raw-socket client process: FC3 round trips, one at a time, counted from ``start_at``.  Puts
+    ``(rate, every request it sent)``: the second, warm-up included, divides the server's CPU time."""
     once, close = socket_client_loop((HOST, port))
     for _ in range(200):
         once()
@@ -223,38 +229,60 @@ def _client_in_process(port: int, seconds: float, start_at: float, results) -> N
             once()
         done += 50
     close()
-    results.put(done / (time.time() - start_at))
+    results.put((done / (time.time() - start_at), done + 201))
+
+
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time of process ``pid`` so far, from ``/proc/PID/stat`` (fields 14 and 15)."""
+    with open(f"/proc/{pid}/stat") as stat:
+        fields = stat.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+@dataclass
+class ServerRun:
+    """The best round trips per second a server reached, and the least CPU it spent per request."""
+
+    rate: float = 0.0
+    cpu_per_request: float = float("inf")
 
 
 def bench_servers(seconds: float, repeat: int, clients: tuple[int, ...] = (1, 4)
-                  ) -> dict[str, dict[int, float]]:
+                  ) -> dict[str, dict[int, ServerRun]]:
     """Round trips per second of each server, each in its own process, driven by ``n`` raw-socket client
-    processes at once (their rates added); best of ``repeat`` runs."""
+    processes at once (their rates added), and the server's CPU time per request (``/proc``); best of
+    ``repeat`` runs.  The servers take turns within each repeat, so that a change in the machine's load
+    touches all three alike and the ratios of one run stay fair."""
     import multiprocessing
 
     context = multiprocessing.get_context("fork")
-    table: dict[str, dict[int, float]] = {kind: {} for kind in SERVERS}
-    for kind in SERVERS:
-        ports = context.Queue()
-        server = context.Process(target=_serve_in_process, args=(kind, ports), daemon=True)
-        server.start()
-        try:
-            port = ports.get(timeout=20)
+    table: dict[str, dict[int, ServerRun]] = {kind: {n: ServerRun() for n in clients} for kind in SERVERS}
+    servers, ports = {}, {}
+    try:
+        for kind in SERVERS:
+            queue = context.Queue()
+            servers[kind] = context.Process(target=_serve_in_process, args=(kind, queue), daemon=True)
+            servers[kind].start()
+            ports[kind] = queue.get(timeout=20)
+        for _ in range(repeat):
             for n in clients:
-                best = 0.0
-                for _ in range(repeat):
+                for kind in SERVERS:
                     results = context.Queue()
                     start_at = time.time() + 1.0
-                    args = (port, seconds, start_at, results)
+                    args = (ports[kind], seconds, start_at, results)
                     workers = [context.Process(target=_client_in_process, args=args) for _ in range(n)]
+                    cpu_before = cpu_seconds(servers[kind].pid)
                     for worker in workers:
                         worker.start()
-                    total = sum(results.get(timeout=seconds + 30) for _ in workers)
+                    answers = [results.get(timeout=seconds + 30) for _ in workers]
                     for worker in workers:
                         worker.join(10)
-                    best = max(best, total)
-                table[kind][n] = best
-        finally:
+                    cpu = cpu_seconds(servers[kind].pid) - cpu_before
+                    best = table[kind][n]
+                    best.rate = max(best.rate, sum(rate for rate, _ in answers))
+                    best.cpu_per_request = min(best.cpu_per_request, cpu / sum(done for _, done in answers))
+    finally:
+        for server in servers.values():
             server.terminate()
             server.join(10)
     return table
@@ -308,6 +336,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seconds", type=float, default=1.5, help="length of each timed run (default 1.5)")
     parser.add_argument("--repeat", type=int, default=3, help="runs per measurement, best counts (default 3)")
     parser.add_argument("--quick", action="store_true", help="0.5 s runs, 1 repeat")
+    parser.add_argument("--servers-only", action="store_true", help="measure the servers (a) only")
     args = parser.parse_args(argv)
     seconds, repeat = (0.5, 1) if args.quick else (args.seconds, args.repeat)
 
@@ -315,19 +344,27 @@ def main(argv: list[str] | None = None) -> int:
     print(f"best of {repeat} run(s) of {seconds:g} s each\n")
 
     print(f"(a) Modbus/TCP servers, each in its own process: FC3 read of {COUNT} registers, round trips")
-    print("    per second from raw-socket client processes on 127.0.0.1 (one request at a time each)")
-    header = f"    {'server':<22} {'1 client':>10} {'4 clients':>10} {'vs pymodbus':>12} {'vs bare loop':>13}"
+    print("    per second from raw-socket client processes on 127.0.0.1 (one request at a time each),")
+    print("    and the server's CPU time per request (user + system, from /proc)")
+    header = (f"    {'server':<22} {'1 client':>10} {'4 clients':>10} {'vs pymodbus':>12} "
+              f"{'vs bare loop':>13} {'CPU us/request':>15}")
     print(header)
     print("    " + "-" * (len(header) - 4))
     table = bench_servers(seconds, repeat)
     theirs, bare = table[SERVERS[1]], table[SERVERS[2]]
     for kind in SERVERS:
         row = table[kind]
-        versus = " / ".join(f"{row[n] / theirs[n]:.2f}" for n in (1, 4))
-        ceiling = " / ".join(f"{row[n] / bare[n]:.2f}" for n in (1, 4))
-        print(f"    {kind:<22} {row[1]:>10,.0f} {row[4]:>10,.0f} {versus:>12} {ceiling:>13}")
-    print("    ratios for 1 / 4 clients; the bare loop answers a fixed frame and does no Modbus at all\n")
+        versus = " / ".join(f"{row[n].rate / theirs[n].rate:.2f}" for n in (1, 4))
+        ceiling = " / ".join(f"{row[n].rate / bare[n].rate:.2f}" for n in (1, 4))
+        cpu = " / ".join(f"{row[n].cpu_per_request * 1e6:.1f}" for n in (1, 4))
+        print(f"    {kind:<22} {row[1].rate:>10,.0f} {row[4].rate:>10,.0f} {versus:>12} {ceiling:>13} "
+              f"{cpu:>15}")
+    print("    ratios and CPU for 1 / 4 clients; the bare loop answers a fixed frame and does no Modbus at")
+    print("    all; the servers take turns in each run, so a change of the machine's load touches all")
+    print("    three alike\n")
 
+    if args.servers_only:
+        return 0
     print("(b) virtual serial line (loopback_serial), Master -> Slave, FC3 read of 1 register, RTU 8N1")
     header = (f"    {'baud':>7} {'transactions/s (wall)':>22} {'per virtual s':>14} "
               f"{'wire maximum':>13} {'virtual/max':>12}")
