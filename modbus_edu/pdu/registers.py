@@ -36,6 +36,12 @@ from .base import (
 
 @dataclass(frozen=True, slots=True)
 class _ReadRegistersRequest(_ReadRequest):
+    @classmethod
+    def _pack_reply(cls, values: list) -> bytes:
+        """Function code, byte count and the registers, with the compiled layout of their count."""
+        count = len(values)
+        return _REGISTERS_LAYOUT[count].pack(cls.function_code, 2 * count, *values)
+
     def misfit(self, response: Pdu) -> str:
         """A read-registers response carries ``count`` registers."""
         if len(response.registers) != self.count:
@@ -114,6 +120,7 @@ class ReadHoldingRegistersRequest(_ReadRegistersRequest):
     function_code: ClassVar[int] = 0x03
     limit: ClassVar[int] = MAX_READ_REGISTERS
     what: ClassVar[str] = "registers"
+    table: ClassVar[str] = "holding_registers"
 
 
 @dataclass(frozen=True, slots=True)
@@ -142,6 +149,7 @@ class ReadInputRegistersRequest(_ReadRegistersRequest):
     function_code: ClassVar[int] = 0x04
     limit: ClassVar[int] = MAX_READ_REGISTERS
     what: ClassVar[str] = "input registers"
+    table: ClassVar[str] = "input_registers"
 
 
 @dataclass(frozen=True, slots=True)
