@@ -69,6 +69,7 @@ from .errors import (
     guard_numbers,
 )
 from .framing import MODES, Frame, decode_frame, make_frame
+from .framing.tcp import is_one_frame
 from .pdu import ExceptionCode, ExceptionResponse, Pdu
 from .traffic import TrafficLog, pdu_note
 
@@ -375,9 +376,8 @@ class Slave:
         aside wherever its assumptions fail: a subclass that changes how requests are handled, hooks
         (``on_read``), a bank or a table of another class, listen-only mode, another unit, a broadcast.
         """
-        n = len(frame)
-        if (n < 8 or n > 260 or frame[2] or frame[3] or (frame[4] << 8 | frame[5]) != n - 6
-                or self.on_read is not None or self.listen_only or not _plain_slave(self.__class__)):
+        if (self.on_read is not None or self.listen_only or not _plain_slave(self.__class__)
+                or not is_one_frame(frame)):
             return None
         unit = frame[6]
         own = unit != 0 and (self.unit is None or unit == self.unit)  # accepts(unit), inlined

@@ -373,7 +373,7 @@ class _ReadRequest(_AddressQuantity):
     def answer_from_bytes(cls, pdu: bytes, bank: Any) -> bytes | None:
         """A read of ``count`` values from ``address``: the same checks as :meth:`decode` (exactly five
         bytes, a quantity of 1 to the limit, no address past 65535), then the bank's table read and the
-        response packed (:meth:`_pack_reply`)."""
+        response packed from the values as the table keeps them (:meth:`_pack_reply`)."""
         if len(pdu) != 5:
             return None
         address, count = _ADDRESS_COUNT.unpack_from(pdu, 1)
@@ -382,10 +382,10 @@ class _ReadRequest(_AddressQuantity):
         table = getattr(bank, cls.table)
         if table.sparse and not table.is_declared(address, count):
             return None  # exception 02 and its message: the general way
-        return cls._pack_reply(table.read(address, count))
+        return cls._pack_reply(table.stored(address, count))
 
     @classmethod
-    def _pack_reply(cls, values: list) -> bytes:  # pragma: no cover - each read class packs its own
+    def _pack_reply(cls, values: Any) -> bytes:  # pragma: no cover - each read class packs its own
         raise NotImplementedError
 
     def fields(self) -> list[Field]:

@@ -43,8 +43,8 @@ COIL_OFF = 0x0000
 @dataclass(frozen=True, slots=True)
 class _ReadBitsRequest(_ReadRequest):
     @classmethod
-    def _pack_reply(cls, values: list) -> bytes:
-        """Function code, byte count and the bits, eight to a byte."""
+    def _pack_reply(cls, values: bytearray) -> bytes:
+        """Function code, byte count and the bits (0/1 bytes), eight to a byte."""
         packed = pack_bits(values)
         return bytes((cls.function_code, len(packed))) + packed
 

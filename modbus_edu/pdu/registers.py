@@ -5,6 +5,8 @@ Write Register (FC 22), Read/Write Multiple Registers (FC 23) and Read FIFO Queu
 from __future__ import annotations
 
 import struct
+import sys
+from array import array
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -33,14 +35,18 @@ from .base import (
     _WriteMultipleResponse,
 )
 
+_LITTLE_ENDIAN = sys.byteorder == "little"
+"""An ``array('H')`` keeps registers in the machine's byte order; the wire wants the high byte first."""
+
 
 @dataclass(frozen=True, slots=True)
 class _ReadRegistersRequest(_ReadRequest):
     @classmethod
-    def _pack_reply(cls, values: list) -> bytes:
-        """Function code, byte count and the registers, with the compiled layout of their count."""
-        count = len(values)
-        return _REGISTERS_LAYOUT[count].pack(cls.function_code, 2 * count, *values)
+    def _pack_reply(cls, values: array) -> bytes:
+        """Function code, byte count and the registers (an ``array('H')``), high byte first."""
+        if _LITTLE_ENDIAN:
+            values.byteswap()
+        return bytes((cls.function_code, 2 * len(values))) + values.tobytes()
 
     def misfit(self, response: Pdu) -> str:
         """A read-registers response carries ``count`` registers."""
