@@ -5,7 +5,7 @@ Usage (from the repository root)::
     .venv/bin/python bench/roles.py              # about 30 seconds
     .venv/bin/python bench/roles.py --quick      # shorter runs, for a smoke test
     .venv/bin/python bench/roles.py --seconds 3 --repeat 5
-    .venv/bin/python bench/roles.py --servers-only   # (a) alone
+    .venv/bin/python bench/roles.py --servers-only   # (a) and (c) alone
 
 What is measured
 ----------------
@@ -29,6 +29,10 @@ What is measured
       ``1 / ((8 + 7) * char_time + 2 * t3.5)`` (an 8-byte request, a 7-byte response, and the 3.5
       character silence after each; t3.5 is 1.750 ms above 19200 baud).  The two must agree: the
       virtual wire times the line exactly.
+
+(c) **Reading a slave's full traffic log** (1000 entries, half of them answers of the fast path, whose
+    notes are written when the log is read): milliseconds of CPU time for ``to_text()``, every note
+    new.  Target: under 10 ms.
 
 Wall-clock time is used here and nowhere in the library's tests: speed belongs in ``bench/``.
 """
@@ -58,6 +62,7 @@ from modbus_edu.links.wire import SerialTiming
 from modbus_edu.master import Master
 from modbus_edu.pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
 from modbus_edu.slave import Slave
+from modbus_edu.traffic import _REPLY_NOTES
 
 HOST = "127.0.0.1"
 VALUES = [1000 + i for i in range(10)]
@@ -330,13 +335,36 @@ def bench_serial(seconds: float, repeat: int, baudrates: tuple[int, ...]) -> lis
     return rows
 
 
+# --- (c) --------------------------------------------------------------------------------------------------
+def bench_log_read(repeat: int) -> float:
+    """Milliseconds of CPU time to read a slave's full traffic log (1000 entries: 500 Modbus/TCP FC3 reads
+    of 10 registers answered on the fast path, each answer different) as text, its notes written then;
+    best of ``repeat``.  The worst case: no note is remembered from an earlier read."""
+    best = float("inf")
+    for _ in range(repeat):
+        slave = Slave(unit=1)
+        table = slave.bank.holding_registers
+        for tid in range(500):
+            table.write(0, [(tid * 10 + i) & 0xFFFF for i in range(COUNT)])
+            request = TcpFrame(transaction_id=tid, unit=1, pdu=ReadHoldingRegistersRequest(address=0,
+                                                                                           count=COUNT))
+            slave.handle(request.encode(), "tcp")
+        _REPLY_NOTES.clear()
+        start = time.process_time()
+        text = slave.log.to_text()
+        best = min(best, time.process_time() - start)
+        if len(slave.log) != 1000 or "registers [4990, " not in text:
+            raise RuntimeError("the log does not hold what the slave answered")
+    return best * 1e3
+
+
 # --- report -------------------------------------------------------------------------------------------------
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=1.5, help="length of each timed run (default 1.5)")
     parser.add_argument("--repeat", type=int, default=3, help="runs per measurement, best counts (default 3)")
     parser.add_argument("--quick", action="store_true", help="0.5 s runs, 1 repeat")
-    parser.add_argument("--servers-only", action="store_true", help="measure the servers (a) only")
+    parser.add_argument("--servers-only", action="store_true", help="the servers (a) and the log (c) only")
     args = parser.parse_args(argv)
     seconds, repeat = (0.5, 1) if args.quick else (args.seconds, args.repeat)
 
@@ -363,6 +391,8 @@ def main(argv: list[str] | None = None) -> int:
     print("    all; the servers take turns in each run, so a change of the machine's load touches all")
     print("    three alike\n")
 
+    print(f"(c) reading a slave's full traffic log (1000 entries, 500 fast-path answers, every note new): "
+          f"{bench_log_read(repeat):.1f} ms of CPU (target: under 10 ms)\n")
     if args.servers_only:
         return 0
     print("(b) virtual serial line (loopback_serial), Master -> Slave, FC3 read of 1 register, RTU 8N1")

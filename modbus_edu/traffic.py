@@ -367,11 +367,12 @@ class TrafficLog:
         entries = list(map(_entry, self._entries))
         if newest_first:
             entries.reverse()
-        width = max([len(e.text) for e in entries] + [5])
+        texts = [e.text for e in entries]
+        width = max([len(text) for text in texts] + [5])
         lines = [f"{'time':>10}  dir  mode  {'bytes':<{width}}  note"]
-        for e in entries:
+        for e, text in zip(entries, texts):
             extra = "; ".join(p for p in (e.label(), e.note) if p)
-            line = f"{e.time:10.6f}  {e.direction:<3}  {e.mode:<4}  {e.text:<{width}}  {extra}"
+            line = f"{e.time:10.6f}  {e.direction:<3}  {e.mode:<4}  {text:<{width}}  {extra}"
             lines.append(line.rstrip())
         return "\n".join(lines)
 

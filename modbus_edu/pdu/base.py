@@ -260,7 +260,7 @@ class Pdu:
         """The traffic log's note for ``reply``, which :meth:`answer_from_bytes` gave to ``request``: the
         ``summary()`` of the response object the general way would have built.  The log writes it when it
         is read, not per request."""
-        return decode_pdu(reply, "response").summary()
+        return RESPONSE_CLASSES[cls.function_code]._decode(reply, 0).summary()
 
     def misfit(self, response: Pdu) -> str:
         """How ``response``, of this request's function, fails to fit this request ('' if it fits):
