@@ -343,6 +343,11 @@ class Table:
             return [b != 0 for b in chunk]
         return chunk.tolist()  # type: ignore[union-attr]
 
+    def stored(self, address: int, count: int) -> bytearray | array:
+        """A copy of ``count`` values from ``address`` as kept (0/1 bytes, or an ``array('H')``), for a
+        caller that has checked the range itself: a slave's fast path (``Pdu.answer_from_bytes``)."""
+        return self._data[address : address + count]
+
     def write(self, address: int, values: Iterable[Any]) -> None:
         """Write the sequence ``values`` from ``address`` on (all of them, or none on an error).
 
