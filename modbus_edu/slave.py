@@ -357,6 +357,8 @@ class Slave:
         if mode == "tcp":
             answer = self._answer_quickly(frame)
             if answer is not None:
+                if self.listeners:
+                    self._notify()
                 return answer
         clock = self.clock
         now = clock.now if clock is not None else 0.0
