@@ -6,10 +6,10 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from ..course.grade import grade
+
 
 def cmd_grade(args: argparse.Namespace) -> int:
-    from ..course.grade import grade
-
     summary = grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
                     progress=not args.quiet)
     print(f"graded {summary['learners']} learner(s) in {summary['seconds']:.1f} s: {args.out}/gradebook.csv, "

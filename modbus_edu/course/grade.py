@@ -28,6 +28,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from .._optional import load_tqdm
 from .reports import _write_csv, _write_learner, _write_summary
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .submissions import find_submissions
@@ -40,7 +41,7 @@ __all__ = ["ERRORED", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_key
 def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int = 1024,
           jobs: int | None = None, progress: bool = True) -> dict:
     """Grade a class; write the gradebook, the learners' pages and the summary into ``out``."""
-    from tqdm.auto import tqdm
+    tqdm = load_tqdm()
 
     learners = find_submissions(paths)
     tasks = [(learner, notebook) for learner, files in learners.items() for notebook in files]
