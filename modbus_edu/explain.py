@@ -19,7 +19,9 @@ strict decoder (:func:`modbus_edu.framing.decode_frame`) raises in :attr:`Dissec
 raising it.  ``explain(..., strict=True)`` raises that error.
 
 The same dissection feeds the notebooks (``_repr_html_``: a table), the command line (``to_text`` and
-``to_dict``) and the widgets.
+``to_dict``) and the widgets.  A PDU object shows as its table in a notebook too: this module gives
+:class:`~modbus_edu.pdu.Pdu` its ``_repr_html_`` when it is imported (the PDU classes import nothing
+from here).
 
 A bare PDU (function code first, no unit and no check) gets the same table from ``explain_pdu``: give
 it a PDU object or its bytes.  Its offsets count from the function code::
@@ -712,3 +714,13 @@ def explain_pdu(pdu: _pdu.Pdu | bytes | str, role: str | None = None, *, strict:
         raise error
     rows = _fill_gaps(_binary_rows(data, _pdu_pieces(data, role, 0)), data, "bytes")
     return Dissection(data=data, mode="pdu", role=role, rows=rows, error=error)
+
+
+def _pdu_html(pdu: _pdu.Pdu) -> str:
+    """In a notebook a PDU shows as its dissection table (:func:`explain_pdu`)."""
+    return explain_pdu(pdu)._repr_html_()
+
+
+# PDUs do not explain themselves: explain gives every PDU its notebook view when it is imported (and
+# ``import modbus_edu`` imports it), so that pdu/ needs nothing from here.
+_pdu.Pdu._repr_html_ = _pdu_html  # type: ignore[attr-defined]

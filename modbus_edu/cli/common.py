@@ -10,6 +10,7 @@ from collections.abc import Sequence
 from typing import Any, NoReturn, TextIO
 
 from .. import pdu as _pdu
+from .. import security
 from ..codes import _hex
 from ..errors import ConfigError, ModbusError
 from ..explain import explain
@@ -255,8 +256,6 @@ def _tls_context(args: argparse.Namespace, side: str) -> Any:
     if missing:
         raise ConfigError(f"Modbus/TCP Security is mutual: give --tls-cert, --tls-key and --tls-ca "
                           f"together ({', '.join(missing)} missing)")
-    from .. import security
-
     make = security.server_context if side == "server" else security.client_context
     return make(**given)
 

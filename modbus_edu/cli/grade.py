@@ -6,11 +6,11 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from ..course.grade import grade
+from ..course.reports import printable
+
 
 def cmd_grade(args: argparse.Namespace) -> int:
-    from ..course.grade import grade
-    from ..course.reports import printable
-
     summary = grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
                     progress=not args.quiet)
     out = printable(args.out)

@@ -8,6 +8,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from .._optional import load_nbformat
 from .execute import course_notebooks
 
 SHORTHAND_PATTERN = re.compile(r"\bsources?\s+00[0-4]\b|(?<![\w.:-])00[0-4](?:['’]s)?(?![\w.])", re.I)
@@ -36,7 +37,7 @@ def _comments(code: str) -> str:
 
 def source_shorthands(path: Path | str) -> list[str]:
     """The source-number shorthands ("source 003", "003's") in a notebook's prose and code comments."""
-    import nbformat
+    nbformat = load_nbformat()
 
     found = []
     for cell in nbformat.read(Path(path), as_version=4).cells:
@@ -51,7 +52,7 @@ def used_before_introduced(paths: list[Path]) -> list[Problem]:
     ``paths`` are the notebooks in course order.  A name is introduced by a markdown cell or a code
     comment at or before the cell that uses it, in that notebook or an earlier one; its first use is
     reported once."""
-    import nbformat
+    nbformat = load_nbformat()
 
     introduced: set[str] = set()
     reported: set[str] = set()
@@ -77,7 +78,7 @@ def used_before_introduced(paths: list[Path]) -> list[Problem]:
 
 def check_notebook(path: Path | str, last: bool = False) -> list[Problem]:
     """Everything in one notebook that breaks the course's conventions (empty list: none)."""
-    import nbformat
+    nbformat = load_nbformat()
 
     path = Path(path)
     name = path.name
@@ -192,7 +193,7 @@ SPECIFICATION_EXAMPLES = {
 
 def notebook_title(path: Path | str) -> str:
     """The notebook's title, without its number: "The data model: four tables"."""
-    import nbformat
+    nbformat = load_nbformat()
 
     for cell in nbformat.read(Path(path), as_version=4).cells:
         if cell.cell_type == "markdown":
@@ -210,7 +211,7 @@ def names_notebook(text: str, title: str) -> bool:
 
 
 def _markdown(path: Path) -> list[str]:
-    import nbformat
+    nbformat = load_nbformat()
 
     return [_text(cell) for cell in nbformat.read(path, as_version=4).cells if cell.cell_type == "markdown"]
 
@@ -288,7 +289,7 @@ def next_link_problems(notebooks: list[Path]) -> list[Problem]:
 
 def links_in_code(path: Path | str) -> list[Problem]:
     """Markdown links written inside code cells (they show as text, not as links)."""
-    import nbformat
+    nbformat = load_nbformat()
 
     path = Path(path)
     problems = []
@@ -323,7 +324,7 @@ def _byte_runs(text: str) -> list[bytes]:
 
 def _shown(path: Path) -> str:
     """Everything a notebook's cells show: code and every text output."""
-    import nbformat
+    nbformat = load_nbformat()
 
     parts = []
     for cell in nbformat.read(path, as_version=4).cells:

@@ -33,6 +33,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from .._optional import load_tqdm
 from .reports import _write_csv, _write_learner, _write_summary, page_name
 from .runner import exercise_keys, instrument, rebinds_check, run_isolated
 from .submissions import collect, find_submissions
@@ -56,7 +57,7 @@ __all__ = ["ERRORED", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_key
 def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int = 1024,
           jobs: int | None = None, progress: bool = True) -> dict:
     """Grade a class; write the gradebook, the learners' pages and the summary into ``out``."""
-    from tqdm.auto import tqdm
+    tqdm = load_tqdm()
 
     found = collect(paths)
     tasks = found.submissions

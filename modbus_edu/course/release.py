@@ -13,6 +13,7 @@ import re
 import shutil
 from pathlib import Path
 
+from .._optional import load_nbformat
 from .execute import course_notebooks
 
 #: What a class repository holds, relative to the course's root: the rest (tests, bench, .ci, the
@@ -88,7 +89,7 @@ def without_solution_hints(text: str) -> str:
 def strip_notebook(path: Path) -> int:
     """Remove the solution hints from one notebook's markdown and code comments; return how many cells
     changed."""
-    import nbformat
+    nbformat = load_nbformat()
 
     notebook = nbformat.read(path, as_version=4)
     changed = 0

@@ -18,6 +18,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .._optional import load_nbclient, load_nbformat, load_transformer_manager
+
 RECORDER = "__modbus_edu_record__"
 STARTUP_TIMEOUT = 120
 """Seconds a kernel may take to start (not counted in a notebook's time limit)."""
@@ -61,9 +63,7 @@ kernelapp.launch_new_instance()
 def _python_source(cell_source: str) -> str | None:
     """A cell as plain Python (IPython magics turned into calls), or None if it does not parse."""
     try:
-        from IPython.core.inputtransformer2 import TransformerManager
-
-        source = TransformerManager().transform_cell(cell_source)
+        source = load_transformer_manager()().transform_cell(cell_source)
     except Exception:
         source = cell_source
     try:
@@ -155,9 +155,10 @@ def _kernel_spec(folder: Path) -> str:
 
 def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
     """Run one notebook from the top in a fresh, limited kernel; the verdicts its checks recorded."""
-    import nbformat
-    from nbclient import NotebookClient
-    from nbclient.exceptions import CellTimeoutError, DeadKernelError
+    nbformat, nbclient = load_nbformat(), load_nbclient()
+    NotebookClient = nbclient.NotebookClient
+    CellTimeoutError = nbclient.exceptions.CellTimeoutError
+    DeadKernelError = nbclient.exceptions.DeadKernelError
 
     run = NotebookRun(path.name)
     start = time.monotonic()
@@ -270,9 +271,7 @@ def run_isolated(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
 def _keys_of(path: Path) -> list[str]:
     """The exercise keys a notebook checks, read from the file (for a notebook whose grader failed)."""
     try:
-        import nbformat
-
-        cells = nbformat.read(path, as_version=4).cells
+        cells = load_nbformat().read(path, as_version=4).cells
     except Exception:
         return []
     return [key for cell in cells if cell.cell_type == "code" for key in exercise_keys(cell.source)]

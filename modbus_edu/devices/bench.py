@@ -189,6 +189,7 @@ def troubleshooting_figure():
     """Draw :data:`TROUBLESHOOTING` as a flowchart (one row per symptom, checks left to right).
 
     Returns the matplotlib figure (the course's width, :mod:`modbus_edu.plotstyle`)."""
+    # matplotlib (the course extra) only when the figure is drawn: plotstyle imports it at its top
     from matplotlib.patches import FancyBboxPatch
 
     from ..plotstyle import figure

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from ..explain import explain
@@ -111,8 +112,6 @@ def _check_05_4(answer: Any) -> str | None:
 def _field_name(answer: str, fields: list[str]) -> str | None:
     """The field of ``fields`` that ``answer`` names ("the Length field", "protocol id", "MBAP length"),
     or None."""
-    import re
-
     words = [word for word in re.findall(r"[a-z]+", answer.lower())
              if word not in ("the", "field", "mbap", "header", "s", "bytes", "byte")]
     if not words:

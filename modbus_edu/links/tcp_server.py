@@ -45,6 +45,7 @@ from ..framing import TcpSplitter, splitter_for
 from ..framing.tcp import is_one_frame
 from ..pdu import REQUEST_CLASSES
 from ..platform import require_sockets
+from ..security import load_x509, role_of
 from .routing import (
     SERVER_DEVICE_FAILURE,
     _units_text,
@@ -724,8 +725,6 @@ class TcpServer:
         if self.tls is not None and framing != "tcp":
             raise ConfigError("Modbus/TCP Security carries MBAP frames: tls= needs framing=\"tcp\"")
         if self.tls is not None:
-            from ..security import load_x509
-
             load_x509()  # cryptography loads now, not during the first client's handshake
         if handshake_timeout is None:
             handshake_timeout = request_timeout
@@ -750,8 +749,6 @@ class TcpServer:
         if want != "done":
             self._set_events(conn, selectors.EVENT_READ if want == "read" else selectors.EVENT_WRITE)
             return
-        from ..security import role_of
-
         conn.handshake = None
         try:
             conn.role = role_of(handshake.peer_certificate())

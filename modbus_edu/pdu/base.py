@@ -309,12 +309,6 @@ class Pdu:
             object.__setattr__(obj, name, value)
         return obj
 
-    def _repr_html_(self) -> str:
-        """In a notebook a PDU shows as its dissection table (:func:`modbus_edu.explain.explain_pdu`)."""
-        from ..explain import explain_pdu
-
-        return explain_pdu(self)._repr_html_()
-
     def summary(self) -> str:
         """One line such as ``Read Holding Registers request: address 0, count 1``."""
         parts = [f"{name} {value}" for name, value in self._summary_items()]
