@@ -6,12 +6,12 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..course.grade import grade
+from ..course import grade as grading
 from ..course.reports import printable
 
 
 def cmd_grade(args: argparse.Namespace) -> int:
-    summary = grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
+    summary = grading.grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
                     progress=not args.quiet)
     out = printable(args.out)
     print(f"graded {summary['learners']} learner(s) in {summary['seconds']:.1f} s: {out}/gradebook.csv, "
