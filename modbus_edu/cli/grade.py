@@ -11,8 +11,8 @@ from ..course.reports import printable
 
 
 def cmd_grade(args: argparse.Namespace) -> int:
-    summary = grading.grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
-                    progress=not args.quiet)
+    summary = grading.grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory,
+                            jobs=args.jobs, progress=not args.quiet)
     out = printable(args.out)
     print(f"graded {summary['learners']} learner(s) in {summary['seconds']:.1f} s: {out}/gradebook.csv, "
           f"{out}/summary.html, {out}/learners/")

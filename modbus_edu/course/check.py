@@ -432,8 +432,7 @@ SOURCE_TABLE = re.compile(r"\b(?:table|figure|fig\.)\s*\d+", re.I)
 def panel_problems(path: Path | str) -> list[Problem]:
     """A panel whose picture names a source, or a source's table or figure, which the learner never sees
     (the panel says what it shows in its own words)."""
-    import nbformat
-
+    nbformat = load_nbformat()
     path = Path(path)
     problems = []
     for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
