@@ -16,9 +16,10 @@
   image (which must hold Python, ipykernel and modbus_edu), with the private folder as ``/tmp``, memory
   and pids limits, removed when it stops.
 
-Whatever the level, every kernel's process carries ``MODBUS_EDU_GRADE_RUN=<token>`` in its environment,
-its stdout and stderr go to ``/dev/null`` (what it prints reaches the grader only as counted messages),
-and ``RLIMIT_AS`` bounds each process as well.
+Whatever the level, every kernel's process carries ``MODBUS_EDU_GRADE_RUN=<token>`` in its environment
+(and, of the grader's environment, only :data:`KEPT`); its stdout and stderr go to ``/dev/null`` once
+ipykernel has caught them, so what it prints, with ``print`` or straight to fd 1, reaches the grader only
+as counted messages; ``RLIMIT_AS`` bounds each process as well.
 
 Run as a script (``python sandbox.py enter|init|limit CONFIG -f CONNECTION_FILE``) this module is the
 kernel's launcher; it imports nothing but the standard library, so that it starts fast.
@@ -280,10 +281,13 @@ def _kernel(config: dict, connection: str) -> None:
               config["env"])
 
 
+KEPT = ("PATH", "LANG", "LANGUAGE", "LC_ALL", "LC_CTYPE", "TZ", "PYTHONHASHSEED")
+"""The grader's environment variables a kernel inherits; no others (no tokens of the instructor's, and no
+``PYTEST_CURRENT_TEST``, which would stop ipykernel from catching what is written straight to fd 1 and 2)."""
+
+
 def _environment(config: dict, home: str) -> dict:
-    # JPY_PARENT_PID: the kernel's parent is the namespace's init, not the worker it would watch
-    env = {key: value for key, value in os.environ.items()
-           if not key.startswith(("JUPYTER", "IPYTHON", "JPY_PARENT_PID"))}
+    env = {key: os.environ[key] for key in KEPT if key in os.environ}
     env.update({MARKER: config["token"], "MODBUS_EDU_SUBMIT": "1", "HOME": home, "TMPDIR": "/tmp",
                 "IPYTHONDIR": f"{home}/.ipython", "MPLCONFIGDIR": f"{home}/.matplotlib",
                 "MPLBACKEND": "Agg", "MALLOC_ARENA_MAX": "2", "OPENBLAS_NUM_THREADS": "1"})
