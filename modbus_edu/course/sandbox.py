@@ -75,8 +75,13 @@ def _v1_usable() -> bool:
                for name in ("memory", "pids"))
 
 
+FORCE = "MODBUS_EDU_GRADE_ISOLATION"
+"""Set to ``limited`` to grade at the limited level even where the sealed one is possible."""
+
+
 def detect(container: str | None = None) -> Sandbox:
-    """The strongest isolation this machine offers (or the container engine, for ``--container IMAGE``)."""
+    """The strongest isolation this machine offers (or the container engine, for ``--container IMAGE``;
+    the limited level when :data:`FORCE` says so)."""
     if container:
         for engine in ("docker", "podman"):
             if shutil.which(engine) is None:
@@ -90,6 +95,8 @@ def detect(container: str | None = None) -> Sandbox:
                                engine=engine, image=container)
         raise OSError("--container: neither docker nor podman answers on this machine")
     why = "not root" if os.geteuid() != 0 else ""
+    if os.environ.get(FORCE) == "limited":
+        why = f"{FORCE}=limited"
     if not why:
         try:
             probe = subprocess.run(["unshare", "--pid", "--mount", "--fork", "--kill-child", "--mount-proc",
