@@ -26,6 +26,7 @@ KEYS = ["03.1", "03.2", "03.5"]
 HONEST = {"ada": right, "bob": wrong}
 XSS = "<img src=x onerror=alert(document.domain)>"
 FORMULA = '=HYPERLINK("http://example.invalid","click")'
+FOLDER = '=HYPERLINK("example.invalid","click")'  # a folder's name holds no slash
 ESCAPE = "\x1b[31mred\x1b[0m"
 
 
@@ -137,7 +138,7 @@ def attacks(root: Path, out: Path) -> dict[str, list[str]]:
         # the instructor's pages
         "xss" + XSS: [f"check({XSS!r}, 1)", *wrong_answers()],
         "formula": [f"check({FORMULA!r}, 1)", *wrong_answers()],
-        FORMULA: wrong_answers(),
+        FOLDER: wrong_answers(),
         "escape": [f"check({ESCAPE!r}, 1)", *wrong_answers()],
         # the grader itself
         "stdout": ["import os\nos.system('echo hi')\nos.write(1, b'x' * 64 * 1024 * 1024)",
@@ -226,8 +227,10 @@ def test_honest_learners_keep_the_grade_they_get_alone(graded):
 def test_no_attacker_gets_credit_it_did_not_earn(graded):
     rows = graded["rows"]
     for name in ("forger", "patcher", "jsonpatcher", "anyequal", "library", "editor", "logwriter", "orphan",
-                 "forkbomb", "hog", "formula", "escape", "big"):
-        statuses = {key: rows[name].get(key) for key in KEYS}
+                 "forkbomb", "hog", "formula", FOLDER, "escape", "big"):
+        # the formula folder's row may be shown neutralised ('=HYPERLINK...): found by its text
+        row = rows.get(name) or next(row for learner, row in rows.items() if name.lstrip("=") in learner)
+        statuses = {key: row.get(key) for key in KEYS}
         assert "right" not in statuses.values(), (name, statuses)
     assert rows["anyequal"].get("03.4") == "wrong"
     page = (graded["out"] / "learners" / "library.html").read_text(encoding="utf-8")
