@@ -20,8 +20,8 @@ def load_nbformat() -> Any:
 
 
 def load_nbclient() -> Any:
-    """The ``nbclient`` package with its ``exceptions`` (runs a notebook in a kernel)."""
-    import nbclient.exceptions  # the course extra: only the course tools run notebooks
+    """The ``nbclient`` package with its ``exceptions`` and ``util`` (runs a notebook in a kernel)."""
+    import nbclient  # the course extra: only the course tools run notebooks (it loads exceptions and util)
 
     return nbclient
 

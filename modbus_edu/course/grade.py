@@ -2,16 +2,21 @@
 
 A class's notebooks come as one folder per learner (``class/ada/03_rtu_and_crc.ipynb``) or as files named
 by learner (``ada_03_rtu_and_crc.ipynb``, or ``ada.ipynb``).  Every notebook runs from the top in a fresh
-kernel, in a process of its own, with a time limit per notebook and a memory limit per learner (the
-kernel's address space, set with ``resource.setrlimit`` before the kernel starts).
+kernel, with a time limit per notebook.
 
-Each exercise's result comes from the library's own checker *as the notebook runs*, never from the outputs
-stored in the file, which a learner can edit.  Before running a cell, the grader finds every
-``check(KEY, ANSWER)`` call in it (by parsing the cell) and turns it into a call of its own recorder, which
-checks ANSWER with :func:`modbus_edu.exercises.evaluate` (the real checker, captured before any learner
-code ran), writes the verdict to a log outside the notebook, then calls whatever ``check`` the learner's
-cell names, so the notebook behaves as written.  A learner who rebinds ``check`` (``def check``,
-``check = ...``, an import under that name) is flagged, and still graded by the real checker.
+**The kernel submits, the grader judges.**  Inside the kernel ``check`` judges nothing: it sends the
+answer as plain data over the kernel's own message channel, and the grader computes every verdict in its
+own process, with its own checkers (:mod:`.runner`).  For a build exercise the grader draws inputs from a
+seed of its own for each learner, has the kernel call the learner's function on them, and compares the
+outputs itself.  Verdicts never come from the outputs stored in the file, nor from anything the learner's
+code could reach: patching the checkers, ``json`` or ``check`` in the kernel changes nothing, and an
+always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
+
+**Each learner sealed off** (:mod:`.sandbox`, its level said in one line at the start): under a user id of
+its own, in PID and mount namespaces, with a private copy of only its own notebooks, the class and the
+output folder out of reach, memory (``--memory``) and processes limited for the learner as a whole, and
+every process killed when the learner is done.  Without root or namespaces: a process group and
+per-process limits; with ``--container IMAGE``: a docker or podman container per kernel.
 
 A notebook that hangs, kills its kernel, floods memory or prints megabytes is reported as such; its
 exercises that did not run are "errored", and the other notebooks and learners go on.
@@ -29,14 +34,19 @@ made them, the notebooks to look at, and how the submissions were read), all esc
 from __future__ import annotations
 
 import os
+import secrets
+import shutil
+import sys
+import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
 from .reports import _write_csv, _write_learner, _write_summary, page_name
-from .runner import exercise_keys, instrument, rebinds_check, run_isolated
-from .submissions import collect, find_submissions
+from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
+from .sandbox import MARKER, Sandbox, Seal, detect
+from .submissions import Submission, collect, find_submissions
 from .verdicts import (
     ERRORED,
     NOT_ANSWERED,
@@ -50,26 +60,65 @@ from .verdicts import (
     verdicts,
 )
 
-__all__ = ["ERRORED", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_keys", "find_submissions",
-           "grade", "instrument", "misconception", "rebinds_check", "verdicts"]
+__all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_keys",
+           "find_submissions", "grade", "instrument", "misconception", "rebinds_check", "verdicts"]
+
+
+def _hidden(paths: list[Path], out: Path) -> list[Path]:
+    """The folders a learner's kernel must not see: the class's and the output (not one holding the
+    library or Python itself, which the kernel needs)."""
+    needed = [Path(sys.prefix).resolve(), Path(__file__).resolve().parents[2]]
+    folders = {(p if p.is_dir() else p.parent).resolve() for p in [*paths, out]}
+    return sorted(f for f in folders if not any(n == f or f in n.parents for n in needed))
+
+
+def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch: Path, hide: list[Path],
+                   timeout: float, memory_mb: int, token: str) -> list[NotebookRun]:
+    """Run one learner's notebooks in a seal of its own; every process of the learner ends with it."""
+    seal = Seal.open(sandbox, index, scratch, notebooks, hide, memory_mb, f"{token}-{index}")
+    seed = secrets.token_hex(8)
+    runs = []
+    try:
+        for original, copy in zip(notebooks, seal.notebooks):
+            run = run_isolated(copy, timeout, memory_mb, seal.kernel_argv(timeout), seed, scratch)
+            run.notebook = original.name
+            runs.append(run)
+    finally:
+        if seal.out_of_memory() and runs:
+            note = f"ran out of memory (the limit is {memory_mb} MB for the learner)"
+            runs[-1].problems.append(note)
+        seal.close()
+    return runs
 
 
 def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int = 1024,
-          jobs: int | None = None, progress: bool = True) -> dict:
+          jobs: int | None = None, progress: bool = True, container: str | None = None) -> dict:
     """Grade a class; write the gradebook, the learners' pages and the summary into ``out``."""
     tqdm = load_tqdm()
 
     found = collect(paths)
-    tasks = found.submissions
-    jobs = jobs or max(1, min(len(tasks), os.cpu_count() or 1))
+    by_learner: dict[str, list[Submission]] = {}
+    for task in found.submissions:
+        by_learner.setdefault(task.learner, []).append(task)
+    sandbox = detect(container)
+    print(sandbox.note, file=sys.stderr)
+    jobs = jobs or max(1, min(len(by_learner), os.cpu_count() or 1))
     start = time.monotonic()
-    with ThreadPoolExecutor(jobs) as pool, tqdm(total=len(tasks), unit="notebook", disable=not progress,
-                                                desc="grading") as bar:
-        futures = [(task, pool.submit(run_isolated, task.path, timeout, memory_mb)) for task in tasks]
-        graded = []
-        for task, future in futures:
-            graded.append((task, future.result()))
-            bar.update()
+    token = f"{os.getpid()}-{secrets.token_hex(4)}"
+    scratch = Path(tempfile.mkdtemp(prefix="modbus-edu-grade-"))
+    hide = _hidden(paths, out)
+    graded: list[tuple[Submission, NotebookRun]] = []
+    try:
+        with ThreadPoolExecutor(jobs) as pool, tqdm(total=len(by_learner), unit="learner",
+                                                    disable=not progress, desc="grading") as bar:
+            futures = [(tasks, pool.submit(_grade_learner, sandbox, index, [task.path for task in tasks],
+                                           scratch, hide, timeout, memory_mb, token))
+                       for index, tasks in enumerate(by_learner.values())]
+            for tasks, future in futures:
+                graded.extend(zip(tasks, future.result()))
+                bar.update()
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
     chosen, choices = pick_copies(graded)
     exercises, runs, foreign = course_keys(chosen)
     learners = found.learners
@@ -90,4 +139,5 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
     notes = found.notes + [f"{learner}: {choice}" for learner, made in choices.items() for choice in made]
     summary = _write_summary(out, table, exercises, flags, look_at, notes)
     summary["seconds"] = time.monotonic() - start
+    summary["isolation"] = sandbox.note
     return summary

@@ -1,8 +1,22 @@
-"""Running one learner's notebook for the gradebook: a fresh, limited kernel, in a process of its own.
+"""Running one learner's notebook for the gradebook: a fresh kernel, sealed off, that only submits.
 
-Before a cell runs, every ``check(KEY, ANSWER)`` call in it (found by parsing the cell) becomes a call of
-the grader's recorder; a learner who rebinds ``check`` is flagged.  ``python -m modbus_edu.course.runner
-NOTEBOOK TIMEOUT MEMORY`` is the worker :func:`run_isolated` starts.
+The grader never trusts the kernel to judge.  Inside the kernel ``check`` only *submits*: the answer
+leaves as plain data, a display output of the MIME type :data:`~modbus_edu.exercises.submit.MIME` on the
+kernel's own message channel (:mod:`modbus_edu.exercises.submit`).  The worker that drives the kernel
+(``python -m modbus_edu.course.runner``, started by :func:`run_isolated`, memory- and time-limited itself)
+collects those messages; once the notebook has run, it has the kernel trace each build exercise's
+function on inputs drawn from a seed the grader chose for this learner.  The worker hands the
+submissions and traces back through a file in the grader's own folder (never through its stdout, which a
+learner's output could reach), and :func:`judged` computes every verdict in the grader's process, with
+the grader's own checkers.
+
+Before a cell runs, every call of the library's own ``check`` in it (``check(KEY, ANSWER)`` or
+``exercises.check(...)``, found by parsing the cell; any other ``x.check(...)`` is left alone) becomes a
+call of :func:`~modbus_edu.exercises.submit.record`, so an answer is submitted even when the learner has
+rebound ``check``; a learner who rebinds it is flagged.  The work is bounded: a notebook of more than
+:data:`NOTEBOOK_LIMIT` bytes, a cell of more than :data:`CELL_LIMIT` characters, more than
+:data:`MAX_CHECKS` checks in the source or :data:`MAX_SUBMISSIONS` submissions at run time are each
+refused with a flag that says so.
 """
 
 from __future__ import annotations
@@ -18,44 +32,35 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+try:
+    import resource
+except ImportError:  # Windows
+    resource = None
+
 from .._optional import load_nbclient, load_nbformat, load_transformer_manager
+from ..exercises import judge, verdict
+from ..exercises.plain import MAX_WIRE, PlainError, from_json
+from ..exercises.submit import MIME
 
 RECORDER = "__modbus_edu_record__"
 STARTUP_TIMEOUT = 120
 """Seconds a kernel may take to start (not counted in a notebook's time limit)."""
 OUTPUT_LIMIT = 1_000_000
 """Characters of output a notebook may print before the grader reports an output flood (and keeps none)."""
+NOTEBOOK_LIMIT = 5_000_000
+"""The largest notebook file the grader reads, in bytes."""
+CELL_LIMIT = 50_000
+"""The longest code cell the grader runs, in characters."""
+MAX_CHECKS = 300
+"""The most ``check`` calls a notebook's source may hold."""
+MAX_SUBMISSIONS = 1_000
+"""The most submissions one notebook's run may send (a check in a loop counts each time)."""
+WORKER_MEMORY = 2048
+"""MB of address space the worker that drives a kernel may use."""
+TRACE_TIMEOUT = 30
+"""Seconds the kernel gets to trace one build exercise's function."""
 
-SETUP = """\
-def __modbus_edu_grader__():
-    import json, os
-    from modbus_edu.exercises import check as real_check, evaluate
-    log = os.environ.pop("MODBUS_EDU_GRADE_LOG")
-
-    def record(key, answer, current):
-        result = evaluate(key, answer)
-        with open(log, "a", encoding="utf-8") as stream:
-            stream.write(json.dumps({"key": str(key), "ok": result.ok, "message": result.message,
-                                     "real_check": current is real_check}) + "\\n")
-        return current(key, answer)
-    return record
-__modbus_edu_record__ = __modbus_edu_grader__()
-del __modbus_edu_grader__
-"""
-
-KERNEL_LAUNCHER = """\
-import os, sys
-try:
-    import resource
-    limit = int(os.environ["MODBUS_EDU_GRADE_MEMORY"])
-    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-    cpu = int(os.environ["MODBUS_EDU_GRADE_CPU"])
-    resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
-except ImportError:
-    pass  # no resource module (Windows): no memory limit
-from ipykernel import kernelapp
-kernelapp.launch_new_instance()
-"""
+SETUP = f"from modbus_edu.exercises.submit import record as {RECORDER}\n"
 
 
 # --- finding the exercises and rewriting the cells ------------------------------------------------------
@@ -63,27 +68,38 @@ kernelapp.launch_new_instance()
 def _python_source(cell_source: str) -> str | None:
     """A cell as plain Python (IPython magics turned into calls), or None if it does not parse."""
     try:
-        source = load_transformer_manager()().transform_cell(cell_source)
+        TransformerManager = load_transformer_manager()
+        source = TransformerManager().transform_cell(cell_source)
     except Exception:
         source = cell_source
     try:
         ast.parse(source)
-    except SyntaxError:
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
         return None
     return source
 
 
+def _dotted(node: ast.AST) -> str:
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        return f"{_dotted(node.value)}.{node.attr}"
+    return "?"
+
+
 def _is_check(node: ast.AST) -> bool:
-    return isinstance(node, ast.Call) and (
-        (isinstance(node.func, ast.Name) and node.func.id == "check")
-        or (isinstance(node.func, ast.Attribute) and node.func.attr == "check")) and len(node.args) >= 2
+    """A call of the library's own check: ``check(K, A)`` or ``<...>exercises.check(K, A)``."""
+    if not isinstance(node, ast.Call) or len(node.args) < 2:
+        return False
+    name = _dotted(node.func)
+    return name == "check" or name == "exercises.check" or name.endswith(".exercises.check")
 
 
 def exercise_keys(source: str) -> list[str]:
     """The exercise keys of the ``check("NN.k", ...)`` calls in a cell's source."""
     python = _python_source(source)
     if python is None:
-        return re.findall(r"check\(\s*['\"](\d\d\.\d+)['\"]", source)
+        return re.findall(r"(?<![\w.])check\(\s*['\"](\d\d\.\d+)['\"]", source)
     return [node.args[0].value for node in ast.walk(ast.parse(python)) if _is_check(node)
             and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)]
 
@@ -120,7 +136,7 @@ class _Recorder(ast.NodeTransformer):
 
 
 def instrument(source: str) -> str:
-    """A cell's source with each ``check(KEY, ANSWER)`` call recorded by the grader."""
+    """A cell's source with each call of the library's ``check`` submitted by the grader's recorder."""
     python = _python_source(source)
     if python is None or "check" not in python:
         return source
@@ -128,14 +144,16 @@ def instrument(source: str) -> str:
     return ast.unparse(tree)
 
 
-# --- running one notebook (in a process of its own) ---------------------------------------------------------
+# --- running one notebook (in the worker) ---------------------------------------------------------------
 
 @dataclass
 class NotebookRun:
-    """What running one notebook found: each exercise's verdicts in order, and what went wrong."""
+    """What running one notebook found: its submissions and traces, each exercise's verdicts in order
+    (filled in by :func:`judged`, in the grader), and what went wrong."""
 
     notebook: str
     keys: list[str] = field(default_factory=list)
+    submissions: list[dict] = field(default_factory=list)
     records: list[dict] = field(default_factory=list)
     errored_cells: dict[str, str] = field(default_factory=dict)  # exercise key -> the error
     problems: list[str] = field(default_factory=list)
@@ -143,69 +161,121 @@ class NotebookRun:
     unfinished: str = ""  # the cell that was running when the notebook was stopped or its kernel died
 
 
-def _kernel_spec(folder: Path) -> str:
-    name = "modbus-edu-grader"
-    spec = folder / "kernels" / name
-    spec.mkdir(parents=True, exist_ok=True)
-    (spec / "kernel.json").write_text(json.dumps({
-        "argv": [sys.executable, "-c", KERNEL_LAUNCHER, "-f", "{connection_file}"],
-        "display_name": "modbus_edu grader", "language": "python"}))
-    return name
+def _read(path: Path, run: NotebookRun, cell_keys: dict[int, list[str]]):
+    """The notebook, its code cells instrumented after a setup cell, or None (with a problem) when it
+    cannot or may not run; ``cell_keys`` gets each cell's exercise keys (by index, the setup cell 0)."""
+    nbformat = load_nbformat()
+    size = path.stat().st_size
+    if size > NOTEBOOK_LIMIT:
+        run.problems.append(f"is {size / 1e6:.1f} MB; the grader reads notebooks up to "
+                            f"{NOTEBOOK_LIMIT / 1e6:g} MB (not run)")
+        return None
+    try:
+        notebook = nbformat.reads(path.read_text(encoding="utf-8"), as_version=4)
+    except Exception as exc:
+        run.problems.append(f"cannot be read as a notebook ({type(exc).__name__})")
+        return None
+    cells = [cell for cell in notebook.cells if cell.cell_type == "code"]
+    calls = sum(len(re.findall(r"check\s*\(", cell.source)) for cell in cells)
+    if calls > MAX_CHECKS:
+        run.problems.append(f"calls check {calls:,} times; the grader takes notebooks with up to "
+                            f"{MAX_CHECKS} checks (not run)")
+        return None
+    for number, cell in enumerate(cells, start=1):
+        cell.outputs = []
+        if len(cell.source) > CELL_LIMIT:
+            run.problems.append(f"code cell {number} has {len(cell.source):,} characters; the grader runs "
+                                f"cells up to {CELL_LIMIT:,} (that cell was not run)")
+            cell.source = "raise RuntimeError('this cell is too long for the grader')"
+            continue
+        cell_keys[number] = exercise_keys(cell.source)
+        run.keys.extend(cell_keys[number])
+        if rebinds_check(cell.source):
+            run.problems.append("redefines check (graded by the library's own checker all the same)")
+        cell.source = instrument(cell.source)
+    notebook.cells = [nbformat.v4.new_code_cell(SETUP), *cells]
+    return notebook
 
 
-def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
-    """Run one notebook from the top in a fresh, limited kernel; the verdicts its checks recorded."""
+def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_mb: int) -> NotebookRun:
+    """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions and traces.
+
+    The kernel's connection file goes beside the notebook's private copy (``../run``), where the
+    kernel, sealed in that private folder, can read it."""
     nbformat, nbclient = load_nbformat(), load_nbclient()
-    NotebookClient = nbclient.NotebookClient
+    NotebookClient, run_sync = nbclient.NotebookClient, nbclient.util.run_sync
     CellTimeoutError = nbclient.exceptions.CellTimeoutError
     DeadKernelError = nbclient.exceptions.DeadKernelError
 
     run = NotebookRun(path.name)
     start = time.monotonic()
-    try:
-        notebook = nbformat.read(path, as_version=4)
-    except Exception as exc:
-        run.problems.append(f"cannot be read as a notebook ({type(exc).__name__})")
-        return run
+    runtime = path.parent.parent / "run"
     cell_keys: dict[int, list[str]] = {}
-    cells = [c for c in notebook.cells if c.cell_type == "code"]
-    first_lines = [(c.source.strip().splitlines() or [""])[0][:80] for c in cells]
-    started: list[int] = [0]  # the index of the cell running (0: the grader's set-up)
-    for index, cell in enumerate(cells):
-        keys = exercise_keys(cell.source)
-        cell_keys[index + 1] = keys
-        run.keys.extend(keys)
-        if rebinds_check(cell.source):
-            run.problems.append("redefines check (graded by the library's own checker all the same)")
-        cell.source = instrument(cell.source)
-        cell.outputs = []
-    notebook.cells = [nbformat.v4.new_code_cell(SETUP), *cells]
-    run.problems = list(dict.fromkeys(run.problems))
+    notebook = _read(path, run, cell_keys)
+    if notebook is None:
+        return run
+    first_trace = len(notebook.cells)
+    first_lines = [(cell.source.strip().splitlines() or [""])[0][:80] for cell in notebook.cells]
+    started = [0]  # the index of the cell running (0: the grader's set-up)
 
-    with tempfile.TemporaryDirectory(prefix="modbus-edu-grade-") as scratch:
-        folder = Path(scratch)
-        log = folder / "verdicts.jsonl"
-        os.environ["JUPYTER_PATH"] = os.pathsep.join([str(folder), os.environ.get("JUPYTER_PATH", "")])
-        os.environ.update(MODBUS_EDU_GRADE_LOG=str(log), MODBUS_EDU_GRADE_MEMORY=str(memory_mb * 1024 * 1024),
-                          MODBUS_EDU_GRADE_CPU=str(int(timeout) + 10), MALLOC_ARENA_MAX="2",
-                          OPENBLAS_NUM_THREADS="1", MPLBACKEND="Agg")
-        printed = 0
-        flooded = []
+    def stopped_in() -> str:  # the learner's code cell that was running, and its first line
+        index = started[0]
+        return f"code cell {index} ({first_lines[index]!r})" if 0 < index < first_trace else ""
+    traces: dict[int, tuple[str, str]] = {}  # trace cell index -> (key, seed)
+    counted = {"printed": 0, "submitted": 0}
+
+    with tempfile.TemporaryDirectory(prefix="modbus-edu-kernelspec-") as spec_folder:
+        spec = Path(spec_folder) / "kernels" / "modbus-edu-grader"
+        spec.mkdir(parents=True)
+        (spec / "kernel.json").write_text(json.dumps({"argv": argv, "display_name": "modbus_edu grader",
+                                                      "language": "python"}))
+        os.environ["JUPYTER_PATH"] = spec_folder
+
+        def take(data: dict, cell_index: int) -> None:
+            text = data.get(MIME)
+            if not isinstance(text, str) or len(text) > MAX_WIRE:
+                return
+            try:
+                payload = from_json(text)
+            except PlainError:
+                return
+            if not isinstance(payload, dict) or not isinstance(payload.get("key"), str):
+                return
+            if cell_index >= first_trace:  # a trace cell: only the trace it was asked for counts
+                key, wanted = traces.get(cell_index, ("", ""))
+                if payload.get("key") == key and payload.get("seed") == wanted and "trace" in payload:
+                    run.submissions.append({"key": key, "trace": payload["trace"], "seed": wanted})
+                return
+            counted["submitted"] += 1
+            if counted["submitted"] > MAX_SUBMISSIONS:
+                if counted["submitted"] == MAX_SUBMISSIONS + 1:
+                    run.problems.append(f"submitted more than {MAX_SUBMISSIONS:,} answers (the rest ignored)")
+                return
+            run.submissions.append({key: payload[key] for key in ("key", "answer", "build", "real_check")
+                                    if key in payload})
 
         class Client(NotebookClient):
+            def create_kernel_manager(self):  # the connection file where the sealed kernel can read it
+                manager = super().create_kernel_manager()
+                manager.connection_file = str(runtime / f"kernel-{os.getpid()}.json")
+                return manager
+
             def output(self, outs, msg, display_id, cell_index):  # keep nothing, count what is printed
-                nonlocal printed
                 content = msg.get("content", {})
+                if msg["msg_type"] in ("display_data", "execute_result") and isinstance(content.get("data"),
+                                                                                        dict):
+                    take(content["data"], cell_index)
                 if msg["msg_type"] == "error":
                     for key in cell_keys.get(cell_index, []):
                         error = f"{content.get('ename')}: {content.get('evalue')}"
                         run.errored_cells.setdefault(key, error[:300])
                     if content.get("ename") == "MemoryError":
                         run.problems.append(f"ran out of memory (the limit is {memory_mb} MB)")
-                text = content.get("text") or json.dumps(content.get("data", ""))
-                printed += len(text)
-                if printed > OUTPUT_LIMIT and not flooded:
-                    flooded.append(True)
+                text = content.get("text") if isinstance(content.get("text"), str) else json.dumps(
+                    content.get("data", ""))
+                counted["printed"] += len(text)
+                if counted["printed"] > OUTPUT_LIMIT and "flood" not in counted:
+                    counted["flood"] = 1
                     run.problems.append(f"printed more than {OUTPUT_LIMIT:,} characters (output discarded)")
                 return None
 
@@ -216,15 +286,29 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
                 deadline.append(time.monotonic() + timeout)
             return max(1.0, deadline[0] - time.monotonic())
 
-        client = Client(notebook, kernel_name=_kernel_spec(folder), allow_errors=True,
+        client = Client(notebook, kernel_name="modbus-edu-grader", allow_errors=True,
                         startup_timeout=STARTUP_TIMEOUT, timeout_func=time_left,
-                        resources={"metadata": {"path": str(path.parent.resolve())}},
-                        on_cell_start=lambda cell, cell_index: started.append(cell_index))
-        def stopped_in() -> str:  # the learner's code cell that was running, and its first line
-            return f"code cell {started[-1]} ({first_lines[started[-1] - 1]!r})" if started[-1] else ""
+                        resources={"metadata": {"path": str(path.parent)}})
+
+        async def execute() -> None:
+            async with client.async_setup_kernel():
+                await client.async_wait_for_reply(client.kc.kernel_info())
+                for index, cell in enumerate(list(client.nb.cells)):
+                    started[0] = index
+                    await client.async_execute_cell(cell, index, execution_count=index + 1)
+                built = list(dict.fromkeys(s["key"] for s in run.submissions if s.get("build")))
+                for key in built:
+                    index = len(client.nb.cells)
+                    traces[index] = (key, f"{key} {seed}")
+                    cell = nbformat.v4.new_code_cell(
+                        f"from modbus_edu.exercises.submit import send_trace\n"
+                        f"send_trace({key!r}, {traces[index][1]!r})")
+                    client.nb.cells.append(cell)
+                    deadline[:] = [time.monotonic() + TRACE_TIMEOUT]
+                    await client.async_execute_cell(cell, index, execution_count=index + 1)
 
         try:
-            client.execute()
+            run_sync(execute)()
         except CellTimeoutError:
             run.problems.append(f"did not finish within {timeout:g} s (stopped)")
             run.unfinished = stopped_in()
@@ -233,48 +317,92 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
             run.unfinished = stopped_in()
         except Exception as exc:  # a learner's notebook must never stop the grading of the others
             run.problems.append(f"could not be run to the end ({type(exc).__name__}: {str(exc)[:200]})")
-        if log.exists():
-            for line in log.read_text(encoding="utf-8").splitlines():
-                try:
-                    run.records.append(json.loads(line))
-                except json.JSONDecodeError:
-                    continue
-    for record in run.records:
-        if record.get("real_check") is False:
+    for submission in run.submissions:
+        if submission.get("real_check") is False:
             note = "redefines check (graded by the library's own checker all the same)"
             if note not in run.problems:
                 run.problems.append(note)
+    run.problems = list(dict.fromkeys(run.problems))
     run.seconds = time.monotonic() - start
     return run
 
 
+def judged(run: NotebookRun) -> NotebookRun:
+    """``run`` with its records: each submission judged here, in the grader's process, by its checkers.
+
+    A build exercise is judged from the trace the grader asked for (its answer in the notebook only
+    named the function); one whose trace never came back is errored."""
+    run.records = []
+    traced = {s["key"] for s in run.submissions if "trace" in s}
+    for submission in run.submissions:
+        key = submission.get("key")
+        if submission.get("build"):
+            continue
+        if "trace" in submission:
+            result = judge(key, submission["trace"], submission.get("seed"))
+        else:
+            result = verdict(key, submission.get("answer"))
+        run.records.append({"key": result.key, "ok": result.ok, "message": result.message})
+    for key in dict.fromkeys(s["key"] for s in run.submissions if s.get("build")):
+        if key not in traced:
+            run.errored_cells.setdefault(key, "its function could not be traced: " + (
+                "; ".join(run.problems) or "the kernel did not answer"))
+    return run
+
+
 def _worker(argv: list[str]) -> None:
-    path, timeout, memory = Path(argv[0]), float(argv[1]), int(argv[2])
-    run = run_notebook(path, timeout, memory)
-    sys.stdout.write(json.dumps(run.__dict__))
+    path, timeout, memory, seed, result = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3], argv[4]
+    kernel = json.loads(argv[5])
+    if resource is not None:  # no resource module (Windows): no limits on the worker
+        limit = WORKER_MEMORY * 1024 * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        cpu = int(2 * timeout + 2 * STARTUP_TIMEOUT)
+        resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
+        resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024 * 1024, 64 * 1024 * 1024))
+    run = run_notebook(path, timeout, kernel, seed, memory)
+    Path(result).write_text(json.dumps(run.__dict__), encoding="utf-8")
 
 
-def run_isolated(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
-    """:func:`run_notebook` in a separate process, with a backstop deadline of its own."""
-    backstop = 2 * timeout + 2 * STARTUP_TIMEOUT
+def run_isolated(path: Path, timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
+                 folder: Path) -> NotebookRun:
+    """:func:`run_notebook` in a worker process with a backstop deadline; the run, judged here.
+
+    ``folder`` is the grader's own (no kernel reaches it): the worker writes its result there."""
+    backstop = 2 * timeout + 2 * STARTUP_TIMEOUT + TRACE_TIMEOUT * 20
+    handle, result = tempfile.mkstemp(prefix="run-", suffix=".json", dir=folder)
+    os.close(handle)
+    errors = Path(result).with_suffix(".err")
     try:
-        done = subprocess.run([sys.executable, "-m", "modbus_edu.course.runner", str(path), str(timeout),
-                               str(memory_mb)], capture_output=True, text=True, timeout=backstop)
-        return NotebookRun(**json.loads(done.stdout))
+        with errors.open("wb") as stream:
+            subprocess.run([sys.executable, "-m", "modbus_edu.course.runner", str(path), str(timeout),
+                            str(memory_mb), seed, result, json.dumps(kernel_argv)],
+                           stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
+                           timeout=backstop)
+        text = Path(result).read_text(encoding="utf-8")
+        return judged(NotebookRun(**json.loads(text)))
     except subprocess.TimeoutExpired:
         problem = f"did not finish within {backstop:g} s (its grader was stopped)"
-    except (json.JSONDecodeError, TypeError):
-        problem = "its grader failed: " + (done.stderr.strip()[-300:] or "?")
+    except (OSError, ValueError, TypeError):
+        with errors.open("rb") as stream:
+            stream.seek(max(0, errors.stat().st_size - 2000))
+            problem = "its grader failed: " + (stream.read().decode("utf-8", "replace").strip()[-300:] or "?")
+    finally:
+        Path(result).unlink(missing_ok=True)
+        errors.unlink(missing_ok=True)
     return NotebookRun(path.name, keys=_keys_of(path), problems=[problem])
 
 
 def _keys_of(path: Path) -> list[str]:
     """The exercise keys a notebook checks, read from the file (for a notebook whose grader failed)."""
     try:
-        cells = load_nbformat().read(path, as_version=4).cells
+        nbformat = load_nbformat()
+        if path.stat().st_size > NOTEBOOK_LIMIT:
+            return []
+        cells = nbformat.read(path, as_version=4).cells
     except Exception:
         return []
-    return [key for cell in cells if cell.cell_type == "code" for key in exercise_keys(cell.source)]
+    return [key for cell in cells if cell.cell_type == "code" and len(cell.source) <= CELL_LIMIT
+            for key in exercise_keys(cell.source)]
 
 
 if __name__ == "__main__":

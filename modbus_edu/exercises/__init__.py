@@ -18,9 +18,11 @@ Unanswered, ``check`` prints "not answered yet" and raises nothing, so a noteboo
 bottom; a hint appears only after a wrong answer.  Worked solutions live in ``notebooks/solutions/``
 (``%load solutions/03_5.py``).
 
-Layout: :mod:`.core` holds the registry, ``check``/``evaluate`` and the helpers checkers share;
-:mod:`.build` the build-exercise runner; :mod:`.misconceptions` the catalogue of mistakes every checker
-names its verdicts from, so that one mistake reads the same in every notebook; ``nbNN.py`` the exercises
+Layout: :mod:`.core` holds the registry, ``evaluate`` (``verdict``, ``judge``) and the helpers checkers share;
+:mod:`.build` the build-exercise runner (a trace of the learner's function, then a judgement of
+it); :mod:`.plain` answers as plain data (exact types); :mod:`.submit` ``check`` itself, which under
+``modbus-edu grade`` only submits; :mod:`.misconceptions` the catalogue of mistakes every checker names
+its verdicts from, so that one mistake reads the same in every notebook; ``nbNN.py`` the exercises
 of notebook NN, found and imported here automatically.  To add an exercise, add it to its notebook's
 module (create ``nbNN.py`` for a new notebook) with :func:`exercise` or :func:`build_exercise`, declare
 beside it the answers it accepts (``accepts=``, other spellings of the right answer) and the wrong
@@ -35,7 +37,8 @@ import importlib
 import pkgutil
 
 from .build import build_exercise
-from .core import EXERCISES, PLACEHOLDER, AnswerError, Exercise, Result, check, evaluate, exercise
+from .core import EXERCISES, PLACEHOLDER, AnswerError, Exercise, Result, evaluate, exercise, judge, verdict
+from .submit import check
 
 for _module in sorted(info.name for info in pkgutil.iter_modules(__path__) if info.name.startswith("nb")):
     importlib.import_module(f"{__name__}.{_module}")
@@ -43,4 +46,4 @@ for _module in sorted(info.name for info in pkgutil.iter_modules(__path__) if in
 from .nb13 import lab  # noqa: E402  (the troubleshooting lab's puzzles, used by notebook 13)
 
 __all__ = ["EXERCISES", "PLACEHOLDER", "AnswerError", "Exercise", "Result", "build_exercise", "check",
-           "evaluate", "exercise", "lab"]
+           "evaluate", "exercise", "judge", "lab", "verdict"]

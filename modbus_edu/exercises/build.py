@@ -25,8 +25,11 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
+import modbus_edu
+
 from ..errors import ModbusError
-from .core import Exercise, kind, register, show
+from .core import EXERCISES, Exercise, is_unwritten, kind, register, safe_str, show
+from .plain import PlainError, plain, revive
 
 TIME_LIMIT = 2.0
 """Seconds the learner's function gets for all the inputs of one check together."""
@@ -125,7 +128,14 @@ def _type_note(expected: Any, got: Any) -> str:
 
 
 class BuildChecker:
-    """The checker of one build exercise (see the module's docstring)."""
+    """The checker of one build exercise (see the module's docstring), in two halves.
+
+    :meth:`trace` runs where the learner's function lives (the notebook's kernel): it calls the function
+    on the inputs drawn from ``seed`` (and reads back what it stored), within the time limit, and returns
+    what it gave as plain data.  :meth:`judge` runs where the verdict is made: it draws the same inputs
+    from ``seed``, computes what the library gives, and compares.  In a learner's notebook the two run one
+    after the other (``judge(trace(function, seed), seed)``); under ``modbus-edu grade`` the kernel traces
+    and the grader judges, with a seed of its own for each learner."""
 
     def __init__(self, key: str, reference: Callable, inputs: Callable[[random.Random], Sequence],
                  edge_cases: Iterable[Sequence], count: int,
@@ -143,52 +153,102 @@ class BuildChecker:
         self.time_limit = time_limit
         self.read_back = read_back
         self.show_expected = show_expected or show
+        self.seed = f"modbus_edu exercise {key}"
+        """The seed of a learner's own check (the same inputs every run)."""
         self._cases: list[tuple[tuple, Any]] | None = None
 
-    def cases(self) -> list[tuple[tuple, Any]]:
+    def arguments(self, seed: str | None = None) -> list[tuple]:
+        """The argument tuples tried, in order: the edge cases, then ``count`` drawn from ``seed``."""
+        rng = random.Random(self.seed if seed is None else seed)
+        return self.edge_cases + [tuple(self.inputs(rng)) for _ in range(self.count)]
+
+    def cases(self, seed: str | None = None) -> list[tuple[tuple, Any]]:
         """Every (arguments, expected) pair: the edge cases, then ``count`` seeded random inputs."""
-        if self._cases is None:
-            rng = random.Random(f"modbus_edu exercise {self.key}")
-            arguments = self.edge_cases + [tuple(self.inputs(rng)) for _ in range(self.count)]
-            cases = []
-            for args in arguments:
-                try:
-                    expected = self.reference(*copy.deepcopy(args))
-                except ModbusError as exc:
-                    expected = _Refused(exc)
-                cases.append((args, expected))
+        if (seed is None or seed == self.seed) and self._cases is not None:
+            return self._cases
+        cases = []
+        for args in self.arguments(seed):
+            try:
+                expected = self.reference(*copy.deepcopy(args))
+            except ModbusError as exc:
+                expected = _Refused(exc)
+            cases.append((args, expected))
+        if seed is None or seed == self.seed:
             self._cases = cases
-        return self._cases
+        return cases
 
     def __call__(self, function: Any) -> str | None:
+        return self.judge(self.trace(function), self.seed)
+
+    # --- the kernel's half: call the learner's function, keep what it gives as plain data ----------------
+
+    def trace(self, function: Any, seed: str | None = None) -> dict:
+        """What ``function`` gives on the inputs drawn from ``seed``, as plain data (never raises)."""
         if not callable(function):
-            return (f"this exercise asks for a function: define it with def, then pass its name without "
-                    f"parentheses, as in check(\"{self.key}\", my_function). You gave {show(function)}.")
-        name = getattr(function, "__name__", "your_function")
-        cases = self.cases()
-        progress = {"index": 0, "verdict": None}
+            return {"not_callable": show(function)}
+        if is_unwritten(function):
+            return {"unwritten": True}
+        library = library_name(function)
+        if library:
+            return {"library": library}
+        name = str(getattr(function, "__name__", "your_function"))[:60]
+        calls: list[dict] = []
+        arguments = self.arguments(seed)
+
+        def outcome(call_args: tuple) -> dict:
+            try:
+                got = function(*call_args)
+            except _Stopped:
+                raise
+            except Exception as exc:
+                return {"raised": type(exc).__name__[:60], "message": safe_str(exc)[:300]}
+            try:
+                return {"out": plain(got)}
+            except PlainError as exc:
+                return {"unreadable": str(exc)}
 
         def work() -> None:
             try:
-                for index, (args, expected) in enumerate(cases):
-                    progress["index"] = index
-                    verdict = self._one(function, name, args, expected)
-                    if verdict is not None:
-                        progress["verdict"] = verdict
-                        return
-                progress["verdict"] = "right"
+                for args in arguments:
+                    state = copy.deepcopy(args)
+                    entry = outcome(state)
+                    if self.read_back is not None and "out" in entry:
+                        entry["state"] = plain(state)
+                        mine = self.read_back(args, state)
+                        if mine is not None:
+                            entry["read"] = outcome(mine)
+                    calls.append(entry)
             except _Stopped:
                 pass
             except BaseException as exc:  # SystemExit, KeyboardInterrupt raised by the learner's code
-                progress["verdict"] = f"your function raised {type(exc).__name__}, which stops everything."
+                calls.append({"fatal": type(exc).__name__[:60]})
 
-        if not run_within(work, self.time_limit, name=f"exercise {self.key}"):
-            args = cases[progress["index"]][0]
-            return (f"your function did not finish within {self.time_limit:g} s (it was still working on "
-                    f"{self._call(name, args)}, input {progress['index'] + 1} of {len(cases)}). "
-                    "Look for a loop that never ends.")
-        verdict = progress["verdict"]
-        return None if verdict == "right" else verdict
+        finished = run_within(work, self.time_limit, name=f"exercise {self.key}")
+        return {"name": name, "calls": calls, "stopped": not finished}
+
+    # --- the grader's half: the library's answers, compared with the trace ---------------------------------
+
+    def judge(self, trace: dict, seed: str | None = None) -> str | None:
+        """None if the traced function agrees with the library on every input of ``seed``; else why not."""
+        if "not_callable" in trace:
+            return ("this exercise asks for a function: define it with def, then pass its name without "
+                    f"parentheses, as in check(\"{self.key}\", my_function). "
+                    f"You gave {trace['not_callable']}.")
+        if "library" in trace:
+            return f"that is `{trace['library']}`; write your own."
+        name, calls = str(trace.get("name", "your_function"))[:60], list(trace.get("calls", []))
+        cases = self.cases(seed)
+        for index, (args, expected) in enumerate(cases):
+            if index >= len(calls):
+                if not trace.get("stopped"):
+                    return "your function's results did not all come back; run the check again."
+                return (f"your function did not finish within {self.time_limit:g} s (it was still working on "
+                        f"{self._call(name, args)}, input {index + 1} of {len(cases)}). "
+                        "Look for a loop that never ends.")
+            verdict = self._one(name, args, expected, calls[index])
+            if verdict is not None:
+                return verdict
+        return None
 
     def _call(self, name: str, args: Sequence) -> str:
         return f"{name}({', '.join(show(arg) for arg in args)})"
@@ -203,19 +263,19 @@ class BuildChecker:
             note = ""
         return f" {note[0].upper()}{note[1:]}" if note else ""
 
-    def _one(self, function: Callable, name: str, args: tuple, expected: Any) -> str | None:
-        """None if the learner's function agrees with the library on ``args``, else a message."""
+    def _one(self, name: str, args: tuple, expected: Any, entry: dict) -> str | None:
+        """None if the traced call agrees with the library on ``args``, else a message."""
         call = self._call(name, args)
-        state = copy.deepcopy(args)
-        try:
-            got = function(*state)
-        except _Stopped:
-            raise
-        except Exception as exc:
+        if "fatal" in entry:
+            return f"your function raised {entry['fatal']}, which stops everything."
+        if "unreadable" in entry:
+            return f"{call} returned something the checker cannot read: {entry['unreadable']}"
+        if "raised" in entry:
             if isinstance(expected, _Refused):
                 return None
-            return (f"{call} raised {type(exc).__name__}: {show(str(exc))}. "
+            return (f"{call} raised {entry['raised']}: {show(str(entry.get('message', '')))}. "
                     f"The library gives {self.show_expected(expected)}.")
+        got = revive(entry.get("out"))
         if isinstance(expected, _Refused):
             note = self._note(args, expected, got)
             return (f"{call} returned {show(got)}, but that input is not valid"
@@ -229,10 +289,10 @@ class BuildChecker:
                 return message + (note or (_type_note(expected, got) if self.compare is same else ""))
         except Exception as exc:
             return f"{call} returned {show(got)}, which cannot be compared ({type(exc).__name__})."
-        return self._read_back(function, name, call, args, state)
+        return self._read_back(name, call, args, entry)
 
-    def _read_back(self, function: Callable, name: str, call: str, args: tuple, state: tuple) -> str | None:
-        """After a call that changed ``state``, read it back with the learner's function and the library's."""
+    def _read_back(self, name: str, call: str, args: tuple, entry: dict) -> str | None:
+        """After a call that changed its arguments, the read back of the learner's state and the library's."""
         if self.read_back is None:
             return None
         library_state = copy.deepcopy(args)
@@ -244,19 +304,44 @@ class BuildChecker:
         if follow is None:
             return None
         expected = self.reference(*copy.deepcopy(follow))
-        mine = self.read_back(args, state)
-        try:
-            got = function(*mine)
-        except _Stopped:
-            raise
-        except Exception as exc:
+        mine = self.read_back(args, revive(entry.get("state")))
+        read = entry.get("read")
+        if mine is None or read is None:
+            return f"after {call}, what your function stored could not be read back."
+        if "raised" in read:
             return (f"after {call}, reading it back with {self._call(name, mine)} raised "
-                    f"{type(exc).__name__}: {show(str(exc))}.")
+                    f"{read['raised']}: {show(str(read.get('message', '')))}.")
+        if "out" not in read:
+            return f"after {call}, reading it back with {self._call(name, mine)} gave nothing readable."
+        got = revive(read["out"])
         if self.compare(expected, got):
             return None
         message = (f"after {call}, reading it back with {self._call(name, mine)} should give "
                    f"{show(expected)}; your function gives {show(got)}.")
         return message + self._note(mine, expected, got)
+
+
+def library_name(function: Any) -> str | None:
+    """``"mb.crc16"`` when ``function`` is the library's own code (or a method or partial of it), else None.
+
+    The course's deliberately wrong functions (the exercises' ``refuses`` tables) are not counted."""
+    target = function
+    for _ in range(8):  # unwrap bound methods, partials and decorated functions
+        inner = getattr(target, "__func__", None) or getattr(target, "func", None) \
+            or getattr(target, "__wrapped__", None)
+        if inner is None or inner is target:
+            break
+        target = inner
+    module = getattr(target, "__module__", None) or getattr(type(target), "__module__", "")
+    if not isinstance(module, str) or not (module == "modbus_edu" or module.startswith("modbus_edu.")):
+        return None
+    references = {id(item.checker.reference) for item in EXERCISES.values() if item.kind == "build"}
+    if module.startswith("modbus_edu.exercises") and id(target) not in references:
+        return None
+    short = str(getattr(target, "__name__", "") or type(target).__name__)
+    if getattr(modbus_edu, short, None) is target:
+        return f"mb.{short}"
+    return f"{module}.{getattr(target, '__qualname__', short)}"
 
 
 def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callable[[random.Random], Sequence],

@@ -27,6 +27,7 @@ from ..crc import crc16
 from ..errors import ModbusError
 from ..framing import RtuFrame, parse_hex
 from .misconceptions import CATALOGUE, diagnose
+from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...
 """What an unanswered exercise cell holds: the Ellipsis, ``...``."""
@@ -144,19 +145,21 @@ def exercise(key: str, title: str, *, hint: str, wrong: Any = _NO_ANSWER, accept
     return decorate
 
 
-def evaluate(key: Any, answer: Any) -> Result:
-    """Check ``answer`` against exercise ``key`` without printing anything; never raises."""
+def _find(key: Any) -> Exercise | Result:
+    """The exercise ``key`` names, or the verdict for a key that names none."""
     if not isinstance(key, str) or key not in EXERCISES:
         known = ", ".join(sorted(EXERCISES))
-        return Result(str(show(key)), False, f"There is no exercise {show(key)}; the exercises are {known}.")
-    item = EXERCISES[key]
-    if answer is PLACEHOLDER:
-        return Result(key, None, f"Exercise {key} ({item.title}) is not answered yet.")
-    if item.kind == "build" and callable(answer) and is_unwritten(answer):
-        return Result(key, None, f"Exercise {key} ({item.title}) is not answered yet: "
-                                 "write the body of the function, then run the cell again.")
+        return Result(clip(str(show(key)), 100), False,
+                      f"There is no exercise {show(key)}; the exercises are {known}.")
+    return EXERCISES[key]
+
+
+def _result(item: Exercise, decide: Callable[[], str | None]) -> Result:
+    """The verdict ``decide()`` gives (None: right, else what is wrong), as a Result; never raises."""
     try:
-        problem = item.checker(answer)
+        problem = decide()
+    except PlainError as exc:
+        problem = str(exc)
     except ModbusError as exc:
         problem = f"the library could not use your answer: {clip(safe_str(exc), 300)}"
     except RecursionError:
@@ -166,27 +169,77 @@ def evaluate(key: Any, answer: Any) -> Result:
     except Exception as exc:  # the learner's object may fail in any way: answer, never raise
         problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
     if problem is None:
-        return Result(key, True, f"Right! Exercise {key} ({item.title}) is solved.")
-    return Result(key, False, clip(f"Not yet: {problem}", MAX_MESSAGE - len(item.hint) - 8)
+        return Result(item.key, True, f"Right! Exercise {item.key} ({item.title}) is solved.")
+    return Result(item.key, False, clip(f"Not yet: {problem}", MAX_MESSAGE - len(item.hint) - 8)
                   + f"\nHint: {item.hint}")
 
 
-def check(key: str, answer: Any) -> Result:
-    """Check an answer, print the verdict, and return it (falsy unless right).
-
-    Counts the wrong tries per exercise: from the second on, an exercise with a line of code
-    (:data:`LINES`) shows it under the hint."""
-    result = evaluate(key, answer)
-    if isinstance(key, str) and key in EXERCISES:
+def count_try(result: Result) -> Result:
+    """``result`` as :func:`check` prints it: counts the wrong tries per exercise and, from the second
+    on, adds an exercise's line of code (:data:`LINES`) under the hint; a right answer starts again."""
+    key = result.key
+    if key in EXERCISES:
         if result.ok is False:
             tries = wrong_tries[key] = wrong_tries.get(key, 0) + 1
             if tries >= TRIES_BEFORE_LINE and key in LINES:
-                result = Result(key, False, f"{result.message}\nAfter {tries} tries, the line itself: "
-                                            f"{LINES[key]}")
+                return Result(key, False, f"{result.message}\nAfter {tries} tries, the line itself: "
+                                          f"{LINES[key]}")
         elif result.ok:
             wrong_tries.pop(key, None)
-    print(result.message)
     return result
+
+
+def _unanswered(item: Exercise, build: bool = False) -> Result:
+    more = ": write the body of the function, then run the cell again." if build else "."
+    return Result(item.key, None, f"Exercise {item.key} ({item.title}) is not answered yet{more}")
+
+
+def evaluate(key: Any, answer: Any) -> Result:
+    """Check ``answer`` against exercise ``key`` without printing anything; never raises.
+
+    The checker judges the answer's plain form (:mod:`.plain`): an object that only pretends to equal
+    the answer is read as the plain value it holds.  A build exercise's function is traced here and
+    judged from its trace, as the grader judges it (:meth:`~.build.BuildChecker.trace`)."""
+    item = _find(key)
+    if isinstance(item, Result):
+        return item
+    if answer is PLACEHOLDER:
+        return _unanswered(item)
+    if item.kind == "build":
+        return judge(key, item.checker.trace(answer))
+    try:
+        data = plain(answer)
+    except PlainError as exc:
+        data = {"$error": str(exc)}
+    return verdict(key, data)
+
+
+def verdict(key: Any, data: Any) -> Result:
+    """The verdict on a value exercise's answer given as plain data (:func:`.plain.plain`); never raises."""
+    item = _find(key)
+    if isinstance(item, Result):
+        return item
+    if item.kind == "build":
+        return Result(item.key, False, f"Exercise {item.key} asks for a function, which the grader traces.")
+    try:
+        if revive(data) is PLACEHOLDER:
+            return _unanswered(item)
+    except PlainError:
+        pass
+    return _result(item, lambda: item.checker(revive(data)))
+
+
+def judge(key: Any, trace: Any, seed: str | None = None) -> Result:
+    """The verdict on a build exercise from the trace of the learner's function (inputs drawn from
+    ``seed``; by default the exercise's own); never raises."""
+    item = _find(key)
+    if isinstance(item, Result):
+        return item
+    if item.kind != "build" or not isinstance(trace, dict):
+        return Result(item.key, False, f"Exercise {item.key}: this is no trace of a function.")
+    if trace.get("unwritten"):
+        return _unanswered(item, build=True)
+    return _result(item, lambda: item.checker.judge(trace, seed))
 
 
 def is_unwritten(function: Callable) -> bool:
