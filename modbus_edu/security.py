@@ -42,7 +42,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 from .errors import ConfigError, ModbusError, SecurityError
-from .pdu import ExceptionCode, ExceptionResponse, decode_pdu
+from .pdu import (
+    MAX_FIFO_COUNT,
+    ExceptionCode,
+    ExceptionResponse,
+    ReadFifoQueueRequest,
+    ReadFileRecordRequest,
+    WriteFileRecordRequest,
+    decode_pdu,
+)
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (ssl is imported where a context is made)
     import ssl
@@ -412,16 +420,30 @@ WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 21, 22, 23})
 #: Which table each function code's address field points into.
 _TABLES = {1: "coils", 5: "coils", 15: "coils", 2: "discrete inputs", 4: "input registers",
            3: "holding registers", 6: "holding registers", 16: "holding registers",
-           22: "holding registers", 23: "holding registers", 24: "holding registers"}
+           22: "holding registers", 23: "holding registers", 24: "holding registers",
+           20: "file records", 21: "file records"}
 
 
 def touched_addresses(request: Any) -> list[range]:
     """The addresses a decoded request reads or writes, as ranges (empty for functions without any).
 
-    >>> from modbus_edu.pdu import ReadHoldingRegistersRequest
+    Most requests name them (an address and a count or values).  Two kinds reach further than their
+    fields say: FC 24 reads the count at its pointer address and up to 31 queued registers after it,
+    so it may touch the pointer and the 31 addresses that follow (within 0..65535); FC 20 and 21 reach
+    the records of each sub-request, so for them the record numbers are the addresses (in any file).
+
+    >>> from modbus_edu.pdu import ReadFifoQueueRequest, ReadHoldingRegistersRequest
     >>> touched_addresses(ReadHoldingRegistersRequest(address=10, count=3))
     [range(10, 13)]
+    >>> touched_addresses(ReadFifoQueueRequest(address=99))
+    [range(99, 131)]
     """
+    if isinstance(request, ReadFifoQueueRequest):
+        return [range(request.address, min(request.address + 1 + MAX_FIFO_COUNT, 0x10000))]
+    if isinstance(request, ReadFileRecordRequest):
+        return [range(record, record + length) for _file, record, length in request.records]
+    if isinstance(request, WriteFileRecordRequest):
+        return [range(record, record + len(values)) for _file, record, values in request.records]
     if hasattr(request, "read_address"):  # FC 23: a write range and a read range
         return [range(request.write_address, request.write_address + len(request.values)),
                 range(request.read_address, request.read_address + request.read_count)]
@@ -437,7 +459,11 @@ def touched_addresses(request: Any) -> list[range]:
 
 @dataclass(frozen=True)
 class Grant:
-    """What a role may do: these ``functions`` on these ``addresses`` (a range; default: all 65536)."""
+    """What a role may do: these ``functions`` on these ``addresses`` (a range; default: all 65536).
+
+    The range bounds every address a request touches (:func:`touched_addresses`), in whichever table
+    the function reaches; for FC 20 and 21 it bounds the record numbers, in every file.
+    """
 
     functions: frozenset[int]
     addresses: range = range(0, 65536)
@@ -459,6 +485,10 @@ class Decision(NamedTuple):
     allowed: bool
     reason: str
     response: bytes | None  # the PDU to answer with: exception 01 (function | 0x80, 0x01)
+
+
+def _covers(grant: Grant, span: range) -> bool:
+    return span.start in grant.addresses and span.stop - 1 in grant.addresses
 
 
 def _refuse(function: int, reason: str) -> Decision:
@@ -526,9 +556,10 @@ class RoleTable:
             return Decision(True, f"function {function} allowed; the slave judges the malformed request",
                             None)
         for grant in mine:
-            if all(span.start in grant.addresses and span.stop - 1 in grant.addresses for span in spans):
+            if all(_covers(grant, span) for span in spans):
                 return Decision(True, f"{who} may use function {function} there", None)
-        where = ", ".join(f"{s.start}..{s.stop - 1}" for s in spans)
+        outside = [span for span in spans if not any(_covers(grant, span) for grant in mine)] or spans
+        where = ", ".join(f"{s.start}..{s.stop - 1}" for s in outside)
         table = _TABLES.get(function, "the data model")
         return _refuse(function, f"{who} may use function {function} but not on {table} {where}")
 

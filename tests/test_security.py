@@ -28,7 +28,14 @@ import modbus_edu as mb
 from modbus_edu import security
 from modbus_edu.errors import ConfigError, LinkError, ModbusExceptionError, SecurityError
 from modbus_edu.links.tls import client_handshake
-from modbus_edu.security import Grant, RoleTable, course_roles, role_extension_value, role_of
+from modbus_edu.security import (
+    Grant,
+    RoleTable,
+    course_roles,
+    role_extension_value,
+    role_of,
+    touched_addresses,
+)
 
 
 @pytest.fixture(scope="module")
@@ -171,6 +178,27 @@ def test_role_table_decides_by_function_and_address():
     both = mb.ReadWriteMultipleRegistersRequest(read_address=0, read_count=2, write_address=150, values=[1])
     assert not roles.decide(_pdu(both), "operator").allowed                  # FC 23: the write is out
     assert (roles.allowed, roles.refused) == (0, 0)                          # decide() counts nothing
+
+
+def test_touched_addresses_cover_what_fifo_and_file_requests_reach():
+    """FC 24 reads the count at its pointer and up to 31 registers after it; FC 20 and 21 reach the
+    records of each sub-request."""
+    assert touched_addresses(mb.ReadFifoQueueRequest(address=99)) == [range(99, 131)]
+    assert touched_addresses(mb.ReadFifoQueueRequest(address=65530)) == [range(65530, 65536)]
+    assert touched_addresses(mb.ReadFileRecordRequest(records=[(4, 1, 2), (5, 150, 3)])) == \
+        [range(1, 3), range(150, 153)]
+    assert touched_addresses(mb.WriteFileRecordRequest(records=[(4, 98, [1, 2, 3])])) == [range(98, 101)]
+
+
+def test_a_grant_bounds_fifo_and_file_records():
+    guest = RoleTable({"guest": [Grant({20, 21, 24}, range(0, 100))]})
+    assert not guest.decide(_pdu(mb.ReadFifoQueueRequest(address=99)), "guest").allowed  # 100..130 are out
+    assert guest.decide(_pdu(mb.ReadFifoQueueRequest(address=60)), "guest").allowed      # 60..91
+    assert guest.decide(_pdu(mb.ReadFileRecordRequest(records=[(4, 0, 10)])), "guest").allowed
+    far_read = guest.decide(_pdu(mb.ReadFileRecordRequest(records=[(4, 0, 2), (4, 150, 2)])), "guest")
+    assert not far_read.allowed and "file records 150..151" in far_read.reason
+    assert not guest.decide(_pdu(mb.WriteFileRecordRequest(records=[(1, 99, [1, 2])])), "guest").allowed
+    assert guest.decide(_pdu(mb.WriteFileRecordRequest(records=[(1, 98, [1, 2])])), "guest").allowed
 
 
 def test_role_table_check_counts_and_logs_refusals():
