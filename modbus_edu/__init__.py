@@ -63,7 +63,8 @@ from .links import (  # noqa: F401
     loopback_tcp,
 )
 from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
-from .links.tcp import TcpLink, TcpServer, tcp_link  # noqa: F401
+from .links.tcp_client import TcpLink, tcp_link  # noqa: F401
+from .links.tcp_server import TcpServer  # noqa: F401
 from .links.udp import UdpLink, UdpServer, udp_link  # noqa: F401
 from .master import Master, MasterStats  # noqa: F401
 from .pdu import (  # noqa: F401

@@ -45,18 +45,8 @@ from . import pdu as _pdu
 from .codes import _hex
 from .crc import crc16, lrc
 from .errors import ConfigError, FrameError, ModbusError
-from .framing import (
-    _HEX_DIGITS,
-    MAX_SERIAL_UNIT,
-    ROLES,
-    Frame,
-    TcpFrame,
-    _as_bytes,
-    _check_mode,
-    decode_frame,
-    detect_mode,
-    parse_hex,
-)
+from .framing import MAX_SERIAL_UNIT, ROLES, Frame, TcpFrame, decode_frame, detect_mode, parse_hex
+from .framing.base import _HEX_DIGITS, _as_bytes, _check_mode
 
 __all__ = ["Row", "Dissection", "explain", "explain_pdu"]
 

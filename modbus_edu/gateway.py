@@ -68,7 +68,7 @@ from .errors import (
 from .framing import TcpFrame, encode_frame
 from .links.base import Link
 from .links.routing import SERVER_DEVICE_FAILURE, exception_reply
-from .links.tcp import TcpServer
+from .links.tcp_server import TcpServer
 from .master import Master
 from .pdu import ExceptionResponse
 from .platform import require_sockets

@@ -46,7 +46,7 @@ from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import ASCII_MAX_FRAME, RTU_MAX_FRAME, splitter_for
 from .base import Link
 from .routing import normalize_slaves
-from .tcp import is_loopback_host
+from .sockets import is_loopback_host
 from .wire import SerialTiming
 
 __all__ = [

@@ -23,11 +23,11 @@ from typing import Any
 
 from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError
-from ..framing import _looks_like_mbap
+from ..framing.modes import _looks_like_mbap
 from ..platform import require_sockets
 from .base import Link
 from .routing import dispatch, normalize_slaves
-from .tcp import _check_host, _is_int, _positive_seconds, is_loopback_host
+from .sockets import _check_host, _is_int, _positive_seconds, is_loopback_host
 
 __all__ = ["UdpLink", "UdpServer", "udp_link"]
 

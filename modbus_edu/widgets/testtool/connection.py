@@ -11,7 +11,8 @@ from ...datamodel import Table
 from ...errors import ConfigError, ModbusError, ModbusTimeoutError
 from ...links.loopback import loopback_serial, loopback_tcp
 from ...links.serial import SerialServer, serial_link
-from ...links.tcp import TcpServer, tcp_link
+from ...links.tcp_client import tcp_link
+from ...links.tcp_server import TcpServer
 from ...master import Master
 from ...pdu import FunctionCode
 from ...slave import Slave
