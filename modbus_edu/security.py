@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from .codes import WRITE_FUNCTIONS
 from .errors import ConfigError, ModbusError, SecurityError
 from .pdu import (
     MAX_FIFO_COUNT,
@@ -415,8 +416,6 @@ def client_context(pki: Pki | None = None, role: str | None = None, *, cert: Any
 # --------------------------------------------------------------------------------------------------
 #: The function codes that read and do not change anything.
 READ_FUNCTIONS = frozenset({1, 2, 3, 4, 7, 11, 12, 17, 20, 24, 43})
-#: The function codes that write to the data model.
-WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 21, 22, 23})
 #: Which table each function code's address field points into.
 _TABLES = {1: "coils", 5: "coils", 15: "coils", 2: "discrete inputs", 4: "input registers",
            3: "holding registers", 6: "holding registers", 16: "holding registers",

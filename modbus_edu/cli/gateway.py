@@ -45,7 +45,8 @@ def cmd_gateway(args: argparse.Namespace) -> int:
         link.close()
     c = gateway.counters
     print(f"stopped: {c['forwarded']} forwarded, {c['no_response']} answered 0B, "
-          f"{c['path_unavailable']} answered 0A", flush=True)
+          f"{c['path_unavailable'] + c['overloaded']} answered 0A ({c['overloaded']} of them overloaded)",
+          flush=True)
     return 0
 
 
