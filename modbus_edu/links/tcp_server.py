@@ -109,7 +109,10 @@ class TcpServer:
       Modbus/TCP and its connection is closed (``bad_frames``); other clients are not affected.
     * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed.
     * a request must arrive whole within ``request_timeout`` seconds of its first byte, or its
-      connection is closed: a client that trickles a frame byte by byte (slowloris) holds nothing.
+      connection is closed (``slow_closed``): a client that trickles a frame byte by byte (slowloris)
+      holds nothing.  RTU and ASCII over TCP count from the first byte after the last whole request,
+      whatever the bytes are, so a frame cut into scraps by quiet gaps, or a junk byte now and then,
+      is closed in ``request_timeout`` too.
     * at most ``max_connections`` clients at a time; when a new one comes, the connection that has been
       idle longest is closed to make room (``evicted``), so idle clients cannot lock others out.
     * the server is fair: each turn it answers at most one request per connection, so a client that
@@ -417,8 +420,8 @@ class TcpServer:
             due = min(due, conn.last_activity + self.idle_timeout)
         if conn.partial_since is not None:
             due = min(due, conn.partial_since + self.request_timeout)
-            if self.framing == "rtu":
-                due = min(due, conn.last_byte + self.quiet_gap)
+        if self.framing == "rtu" and conn.splitter.pending:
+            due = min(due, conn.last_byte + self.quiet_gap)
         return due
 
     def _next_deadline(self) -> float | None:
@@ -438,11 +441,9 @@ class TcpServer:
         for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
             if conn.handshake is not None and now >= conn.handshake.deadline:
                 self._tls_refuse(conn, f"no TLS handshake within {self.handshake_timeout:g} s", timeout=True)
-            elif (self.framing == "rtu" and conn.partial_since is not None
-                    and now >= conn.last_byte + self.quiet_gap):
+            elif self.framing == "rtu" and conn.splitter.pending and now >= conn.last_byte + self.quiet_gap:
                 # a quiet gap: what has come is all there is of this frame (a socket's silence)
-                conn.frames.extend(conn.splitter.flush())
-                conn.partial_since = None
+                self._cut(conn, conn.splitter.flush(), now)
                 self._pump(conn)
             elif conn.partial_since is not None and now >= conn.partial_since + self.request_timeout:
                 self.counters.slow_closed += 1
@@ -548,9 +549,19 @@ class TcpServer:
         if not data:
             self._drop(conn, None)  # the client closed its end: an ordinary goodbye
             return
-        conn.last_activity = conn.last_byte = time.monotonic()
-        conn.frames.extend(conn.splitter.feed(data))
+        conn.last_activity = conn.last_byte = now = time.monotonic()
+        if self.framing != "tcp" and conn.partial_since is None:
+            conn.partial_since = now
+        self._cut(conn, conn.splitter.feed(data), now)
         self._pump(conn)
+
+    def _cut(self, conn: _Connection, frames: list[bytes], now: float) -> None:
+        """Queue the requests the splitter cut.  RTU and ASCII over TCP: the request clock runs from the
+        first byte after the last request cut to the next one, junk and flushed scraps included, so a
+        client that trickles a frame or sends a junk byte now and then is closed in request_timeout."""
+        conn.frames.extend(frames)
+        if self.framing != "tcp" and any(self._implemented(frame) for frame in frames):
+            conn.partial_since = now if conn.splitter.pending else None
 
     def _pump(self, conn: _Connection) -> None:
         """Answer one request that has arrived and send what is owed; queue the connection for the next
@@ -605,12 +616,13 @@ class TcpServer:
             if self._send(conn):  # the answers to the good frames before it, as far as they go
                 self._drop(conn, f"not Modbus: {why}")
             return False
-        # a request under way (bytes of it, not all) starts its clock; a finished one stops it
-        if splitter.pending and not conn.frames:
-            if conn.partial_since is None:
+        # Modbus/TCP: a request under way (bytes of it, not all) starts its clock; a finished one stops
+        # it (RTU and ASCII: see _cut)
+        if self.framing == "tcp":
+            if not splitter.pending or conn.frames:
+                conn.partial_since = None
+            elif conn.partial_since is None:
                 conn.partial_since = time.monotonic()
-        else:
-            conn.partial_since = None
         return True
 
     def _implemented(self, frame: bytes) -> bool:
