@@ -337,6 +337,28 @@ def test_the_connection_limit_holds_under_tls(pki):
             master.link.close()
 
 
+def test_unfinished_handshakes_are_evicted_before_a_client_that_finished_its_own(pki):
+    """An engineer connects (its handshake done, no request yet), then 32 plain connects that never
+    start a handshake fill the server: they push each other out, never the engineer."""
+    with mb.TcpServer(_slave(), tls=security.server_context(pki), max_connections=4,
+                      handshake_timeout=30, request_timeout=30) as server:
+        master = _master(server, pki, role="engineer")
+        assert _wait_for(lambda: server.counters.tls_handshakes == 1)
+        plain = []
+        try:
+            for _ in range(32):
+                plain.append(socket.create_connection(server.address[:2]))
+                time.sleep(0.005)
+            assert _wait_for(lambda: server.counters.evicted >= 29)
+            assert master.read_holding_registers(unit=1, address=0, count=1) == [11]
+            # on its first connection: the link did not have to connect (and shake hands) again
+            assert server.counters.tls_handshakes == 1 and server.counters.connections == 33
+        finally:
+            for sock in plain:
+                sock.close()
+            master.link.close()
+
+
 def test_pipelined_requests_over_tls_are_all_answered(secure, pki):
     server, _, _ = secure
     sock = _tls_socket(server, pki)

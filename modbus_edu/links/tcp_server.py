@@ -127,9 +127,10 @@ class TcpServer:
       not say (an unknown function code, FC 8 Return Query Data) ends where its CRC checks out, and
       an unfinished one ends after ``quiet_gap`` seconds without a byte (a socket has no silence of
       3.5 characters, but a short quiet gap works the same way).
-    * when the server is full, it makes room by closing a connection that has never completed a
-      request (the oldest such), else the longest idle one: a flood of new or broken connections
-      cannot push out a client that is being served.
+    * when the server is full, it makes room by closing a connection whose TLS handshake has not
+      finished, else one that has never completed a request (the oldest such), else the longest idle
+      one: a flood of new or broken connections cannot push out a client that is being served, nor
+      (``tls=``) one that has shaken hands.
     * when ``accept()`` fails (out of file descriptors), the server stops accepting for a moment instead
       of spinning; refusal and failure warnings are rate-limited.
 
@@ -479,10 +480,11 @@ class TcpServer:
                 self._warn("accept", "accept failed: %s; pausing %.2f s", exc, self._accept_backoff)
                 return
             if len(self._connections) >= self.max_connections:
-                # room for the newcomer: first a connection that never completed a request, then the
-                # longest idle one, so that a flood of new or broken connections cannot push out clients
-                # that are being served
-                oldest = min(self._connections.values(), key=lambda c: (c.served > 0, c.last_activity))
+                # room for the newcomer: first a TLS handshake not finished, then a connection that never
+                # completed a request, then the longest idle one, so that a flood of new or broken
+                # connections cannot push out clients that are being served (or have shaken hands)
+                oldest = min(self._connections.values(),
+                             key=lambda c: (c.handshake is None, c.served > 0, c.last_activity))
                 self.counters.evicted += 1
                 self._warn("evict", "client %s connects with %d connections open (max_connections=%d): "
                            "closing %s", peer, len(self._connections), self.max_connections, oldest.peer)
