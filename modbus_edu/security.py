@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import datetime
 import ipaddress
+import json
 import threading
 from collections import Counter, deque
 from collections.abc import Iterable, Mapping
@@ -66,6 +67,7 @@ __all__ = [
     "Decision",
     "RoleTable",
     "course_roles",
+    "load_roles",
     "make_test_pki",
     "server_context",
     "client_context",
@@ -562,6 +564,19 @@ class RoleTable:
         table = _TABLES.get(function, "the data model")
         return _refuse(function, f"{who} may use function {function} but not on {table} {where}")
 
+    def describe(self) -> str:
+        """The table in one line: each role's function codes and addresses, and what a client with no
+        role (or one not in the table) gets."""
+        def grant(g: Grant) -> str:
+            span = g.addresses
+            where = "" if span == range(0, 65536) else f" at {span.start}..{span.stop - 1}"
+            return f"FC {_runs(sorted(g.functions))}{where}"
+
+        roles = "; ".join(f"{role} {' and '.join(grant(g) for g in grants)}"
+                          for role, grants in self.rules.items())
+        other = f"those of {self.default!r}" if self.default is not None else "nothing"
+        return f"{roles}; a client without a role in the table: {other}"
+
     def check(self, pdu: bytes, role: str | None, peer: Any = None) -> Decision:
         """:meth:`decide`, counted; a refusal is logged with ``peer``."""
         decision = self.decide(pdu, role)
@@ -573,6 +588,61 @@ class RoleTable:
                 self.refused_by_role[role] += 1
                 self.log.append(f"{peer}: {decision.reason}" if peer is not None else decision.reason)
         return decision
+
+
+def _runs(codes: list[int]) -> str:
+    """1, 2, 3, 4, 7 -> '1-4, 7'."""
+    parts: list[str] = []
+    for code in codes:
+        if parts and code == parts[-1][1] + 1:
+            parts[-1] = (parts[-1][0], code)
+        else:
+            parts.append((code, code))
+    return ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in parts)
+
+
+def load_roles(path: str | Path) -> RoleTable:
+    """A :class:`RoleTable` from a JSON file (what ``modbus-edu serve --roles FILE`` reads)::
+
+        {"roles": {"viewer":   [{"functions": [1, 2, 3, 4]}],
+                   "operator": [{"functions": [1, 2, 3, 4]},
+                                {"functions": [5, 6, 15, 16], "addresses": [0, 99]}]},
+         "default": null}
+
+    Each grant is function codes and, optionally, the first and last address it covers (default: all);
+    ``default`` names the role whose grants a client without a known role gets (null: nothing).
+    """
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ConfigError(f"cannot read the role table {str(path)!r}: {exc.strerror or exc}") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise ConfigError(f"the role table {str(path)!r} is not JSON: {exc}") from None
+    if (not isinstance(data, dict) or not isinstance(data.get("roles"), dict)
+            or set(data) - {"roles", "default"}):
+        raise ConfigError(f"the role table {str(path)!r} must be an object with \"roles\" (role -> list of "
+                          f"grants) and optionally \"default\"")
+    rules = {}
+    for role, grants in data["roles"].items():
+        if not isinstance(grants, list):
+            raise ConfigError(f"role {role!r} in {str(path)!r}: a list of grants such as "
+                              f"[{{\"functions\": [3]}}], got {grants!r}")
+        rules[role] = [_grant(role, g, path) for g in grants]
+    return RoleTable(rules, default=data.get("default"))
+
+
+def _grant(role: str, entry: Any, path: Any) -> Grant:
+    where = f"role {role!r} in {str(path)!r}"
+    if not isinstance(entry, dict) or "functions" not in entry or set(entry) - {"functions", "addresses"}:
+        raise ConfigError(f"{where}: a grant is {{\"functions\": [...], \"addresses\": [first, last]}}, "
+                          f"got {entry!r}")
+    functions, span = entry["functions"], entry.get("addresses", [0, 65535])
+    if not isinstance(functions, list):
+        raise ConfigError(f"{where}: \"functions\" is a list of function codes, got {functions!r}")
+    if (not isinstance(span, list) or len(span) != 2 or not all(type(a) is int for a in span)
+            or not 0 <= span[0] <= span[1] <= 65535):
+        raise ConfigError(f"{where}: \"addresses\" is [first, last] within 0..65535, got {span!r}")
+    return Grant(frozenset(functions), range(span[0], span[1] + 1))
 
 
 def course_roles() -> RoleTable:
