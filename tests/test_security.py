@@ -488,3 +488,20 @@ def test_a_refused_client_does_not_connect_again_by_itself(pki):
             mb.Master(link, timeout=2).write_single_register(unit=1, address=0, value=1)
         assert link.reconnects == 0
     assert server.counters.tls_refused == 1
+
+
+def test_load_roles_reads_a_json_table_and_names_what_is_wrong(tmp_path):
+    path = tmp_path / "roles.json"
+    path.write_text('{"roles": {"viewer": [{"functions": [3, 4]}], '
+                    '"operator": [{"functions": [6], "addresses": [0, 99]}]}, "default": "viewer"}')
+    roles = security.load_roles(path)
+    assert roles.decide(_pdu(mb.WriteSingleRegisterRequest(address=99, value=1)), "operator").allowed
+    assert not roles.decide(_pdu(mb.WriteSingleRegisterRequest(address=100, value=1)), "operator").allowed
+    assert roles.decide(_pdu(mb.ReadInputRegistersRequest(address=0, count=1)), None).allowed  # default
+    assert "operator FC 6 at 0..99" in roles.describe()
+    for text, words in [("{", "not JSON"), ('{"viewer": []}', '"roles"'),
+                        ('{"roles": {"viewer": [{"functions": [3], "addresses": [5, 2]}]}}', "[first, last]"),
+                        ('{"roles": {"viewer": [{"function": [3]}]}}', "a grant is")]:
+        path.write_text(text)
+        with pytest.raises(ConfigError, match=words):
+            security.load_roles(path)
