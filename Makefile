@@ -20,8 +20,10 @@ TEST_PINS    := binder/requirements-test.txt
 MIN_PYTHON := $(shell sed -n 's/^requires-python = ">=\([0-9.]*\)".*/\1/p' pyproject.toml)
 UV     := uv==0.13.9
 RELEASE ?= release
+SUBMISSIONS ?= submissions
+OUT ?= grades
 
-.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release clean
+.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release grade clean
 
 ## help: list these targets
 help:
@@ -40,7 +42,10 @@ define venv
 	if [ -z "$$want" ]; then echo "$(PYTHON) does not run: install Python $(MIN_PYTHON) or newer, or give make PYTHON=..."; exit 1; fi; \
 	if [ "$$have" != "$$want" ] && [ "$$have" != "$$also" ]; then \
 	    if [ -d $(VENV) ]; then \
-	        if [ -z "$$have" ]; then why="its install never finished"; else why="it was built by $$have, now $$want"; fi; \
+	        if [ -z "$$have" ]; then why="its install never finished"; \
+	        elif [ "$${have% *}" = "$${want% *}" ]; then \
+	            why="it was built from other pins than $(1) (the learner's pins of make lab lack the test tools, or the pins changed)"; \
+	        else why="it was built by $${have% *}, now $${want% *}"; fi; \
 	        echo "rebuilding $(VENV) from $(1): $$why"; \
 	    fi; \
 	    rm -rf $(VENV) && $(PYTHON) -m venv $(VENV) && \
@@ -123,6 +128,13 @@ requirements:
 release:
 	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
 	$(BIN)/python -m modbus_edu.course release $(RELEASE)
+
+## grade: grade a class's notebooks (SUBMISSIONS=folder, default submissions/) into a gradebook,
+##     a page per learner and a class summary in $(OUT)/ (OUT=dir to change it); each notebook runs
+##     in a fresh, limited kernel (modbus-edu grade --help for the time and memory limits)
+grade:
+	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
+	$(BIN)/python -m modbus_edu grade $(SUBMISSIONS) --out $(OUT)
 
 ## clean: remove the virtual environment, the caches and what the targets above wrote
 clean:

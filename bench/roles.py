@@ -5,6 +5,7 @@ Usage (from the repository root)::
     .venv/bin/python bench/roles.py              # about 30 seconds
     .venv/bin/python bench/roles.py --quick      # shorter runs, for a smoke test
     .venv/bin/python bench/roles.py --seconds 3 --repeat 5
+    .venv/bin/python bench/roles.py --servers-only   # (a) and (c) alone
 
 What is measured
 ----------------
@@ -15,7 +16,10 @@ What is measured
     raw-socket client processes (a pre-built request, the 29-byte answer read back, one request at a
     time each) drive each server for ``--seconds`` seconds; round trips per second, added over the
     clients, best of ``--repeat`` runs, and the ratios to pymodbus and to the bare loop.  Every
-    client checks one answer before timing.
+    client checks one answer before timing.  Beside them, each server's CPU time per request (user +
+    system, read from ``/proc/PID/stat`` before and after a run, divided by every request of the run):
+    less sensitive to the machine's load than the rates.  The three servers take turns within each
+    repeat, so that a change of load touches them alike.
 
 (b) **The virtual serial line** (:func:`~modbus_edu.links.loopback.loopback_serial`): a Master
     reading one holding register (FC3) from a Slave, RTU 8N1.
@@ -26,6 +30,10 @@ What is measured
       character silence after each; t3.5 is 1.750 ms above 19200 baud).  The two must agree: the
       virtual wire times the line exactly.
 
+(c) **Reading a slave's full traffic log** (1000 entries, half of them answers of the fast path, whose
+    notes are written when the log is read): milliseconds of CPU time for ``to_text()``, every note
+    new.  Target: under 10 ms.
+
 Wall-clock time is used here and nowhere in the library's tests: speed belongs in ``bench/``.
 """
 
@@ -35,6 +43,7 @@ import argparse
 import asyncio
 import gc
 import logging
+import os
 import socket
 import sys
 import threading
@@ -211,7 +220,8 @@ def _serve_in_process(kind: str, ports) -> None:
 
 
 def _client_in_process(port: int, seconds: float, start_at: float, results) -> None:
-    """A raw-socket client process: FC3 round trips, one at a time, counted from ``start_at``."""
+    """A raw-socket client process: FC3 round trips, one at a time, counted from ``start_at``.  Puts
+    ``(rate, every request it sent)``: the second, warm-up included, divides the server's CPU time."""
     once, close = socket_client_loop((HOST, port))
     for _ in range(200):
         once()
@@ -223,38 +233,60 @@ def _client_in_process(port: int, seconds: float, start_at: float, results) -> N
             once()
         done += 50
     close()
-    results.put(done / (time.time() - start_at))
+    results.put((done / (time.time() - start_at), done + 201))
+
+
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time of process ``pid`` so far, from ``/proc/PID/stat`` (fields 14 and 15)."""
+    with open(f"/proc/{pid}/stat") as stat:
+        fields = stat.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+@dataclass
+class ServerRun:
+    """The best round trips per second a server reached, and the least CPU it spent per request."""
+
+    rate: float = 0.0
+    cpu_per_request: float = float("inf")
 
 
 def bench_servers(seconds: float, repeat: int, clients: tuple[int, ...] = (1, 4)
-                  ) -> dict[str, dict[int, float]]:
+                  ) -> dict[str, dict[int, ServerRun]]:
     """Round trips per second of each server, each in its own process, driven by ``n`` raw-socket client
-    processes at once (their rates added); best of ``repeat`` runs."""
+    processes at once (their rates added), and the server's CPU time per request (``/proc``); best of
+    ``repeat`` runs.  The servers take turns within each repeat, so that a change in the machine's load
+    touches all three alike and the ratios of one run stay fair."""
     import multiprocessing
 
     context = multiprocessing.get_context("fork")
-    table: dict[str, dict[int, float]] = {kind: {} for kind in SERVERS}
-    for kind in SERVERS:
-        ports = context.Queue()
-        server = context.Process(target=_serve_in_process, args=(kind, ports), daemon=True)
-        server.start()
-        try:
-            port = ports.get(timeout=20)
+    table: dict[str, dict[int, ServerRun]] = {kind: {n: ServerRun() for n in clients} for kind in SERVERS}
+    servers, ports = {}, {}
+    try:
+        for kind in SERVERS:
+            queue = context.Queue()
+            servers[kind] = context.Process(target=_serve_in_process, args=(kind, queue), daemon=True)
+            servers[kind].start()
+            ports[kind] = queue.get(timeout=20)
+        for _ in range(repeat):
             for n in clients:
-                best = 0.0
-                for _ in range(repeat):
+                for kind in SERVERS:
                     results = context.Queue()
                     start_at = time.time() + 1.0
-                    args = (port, seconds, start_at, results)
+                    args = (ports[kind], seconds, start_at, results)
                     workers = [context.Process(target=_client_in_process, args=args) for _ in range(n)]
+                    cpu_before = cpu_seconds(servers[kind].pid)
                     for worker in workers:
                         worker.start()
-                    total = sum(results.get(timeout=seconds + 30) for _ in workers)
+                    answers = [results.get(timeout=seconds + 30) for _ in workers]
                     for worker in workers:
                         worker.join(10)
-                    best = max(best, total)
-                table[kind][n] = best
-        finally:
+                    cpu = cpu_seconds(servers[kind].pid) - cpu_before
+                    best = table[kind][n]
+                    best.rate = max(best.rate, sum(rate for rate, _ in answers))
+                    best.cpu_per_request = min(best.cpu_per_request, cpu / sum(done for _, done in answers))
+    finally:
+        for server in servers.values():
             server.terminate()
             server.join(10)
     return table
@@ -302,12 +334,35 @@ def bench_serial(seconds: float, repeat: int, baudrates: tuple[int, ...]) -> lis
     return rows
 
 
+# --- (c) --------------------------------------------------------------------------------------------------
+def bench_log_read(repeat: int) -> float:
+    """Milliseconds of CPU time to read a slave's full traffic log (1000 entries: 500 Modbus/TCP FC3 reads
+    of 10 registers answered on the fast path, each answer different) as text, its notes written then;
+    best of ``repeat``.  The worst case: no note is remembered from an earlier read."""
+    best = float("inf")
+    for run in range(repeat):
+        slave = Slave(unit=1)
+        table = slave.bank.holding_registers
+        for tid in range(500):  # values never seen before: no note is remembered
+            table.write(0, [(run * 5003 + tid * 10 + i) & 0xFFFF for i in range(COUNT)])
+            request = TcpFrame(transaction_id=tid, unit=1, pdu=ReadHoldingRegistersRequest(address=0,
+                                                                                           count=COUNT))
+            slave.handle(request.encode(), "tcp")
+        start = time.process_time()
+        text = slave.log.to_text()
+        best = min(best, time.process_time() - start)
+        if len(slave.log) != 1000 or f"registers [{run * 5003 + 4990}, " not in text:
+            raise RuntimeError("the log does not hold what the slave answered")
+    return best * 1e3
+
+
 # --- report -------------------------------------------------------------------------------------------------
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=1.5, help="length of each timed run (default 1.5)")
     parser.add_argument("--repeat", type=int, default=3, help="runs per measurement, best counts (default 3)")
     parser.add_argument("--quick", action="store_true", help="0.5 s runs, 1 repeat")
+    parser.add_argument("--servers-only", action="store_true", help="the servers (a) and the log (c) only")
     args = parser.parse_args(argv)
     seconds, repeat = (0.5, 1) if args.quick else (args.seconds, args.repeat)
 
@@ -315,19 +370,29 @@ def main(argv: list[str] | None = None) -> int:
     print(f"best of {repeat} run(s) of {seconds:g} s each\n")
 
     print(f"(a) Modbus/TCP servers, each in its own process: FC3 read of {COUNT} registers, round trips")
-    print("    per second from raw-socket client processes on 127.0.0.1 (one request at a time each)")
-    header = f"    {'server':<22} {'1 client':>10} {'4 clients':>10} {'vs pymodbus':>12} {'vs bare loop':>13}"
+    print("    per second from raw-socket client processes on 127.0.0.1 (one request at a time each),")
+    print("    and the server's CPU time per request (user + system, from /proc)")
+    header = (f"    {'server':<22} {'1 client':>10} {'4 clients':>10} {'vs pymodbus':>12} "
+              f"{'vs bare loop':>13} {'CPU us/request':>15}")
     print(header)
     print("    " + "-" * (len(header) - 4))
     table = bench_servers(seconds, repeat)
     theirs, bare = table[SERVERS[1]], table[SERVERS[2]]
     for kind in SERVERS:
         row = table[kind]
-        versus = " / ".join(f"{row[n] / theirs[n]:.2f}" for n in (1, 4))
-        ceiling = " / ".join(f"{row[n] / bare[n]:.2f}" for n in (1, 4))
-        print(f"    {kind:<22} {row[1]:>10,.0f} {row[4]:>10,.0f} {versus:>12} {ceiling:>13}")
-    print("    ratios for 1 / 4 clients; the bare loop answers a fixed frame and does no Modbus at all\n")
+        versus = " / ".join(f"{row[n].rate / theirs[n].rate:.2f}" for n in (1, 4))
+        ceiling = " / ".join(f"{row[n].rate / bare[n].rate:.2f}" for n in (1, 4))
+        cpu = " / ".join(f"{row[n].cpu_per_request * 1e6:.1f}" for n in (1, 4))
+        print(f"    {kind:<22} {row[1].rate:>10,.0f} {row[4].rate:>10,.0f} {versus:>12} {ceiling:>13} "
+              f"{cpu:>15}")
+    print("    ratios and CPU for 1 / 4 clients; the bare loop answers a fixed frame and does no Modbus at")
+    print("    all; the servers take turns in each run, so a change of the machine's load touches all")
+    print("    three alike\n")
 
+    print(f"(c) reading a slave's full traffic log (1000 entries, 500 fast-path answers, every note new): "
+          f"{bench_log_read(repeat):.1f} ms of CPU (target: under 10 ms)\n")
+    if args.servers_only:
+        return 0
     print("(b) virtual serial line (loopback_serial), Master -> Slave, FC3 read of 1 register, RTU 8N1")
     header = (f"    {'baud':>7} {'transactions/s (wall)':>22} {'per virtual s':>14} "
               f"{'wire maximum':>13} {'virtual/max':>12}")

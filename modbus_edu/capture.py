@@ -52,9 +52,12 @@ read: ``import modbus_edu`` stays fast).  Every problem with a file raises :clas
 from __future__ import annotations
 
 import heapq
+import ipaddress
 import logging
 import math
 import os
+import shutil
+import subprocess
 from collections.abc import Iterable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -199,8 +202,6 @@ def _check_entry(index: int, entry: Traffic) -> None:
 def _endpoint(value: Any, name: str) -> tuple[str, int]:
     try:
         host, port = value
-        import ipaddress
-
         host = str(ipaddress.IPv4Address(host))
     except (TypeError, ValueError):
         raise CaptureError(f"{name} must be (IPv4 address, port), e.g. {CLIENT}, got {value!r}") from None
@@ -790,9 +791,6 @@ def tshark(path: str | os.PathLike[str], *options: str, timeout: float = 60.0) -
     show only Modbus frames, ``"-T", "fields", "-e", "modbus.func_code"`` for one column).  tshark gets
     ``timeout`` seconds; a failure raises :class:`CaptureError` with what tshark said.
     """
-    import shutil
-    import subprocess
-
     program = shutil.which("tshark")
     if program is None:
         return None
@@ -819,7 +817,7 @@ class _Scapy:
     """The few scapy names this module uses, imported on first use (scapy takes most of a second)."""
 
     def __init__(self) -> None:
-        with _quiet_scapy():
+        with _quiet_scapy():  # scapy takes most of a second: only reading or writing a capture needs it
             from scapy.config import conf
             from scapy.layers.inet import IP, TCP
             from scapy.layers.inet6 import IPv6

@@ -7,6 +7,7 @@ of the Modbus/TCP MBAP header, and the hex notation messages and dissections use
 
 from __future__ import annotations
 
+import functools
 import struct
 from enum import IntEnum
 
@@ -136,8 +137,10 @@ def exception_meaning(code: int) -> str:
         return f"code 0x{code:02X} is not defined by the specification (vendor specific?)"
 
 
+@functools.lru_cache(maxsize=512)
 def function_title(function: int) -> str:
-    """``"Read Holding Registers"`` for 3; a neutral name for codes this library does not implement."""
+    """``"Read Holding Registers"`` for 3; a neutral name for codes this library does not implement.
+    Remembered: every summary and dissection asks it."""
     try:
         return FunctionCode(function).title
     except ValueError:

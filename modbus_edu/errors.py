@@ -8,6 +8,7 @@ they say *what* was wrong, *where* (the byte offset, when there is one) and *wha
 from __future__ import annotations
 
 import functools
+import importlib
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -205,8 +206,6 @@ class MissingDependencyError(ModbusError, ImportError):
 def require(module: str, user: str, extra: str = "course") -> Any:
     """Import ``module`` for ``user`` (a part of the library), or raise :class:`MissingDependencyError`
     saying how to install it: ``pip install "modbus-edu[course]"``."""
-    import importlib
-
     try:
         return importlib.import_module(module)
     except ImportError as exc:

@@ -19,7 +19,9 @@ strict decoder (:func:`modbus_edu.framing.decode_frame`) raises in :attr:`Dissec
 raising it.  ``explain(..., strict=True)`` raises that error.
 
 The same dissection feeds the notebooks (``_repr_html_``: a table), the command line (``to_text`` and
-``to_dict``) and the widgets.
+``to_dict``) and the widgets.  A PDU object shows as its table in a notebook too: this module gives
+:class:`~modbus_edu.pdu.Pdu` its ``_repr_html_`` when it is imported (the PDU classes import nothing
+from here).
 
 A bare PDU (function code first, no unit and no check) gets the same table from ``explain_pdu``: give
 it a PDU object or its bytes.  Its offsets count from the function code::
@@ -45,7 +47,16 @@ from . import pdu as _pdu
 from .codes import _hex
 from .crc import crc16, lrc
 from .errors import ConfigError, FrameError, ModbusError
-from .framing import MAX_SERIAL_UNIT, ROLES, Frame, TcpFrame, decode_frame, detect_mode, parse_hex
+from .framing import (
+    MAX_SERIAL_UNIT,
+    ROLES,
+    Frame,
+    TcpFrame,
+    decode_frame,
+    detect_mode,
+    detect_mode_why,
+    parse_hex,
+)
 from .framing.base import _HEX_DIGITS, _as_bytes, _check_mode
 
 __all__ = ["Row", "Dissection", "explain", "explain_pdu"]
@@ -86,6 +97,9 @@ class Dissection:
     frame: Frame | None = None
     error: ModbusError | None = None
     pdu: _pdu.Pdu | None = None
+    detected: str = ""
+    """Why the mode was chosen, when it was detected (:func:`~modbus_edu.framing.detect_mode_why`);
+    empty when the caller gave the mode."""
 
     @property
     def ok(self) -> bool:
@@ -621,8 +635,9 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             if strict:
                 raise
             return Dissection(data=b"", mode=mode or "rtu", role=role, error=exc)
+    detected = ""
     if mode is None:
-        mode = detect_mode(raw)
+        mode, detected = detect_mode_why(raw)
 
     frame: Frame | None = None
     error: ModbusError | None = None
@@ -641,7 +656,8 @@ def explain(data: bytes | str, mode: str | None = None, role: str | None = None,
             role = _guess_role(raw, mode)
         error = errors[role]
     rows = _fill_gaps(_ROW_BUILDERS[mode](raw, role), raw, "characters" if mode == "ascii" else "bytes")
-    result = Dissection(data=raw, mode=mode, role=role, rows=rows, frame=frame, error=error)
+    result = Dissection(data=raw, mode=mode, role=role, rows=rows, frame=frame, error=error,
+                        detected=detected)
     if strict and error is not None:
         raise error
     return result
@@ -698,3 +714,13 @@ def explain_pdu(pdu: _pdu.Pdu | bytes | str, role: str | None = None, *, strict:
         raise error
     rows = _fill_gaps(_binary_rows(data, _pdu_pieces(data, role, 0)), data, "bytes")
     return Dissection(data=data, mode="pdu", role=role, rows=rows, error=error)
+
+
+def _pdu_html(pdu: _pdu.Pdu) -> str:
+    """In a notebook a PDU shows as its dissection table (:func:`explain_pdu`)."""
+    return explain_pdu(pdu)._repr_html_()
+
+
+# PDUs do not explain themselves: explain gives every PDU its notebook view when it is imported (and
+# ``import modbus_edu`` imports it), so that pdu/ needs nothing from here.
+_pdu.Pdu._repr_html_ = _pdu_html  # type: ignore[attr-defined]

@@ -23,6 +23,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
+from pymodbus.framer import FramerType
+from pymodbus.server import ModbusTcpServer
+
 from .errors import LinkError
 from .platform import require_sockets
 
@@ -38,9 +41,6 @@ def pymodbus_server(device: Any, framer: str = "socket", host: str = "127.0.0.1"
     Raises :class:`~modbus_edu.errors.LinkError` if it does not start or stop within ``timeout`` seconds.
     """
     require_sockets("pymodbus's server (pymodbus_server)")
-    from pymodbus.framer import FramerType
-    from pymodbus.server import ModbusTcpServer
-
     try:
         framer_type = FramerType(framer)
     except ValueError:

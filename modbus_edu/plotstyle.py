@@ -48,7 +48,7 @@ def figure(rows: int = 1, cols: int = 1, *, width: float = WIDTH, height: float 
     ``height`` defaults to :data:`HEIGHT` per row; further keywords (``sharex=True``, ...) go to
     ``subplots``.  Returns ``(fig, ax)`` for one axes, ``(fig, axes)`` otherwise, as ``plt.subplots``.
     """
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # pyplot (a GUI backend, its state) only when a figure is made
 
     if height is None:
         height = HEIGHT * rows

@@ -18,6 +18,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from ._optional import load_tqdm
 from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError
 from .links.base import Link
 from .master import Master
@@ -93,7 +94,7 @@ def scan(
     for name, value in (("timeout", timeout), ("budget", budget)):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < math.inf:
             raise ConfigError(f"{name} must be a number of seconds above 0 (and finite), got {value!r}")
-    from tqdm.auto import tqdm
+    tqdm = load_tqdm()
 
     report = ScanReport()
     bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")

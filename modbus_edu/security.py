@@ -35,12 +35,14 @@ from __future__ import annotations
 import datetime
 import ipaddress
 import json
+import ssl
 import threading
 from collections import Counter, deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NamedTuple
+from types import SimpleNamespace
+from typing import Any, NamedTuple
 
 from .codes import WRITE_FUNCTIONS
 from .errors import ConfigError, ModbusError, SecurityError
@@ -53,9 +55,6 @@ from .pdu import (
     WriteFileRecordRequest,
     decode_pdu,
 )
-
-if TYPE_CHECKING:  # pragma: no cover - typing only (ssl is imported where a context is made)
-    import ssl
 
 __all__ = [
     "ROLE_OID",
@@ -132,11 +131,19 @@ def _parse_role_value(data: bytes) -> str:
         raise SecurityError(f"the role extension's text is not UTF-8 (byte {start + exc.start})") from None
 
 
+def _cryptography() -> SimpleNamespace:
+    """The parts of cryptography this module uses: ``x509``, ``ec``, ``hashes``, ``serialization``."""
+    # cryptography takes a moment to import: loaded on first use, not by ``import modbus_edu``
+    from cryptography import x509
+    from cryptography.hazmat.primitives import hashes, serialization
+    from cryptography.hazmat.primitives.asymmetric import ec
+
+    return SimpleNamespace(x509=x509, ec=ec, hashes=hashes, serialization=serialization)
+
+
 def load_x509() -> Any:
     """``cryptography.x509``, imported on first use (it takes a moment: a server loads it at start)."""
-    from cryptography import x509
-
-    return x509
+    return _cryptography().x509
 
 
 def _load_certificate(certificate: Any) -> Any:
@@ -224,14 +231,12 @@ class Pki:
 
 
 def _new_key() -> Any:
-    from cryptography.hazmat.primitives.asymmetric import ec
-
+    ec = _cryptography().ec
     return ec.generate_private_key(ec.SECP256R1())
 
 
 def _write_pair(directory: Path, name: str, cert: Any, key: Any) -> CertPair:
-    from cryptography.hazmat.primitives import serialization
-
+    serialization = _cryptography().serialization
     cert_path, key_path = directory / f"{name}.crt", directory / f"{name}.key"
     cert_path.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
     key_path.write_bytes(key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
@@ -243,9 +248,9 @@ def _write_pair(directory: Path, name: str, cert: Any, key: Any) -> CertPair:
 def _certificate(subject: str, key: Any, issuer: tuple[str, Any] | None, *, start: datetime.datetime,
                  end: datetime.datetime, kind: str, role: str | None = None) -> Any:
     """One certificate: ``kind`` is "ca", "server" or "client"; ``issuer`` (name, key), None: itself."""
-    from cryptography import x509
-    from cryptography.hazmat.primitives import hashes
-    from cryptography.x509.oid import ExtendedKeyUsageOID, NameOID
+    crypto = _cryptography()
+    x509, hashes = crypto.x509, crypto.hashes
+    ExtendedKeyUsageOID, NameOID = x509.ExtendedKeyUsageOID, x509.NameOID  # noqa: N806 (cryptography's names)
 
     name = x509.Name([x509.NameAttribute(NameOID.ORGANIZATION_NAME, "modbus_edu test PKI"),
                       x509.NameAttribute(NameOID.COMMON_NAME, subject)])
@@ -338,8 +343,6 @@ def make_test_pki(directory: str | Path, *, roles: Iterable[str] = COURSE_ROLES,
 # TLS contexts
 # --------------------------------------------------------------------------------------------------
 def _load(context: ssl.SSLContext, cert: Any, key: Any, ca: Any, what: str) -> ssl.SSLContext:
-    import ssl
-
     context.minimum_version = ssl.TLSVersion.TLSv1_2
     try:
         if cert is not None:
@@ -379,8 +382,6 @@ def server_context(pki: Pki | None = None, *, cert: Any = None, key: Any = None,
             raise ConfigError("server_context needs the server's certificate and key: pass a Pki or "
                               "cert=PATH, key=PATH")
         cert, key = pki.server_cert, pki.server_key
-    import ssl
-
     context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
     context.verify_mode = ssl.CERT_REQUIRED
     return _load(context, cert, key, ca, "server_context")
@@ -407,8 +408,6 @@ def client_context(pki: Pki | None = None, role: str | None = None, *, cert: Any
         cert, key = pair.cert, pair.key
     elif role is not None:
         raise ConfigError("client_context: give a role or a cert, not both (the role is in the certificate)")
-    import ssl
-
     context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)  # checks the host name and the chain
     return _load(context, cert if certificate else None, key, ca, "client_context")
 

@@ -9,7 +9,8 @@ The master, the slave and the wire monitor log every frame with :meth:`TrafficLo
 entry as a plain tuple and makes the :class:`Traffic` object only when someone looks at it.  A ten-minute
 poll logs tens of thousands of frames: tuples of strings and numbers are invisible to Python's garbage
 collector, while as many objects would be scanned by it over and over (on a long simulated poll, a third
-of the time).
+of the time).  A slave's fast path (a Modbus/TCP read answered from bytes) records its answer's note as
+the request's and the answer's PDU bytes; the note is written when the log is read.
 
 >>> log = TrafficLog()
 >>> log.append(Traffic(0.0, "tx", "rtu", bytes.fromhex("010300000001840A"), source="master", dest="unit 1"))
@@ -27,6 +28,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from typing import Any
 
+from . import pdu as _pdu
 from .codes import _hex
 from .errors import ConfigError, ModbusError
 from .explain import explain
@@ -199,9 +201,34 @@ def pdu_note(pdu: Any) -> str:
     return note
 
 
+_REPLY_NOTES: dict[tuple[bytes, bytes], str] = {}
+
+
+def _note_text(note: str | tuple[bytes, bytes]) -> str:
+    """A recorded note as text.  A note may be recorded as ``(request PDU, response PDU)``, the bytes of a
+    request a slave answered on its fast path (:meth:`~modbus_edu.pdu.Pdu.answer_from_bytes`) and of its
+    answer: the class of the request's function writes it now (:meth:`~modbus_edu.pdu.Pdu.reply_note`),
+    remembered for the last 512 different pairs (a polled device answers the same few)."""
+    if note.__class__ is not tuple:
+        return note  # type: ignore[return-value]
+    text = _REPLY_NOTES.get(note)  # type: ignore[arg-type]
+    if text is None:
+        request, reply = note
+        text = _pdu.request_class(request[0]).reply_note(request, reply)
+        if len(_REPLY_NOTES) >= _NOTES_MAX:
+            _REPLY_NOTES.clear()
+        _REPLY_NOTES[note] = text  # type: ignore[index]
+    return text
+
+
 def _entry(item: Traffic | _Row) -> Traffic:
-    """The :class:`Traffic` of a stored item (a recorded row becomes one now)."""
-    return Traffic(*item) if item.__class__ is tuple else item  # type: ignore[return-value]
+    """The :class:`Traffic` of a stored item (a recorded row becomes one now, its note written)."""
+    if item.__class__ is not tuple:
+        return item  # type: ignore[return-value]
+    note = item[6]
+    if note.__class__ is tuple:
+        return Traffic(*item[:6], _note_text(note), *item[7:])
+    return Traffic(*item)
 
 
 class TrafficLog:
@@ -248,9 +275,11 @@ class TrafficLog:
 
         What the master, the slaves and the wire monitor use: reading the log (``log[i]``, iterating,
         :meth:`search`, :meth:`to_text`) gives the same :class:`Traffic` entries as :meth:`add` would.
+        ``note`` may be ``(request PDU, response PDU)``, bytes a slave's fast path answered: the log
+        writes that note when it is read (:func:`_note_text`).
         """
         if not self._rows:
-            self.add(time, direction, mode, data, source=source, dest=dest, note=note, role=role,
+            self.add(time, direction, mode, data, source=source, dest=dest, note=_note_text(note), role=role,
                      duration=duration)
             return
         if direction not in DIRECTIONS:
@@ -266,7 +295,7 @@ class TrafficLog:
             return
         old = entries[index]
         if old.__class__ is tuple:
-            note = old[6]
+            note = _note_text(old[6])
             entries[index] = (*old[:6], f"{note}; {text}" if note else text, *old[7:])
             return
         entries[index] = replace(old, note=f"{old.note}; {text}" if old.note else text)  # type: ignore[arg-type]
@@ -338,11 +367,12 @@ class TrafficLog:
         entries = list(map(_entry, self._entries))
         if newest_first:
             entries.reverse()
-        width = max([len(e.text) for e in entries] + [5])
+        texts = [e.text for e in entries]
+        width = max([len(text) for text in texts] + [5])
         lines = [f"{'time':>10}  dir  mode  {'bytes':<{width}}  note"]
-        for e in entries:
+        for e, text in zip(entries, texts):
             extra = "; ".join(p for p in (e.label(), e.note) if p)
-            line = f"{e.time:10.6f}  {e.direction:<3}  {e.mode:<4}  {e.text:<{width}}  {extra}"
+            line = f"{e.time:10.6f}  {e.direction:<3}  {e.mode:<4}  {text:<{width}}  {extra}"
             lines.append(line.rstrip())
         return "\n".join(lines)
 

@@ -168,7 +168,7 @@ def test_the_flowchart_draws_every_symptom_and_every_check():
         assert symptom in texts
         for name, hint in checks:
             assert f"{name}\n{hint}" in texts
-    assert {"A/B", "settings", "numbering", "word order", "parity", "echo"} <= {
+    assert {"A/B", "settings", "first answer", "numbering", "word order", "parity", "echo"} <= {
         name for checks in bench_module.TROUBLESHOOTING.values() for name, _ in checks}
     plt.close(figure)
 

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import pytest
 
+import modbus_edu as mb
+from modbus_edu import security
 from modbus_edu.devices.meter import METER_MAP, TRIAL_ENERGY_KWH, TRIALS, PowerMeter
 from modbus_edu.framing import RtuFrame
 from modbus_edu.links.serial import SerialServer, TcpSerialPort
@@ -681,8 +683,6 @@ def test_identify_escapes_what_a_device_says_so_it_cannot_act_on_the_terminal():
 # --- Modbus/TCP Security from the command line: roles apply ----------------------------------------------
 @pytest.fixture(scope="module")
 def pki(tmp_path_factory):
-    from modbus_edu import security
-
     return security.make_test_pki(tmp_path_factory.mktemp("pki"))
 
 
@@ -692,16 +692,11 @@ def _tls_args(pki) -> list[str]:
 
 
 def _secure_master(pki, port: int, **context):
-    import modbus_edu as mb
-    from modbus_edu import security
-
     link = mb.tcp_link("127.0.0.1", port, tls=security.client_context(pki, **context), timeout=5)
     return mb.Master(link, timeout=5)
 
 
 def _refused(call) -> bool:
-    import modbus_edu as mb
-
     try:
         call()
     except mb.ModbusExceptionError as exc:

@@ -289,6 +289,45 @@ def test_the_prose_names_a_source_at_most_three_times_and_never_an_unseen_table(
     assert "'its Table 3' points to a table or figure the learner cannot see" in messages[1]
 
 
+def test_no_panel_picture_names_a_source_s_table(tmp_path):
+    import nbformat
+
+    from modbus_edu.course import check
+
+    def with_picture(name: str, text: str) -> Path:
+        path = _notebook(tmp_path, name, ("code", "dashboard"))
+        notebook = nbformat.read(path, as_version=4)
+        notebook.cells[0].outputs = [nbformat.v4.new_output(
+            "execute_result", execution_count=1, data={
+                "text/plain": "[panel]",
+                "text/html": f'<div class="mbe-picture"><b>Power meter dashboard</b> &mdash; {text}</div>'
+                             "<table><tr><td>1</td></tr></table>"})]
+        nbformat.write(notebook, path)
+        return path
+
+    bad = with_picture("10_a.ipynb", "the power-meter paper's Table 5, read with function 03")
+    messages = [p.message for p in check.panel_problems(bad)]
+    assert messages == ["cell 0: a panel names 'Table 5', 'the power-meter paper', which the learner never "
+                        "sees: say what it shows"]
+    assert check.panel_problems(with_picture("10_b.ipynb", "the meter's register map, read with function "
+                                                           "03")) == []
+
+
+def test_every_worked_solution_ends_with_its_own_check(tmp_path):
+    from modbus_edu.course import check
+
+    right = 'from modbus_edu.exercises import check\n\nanswer = 1\ncheck("02.5", answer)\n'
+    (tmp_path / "02_5.py").write_text(right)
+    (tmp_path / "03_1.py").write_text("answer = 2\nprint(answer)\n")          # %load would lose the check
+    (tmp_path / "03_2.py").write_text('answer = 3\ncheck("03.1", answer)\n')   # another exercise's check
+    (tmp_path / "04_1.py").write_text('check("04.1", answer)\nanswer = 4\n')   # not at the end
+    assert [(p.notebook, p.message) for p in check.solution_problems(tmp_path)] == [
+        (f"solutions/{name}.py", f'it does not end with check("{key}", ...): %load replaces the cell, its '
+                                 "check included")
+        for name, key in (("03_1", "03.1"), ("03_2", "03.2"), ("04_1", "04.1"))]
+    assert check.solution_problems(NOTEBOOKS / "solutions") == []
+
+
 def test_every_notebook_has_a_where_this_comes_from_box_before_its_next_link(tmp_path):
     from modbus_edu.course import check
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import threading
 import time
 
@@ -227,8 +228,8 @@ def test_each_misconception_has_a_key_a_label_a_detector_shape_and_one_teaching_
     assert len(CATALOGUE) >= 11
     for key, entry in CATALOGUE.items():
         assert entry.key == key and entry.label and entry.shape and callable(entry.detector)
-        assert entry.sentence.rstrip().endswith(".") and len(entry.say(used="CDAB", used_words="x",
-                                                                       right="ABCD")) < 320, key
+        fields = {name: "ABCD" for name in re.findall(r"{(\w+)}", entry.sentence)}  # each a short word
+        assert entry.sentence.rstrip().endswith(".") and len(entry.say(**fields)) < 320, key
     for key in ("crc-swapped", "crc-on-tcp", "lrc-ones-complement", "one-based-address", "reference-number",
                 "milliseconds-for-seconds", "seconds-for-milliseconds", "fraction-for-percentage",
                 "mbap-little-endian", "word-order", "frame-for-pdu", "ascii-without-crlf"):
@@ -317,3 +318,65 @@ def test_a_refusal_table_may_only_name_catalogued_misconceptions():
     with pytest.raises(ValueError, match="not in the catalogue"):
         exercises.exercise("99.4", "x", hint="h", refuses=[(1, "no-such-slip")])(lambda answer: None)
     assert "99.4" not in exercises.EXERCISES
+
+
+# --- checkers that teach, hints that do not tell ----------------------------------------------------------
+def test_a_build_exercise_s_hint_gives_the_idea_and_its_line_comes_after_two_wrong_tries(capsys):
+    assert {"02.5", "04.5", "14.2"} <= set(core.LINES)
+    for key, line in core.LINES.items():
+        item = exercises.EXERCISES[key]
+        assert item.kind == "build"
+        code = re.sub(r"^return ", "", line)
+        assert code not in item.hint and "to_bytes" not in item.hint and "& 0xFF" not in item.hint, key
+    key, line = "04.5", core.LINES["04.5"]
+    core.wrong_tries.pop(key, None)
+    wrong = exercises.EXERCISES[key].wrong
+    first = exercises.check(key, wrong)
+    assert first.ok is False and "Hint:" in first.message and line not in first.message
+    second = exercises.check(key, wrong)
+    assert second.message.endswith(f"After 2 tries, the line itself: {line}")
+    assert line in capsys.readouterr().out
+    assert exercises.check(key, mb.lrc).ok is True and key not in core.wrong_tries  # right: counted afresh
+    assert line not in exercises.check(key, wrong).message
+    assert exercises.evaluate(key, wrong).message == first.message  # evaluate counts nothing
+    core.wrong_tries.pop(key, None)
+
+
+def test_a_frame_built_by_hand_names_the_slip_in_the_catalogue_s_words_not_a_byte_number():
+    from modbus_edu.exercises.misconceptions import frame_slip
+
+    messages = {key: exercises.evaluate(key, answer).message for key, answer in [
+        ("02.1", "10 00 04 00 02 04 05 00 10 00"), ("03.2", "01 06 00 02 34 12 BE C7"),
+        ("05.2", "00 07 00 00 00 06 01 06 00 00 12 34"), ("07.2", "17 81 02 20 55")]}
+    assert all("differs at byte" not in message for message in messages.values()), messages
+    assert "500 is a decimal number: in hex it is 0x01F4 (hex(500)), while 0x0500 is 1280" in messages["02.1"]
+    assert "4660 (0x1234) is 12 34, and 34 12 reads as 13330 (0x3412)" in messages["03.2"]
+    assert "1234 is a decimal number: in hex it is 0x04D2" in messages["05.2"]
+    assert "17 is a decimal number: in hex it is 0x11 (hex(17)), while 0x17 is 23" in messages["07.2"]
+    # an RTU frame's CRC follows the bytes before it: it is left out; two slips at once are not one slip
+    assert frame_slip(bytes.fromhex("01 06 00 02 34 12 00 00"), bytes.fromhex("01 06 00 02 12 34 25 7D"),
+                      tail=2).startswith("a 16-bit field low byte first")
+    assert frame_slip(bytes.fromhex("10 00 04 00 02 04 05 00 E8 03"),
+                      bytes.fromhex("10 00 04 00 02 04 01 F4 03 E8")) is None
+    assert frame_slip(b"\x01", bytes.fromhex("01 02")) is None
+
+
+def test_counterexamples_are_written_the_way_the_exercise_writes_its_inputs():
+    import struct
+
+    float_message = exercises.evaluate(
+        "10.4", lambda registers, order: struct.unpack(">f", struct.pack(">HH", *registers))[0]).message
+    assert "([0xCCCD, 0x43C9], 'CDAB')" in float_message  # registers in hex, as 10.4 writes them
+    from modbus_edu.exercises.nb08 import _transaction_time
+
+    timing = exercises.evaluate("08.4", lambda baudrate, *args:  # right, except above 19200 baud
+                                _transaction_time(baudrate, *args) if baudrate <= 19200 else 0.0).message
+    assert "(38400, 'N', 2, 8, 7)" in timing and "0x9600" not in timing  # a baud rate in decimal
+    assert core.show(core.Written(38400)) == "38400"
+    assert core.show(core.Written(0x43C9, "0x{:04X}")) == "0x43C9"
+    assert str(core.Written(0x43C9, "0x{:04X}")) == "17353" and core.Written(7) + 1 == 8
+
+
+def test_a_list_of_one_frame_is_one_frame():
+    message = exercises.evaluate("16.2", ["01 04 00 00 00 02 71 CB"]).message
+    assert "you give 1 frame;" in message

@@ -26,6 +26,7 @@ from modbus_edu.errors import (
     UnknownFunctionError,
     ValueRangeError,
 )
+from modbus_edu.explain import explain
 from modbus_edu.framing import (
     MODES,
     AsciiFrame,
@@ -33,6 +34,7 @@ from modbus_edu.framing import (
     TcpFrame,
     decode_frame,
     detect_mode,
+    detect_mode_why,
     encode_frame,
     frame_class,
     make_frame,
@@ -401,6 +403,24 @@ def test_detect_mode() -> None:
     assert detect_mode(b"") == "rtu"
     # an RTU frame for unit 58 (0x3A = ':') with a correct CRC is not an ASCII frame
     assert detect_mode(rtu("3A 03 00 00 00 01")) == "rtu"
+
+
+def test_detect_mode_prefers_tcp_for_protocol_0_and_a_length_written_low_byte_first() -> None:
+    # a TCP response whose length 00 05 was written 05 00: an MBAP header with a slip, not RTU
+    swapped = h("01 18 00 00 05 00 01 03 02 04 D2")
+    assert detect_mode(swapped) == "tcp"
+    mode, why = detect_mode_why(swapped)
+    assert mode == "tcp" and why == ("protocol 0 in bytes 2-3, and the length, read low byte first, counts "
+                                     "the 5 bytes that follow")
+    assert explain(swapped).mode == "tcp" and explain(swapped).detected == why
+    assert isinstance(explain(swapped).error, MbapError)  # the length is named, not a CRC
+    assert detect_mode_why(h("01 18 00 00 00 05 01 03 02 04 D2")) == (
+        "tcp", "protocol 0 in bytes 2-3, and the length counts the 5 bytes that follow")
+    # an RTU request for address 0 has 00 00 in bytes 2-3 too: its CRC, or its length's misfit, keeps it RTU
+    assert detect_mode_why(h("01 03 00 00 00 01 84 0A")) == ("rtu", "its last two bytes are its RTU CRC")
+    assert detect_mode_why(h("01 03 00 00 00 01 84 0B")) == ("rtu", "no ':' in front, no MBAP header")
+    assert detect_mode_why(":0503") == ("ascii", "it starts with ':'")
+    assert explain(swapped, "tcp").detected == ""  # a mode given is not detected
 
 
 def test_parse_hex_forms() -> None:

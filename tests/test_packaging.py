@@ -187,7 +187,8 @@ def test_the_version_is_written_once():
 
 def test_licences_metadata_and_absolute_readme_links():
     project = PYPROJECT["project"]
-    assert project["license"] == "MIT" and project["license-files"] == ["LICENSE", "LICENSE-COURSE"]
+    assert project["license"] == "MIT AND CC-BY-4.0"  # the sdist carries the notebooks
+    assert project["license-files"] == ["LICENSE", "LICENSE-COURSE"]
     assert "MIT License" in (ROOT / "LICENSE").read_text()
     course = (ROOT / "LICENSE-COURSE").read_text(encoding="utf-8")
     assert "Creative Commons Attribution 4.0 International" in course
@@ -227,6 +228,29 @@ def test_make_help_lists_every_target_and_clean_exists():
     assert wanted <= listed
     phony = re.search(r"^\.PHONY:(.*)$", (ROOT / "Makefile").read_text(), re.M).group(1).split()
     assert listed <= set(phony)
+
+
+def test_the_class_copys_makefile_offers_only_what_works_there_and_it_has_a_gitignore(tmp_path):
+    from modbus_edu.course.release import CLASS_TARGETS, release
+
+    if not shutil.which("make"):
+        pytest.skip("make is not installed")
+    release(ROOT, tmp_path)
+    done = subprocess.run(["make", "--no-print-directory", "help"], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=60)
+    listed = [line.split(":")[0] for line in done.stdout.splitlines() if not line.startswith(" ")]
+    assert listed == list(CLASS_TARGETS)
+    makefile = (tmp_path / "Makefile").read_text(encoding="utf-8")
+    assert "$(call venv,$(TEST_PINS))" not in makefile  # a learner's environment, never the test tools
+    for target in listed:  # every file a target's recipe names is in the copy
+        dry = subprocess.run(["make", "--no-print-directory", "-n", target], capture_output=True, text=True,
+                             cwd=tmp_path, timeout=60, env={**os.environ, "PYTHON": sys.executable})
+        assert dry.returncode == 0, dry.stderr
+        named = re.findall(r"(?<![\w./-])((?:notebooks|binder|modbus_edu|tests|bench)/[\w./-]*)", dry.stdout)
+        for path in named:
+            assert (tmp_path / path).exists(), (target, path)
+    ignored = (tmp_path / ".gitignore").read_text(encoding="utf-8").split()
+    assert {".venv/", "__pycache__/", ".ipynb_checkpoints/"} <= set(ignored)
 
 
 # --- slow: packages, virtual environments, the class copy, a hub's base image ------------------------------
@@ -284,12 +308,18 @@ def test_the_makefile_rebuilds_its_venv_when_the_python_or_the_pins_change(tmp_p
     assert stamp.exists() and "rebuilding" not in first, first
     assert make().count("rebuilding") == 0
     (tmp_path / "binder" / "requirements-test.txt").write_text("# no pins, changed\n")
-    assert "rebuilding .venv from binder/requirements-test.txt: it was built by" in make()
+    out = make()
+    assert "rebuilding .venv from binder/requirements-test.txt: it was built from other pins than " \
+           "binder/requirements-test.txt (the learner's pins of make lab lack the test tools" in out, out
+    assert "it was built by" not in out  # the same Python: only the pins differ
     stamp.unlink()  # as an install stopped half-way leaves it
     assert "its install never finished" in make()
     if other:
         out = make(f"PYTHON={other}")
-        assert "rebuilding" in out and other in stamp.read_text(), out
+        # the stamp holds the interpreter that ran: a pyenv shim's is the version it resolves to
+        ran = subprocess.run([other, "-c", "import sys; print(sys.executable)"], capture_output=True,
+                             text=True, timeout=60).stdout.strip()
+        assert "rebuilding" in out and ran in stamp.read_text().split(), out
 
 
 @pytest.mark.slow

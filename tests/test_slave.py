@@ -484,3 +484,17 @@ def test_the_same_request_again_gets_the_same_answer_and_counts_again(slave):
     bad = request[:-1] + bytes([request[-1] ^ 0xFF])
     assert slave.handle(bad, "rtu") is None and slave.handle(bad, "rtu") is None
     assert slave.counters.checksum_errors == 2
+
+
+def test_listeners_hear_each_handled_request_after_it_is_logged():
+    slave = Slave(unit=1)
+    heard = []
+    slave.listeners.append(lambda s: heard.append((s.counters.requests, len(s.log))))
+    request = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=0, value=7)).encode()
+    slave.handle(request, "rtu")
+    slave.handle(request[:-1] + bytes([request[-1] ^ 1]), "rtu")  # a bad CRC: handled, not answered
+    slave.handle_pdu(ReadHoldingRegistersRequest(address=0, count=1))
+    assert heard == [(1, 2), (1, 3), (2, 3)]  # after the log: the request and its answer are in it
+    slave.listeners.clear()
+    slave.handle(request, "rtu")
+    assert len(heard) == 3

@@ -198,8 +198,16 @@ def test_frame_decoder_decodes_the_vector_frame_back(mode, fields, expected):
     # a write response echoes its request: only the chosen role tells them apart
     fd.role.value = {"exception": "response"}.get(fields.get("role"), fields.get("role", "request"))
     assert fd.dissection.frame == FrameBuilder(mode=mode, **fields).adu
-    assert "(detected)" in fd.message.text and fd.message.kind == "ok"
+    assert f"{mode.upper()} (detected: " in fd.message.text and fd.message.kind == "ok"
     assert "modbus-edu-dissection" in fd.dissection_view.value
+
+
+def test_frame_decoder_takes_a_tcp_frame_with_a_swapped_length_for_tcp_and_says_why():
+    fd = FrameDecoder("01 18 00 00 05 00 01 03 02 04 D2")  # the length 00 05 written low byte first
+    assert fd.dissection.mode == "tcp" and fd.message.kind == "error"
+    assert fd.message.text.startswith("TCP (detected: protocol 0 in bytes 2-3, and the length, read low "
+                                      "byte first, counts the 5 bytes that follow): MbapError")
+    assert "CrcError" not in fd.message.text
 
 
 def test_frame_builder_to_frame_decoder_round_trip():
@@ -1098,3 +1106,127 @@ def test_the_test_tools_master_offers_mask_write_read_write_and_fifo():
     master.function.value = 24
     master.address.value = 10
     assert master.poll_once() == [11, 12] and master.values[1:3] == [11, 12]
+
+
+# --- a panel follows its slave's traffic, throttled --------------------------------------------------
+class _ManualTimers:
+    """A clock and a scheduler that move only when the test says: throttling without real time."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+        self.waiting: list = []
+
+    def clock(self) -> float:
+        return self.now
+
+    def schedule(self, delay: float, callback):
+        timers = self
+
+        class Handle:
+            when = round(self.now + delay, 9)
+
+            def cancel(self) -> None:
+                timers.waiting.remove(self)
+
+        handle = Handle()
+        handle.callback = callback
+        self.waiting.append(handle)
+        return handle
+
+    def advance(self, seconds: float) -> None:
+        """Time goes by ``seconds``; each timer due fires at its own time."""
+        end = round(self.now + seconds, 9)
+        while due := [h for h in self.waiting if h.when <= end + 1e-9]:
+            handle = min(due, key=lambda h: h.when)
+            self.waiting.remove(handle)
+            self.now = round(handle.when, 9)
+            handle.callback()
+        self.now = end
+
+
+def _shown(tool: TestTool) -> tuple[list, int]:
+    """What the panel shows now: the grid's texts and the request counter in its counters line."""
+    requests = re.search(r'mbe-tt-count-requests">(\d+)<', tool.counters.value)
+    return [cell.value for cell in tool._cells], int(requests.group(1))
+
+
+def test_throttle_runs_first_at_once_then_at_most_once_per_interval_and_once_after_a_burst():
+    from modbus_edu.widgets.throttle import Throttle
+
+    timers, runs = _ManualTimers(), []
+    throttle = Throttle(lambda: runs.append(timers.now), 0.2, clock=timers.clock, schedule=timers.schedule)
+    throttle.poke()
+    assert runs == [0.0] and not throttle.pending          # the first change shows at once
+    for _ in range(50):                                      # a burst: nothing more until 0.2 s
+        timers.advance(0.001)
+        throttle.poke()
+    assert runs == [0.0] and throttle.pending and len(timers.waiting) == 1
+    timers.advance(0.2)
+    assert runs == [0.0, 0.2] and not throttle.pending     # the trailing run, at the interval's end
+    timers.advance(1.0)
+    throttle.poke()
+    assert runs == [0.0, 0.2, 1.25]                          # quiet for long (at 1.25 s): at once again
+    throttle.poke()
+    assert throttle.flush() and runs[-1] == 1.25 and len(runs) == 4 and not throttle.flush()
+    throttle.poke()
+    throttle.cancel()
+    timers.advance(1.0)
+    assert len(runs) == 4 and not timers.waiting
+
+
+def test_a_slave_tool_s_grid_and_counters_follow_another_link_without_refresh():
+    from modbus_edu.links import loopback_serial
+    from modbus_edu.master import Master
+    from modbus_edu.widgets.throttle import Throttle
+
+    stand_in = TestTool("rtu_slave", unit=1, address=0, length=4)
+    stand_in.fill_increment(start=100, step=10)
+    timers = _ManualTimers()
+    stand_in.follow = Throttle(stand_in.follow.action, 0.2, clock=timers.clock, schedule=timers.schedule)
+    assert _shown(stand_in) == (["100", "110", "120", "130"], 0)
+    program = Master(loopback_serial(stand_in.slave, baudrate=9600), timeout=1.0)  # not the tool's wire
+    program.write_single_register(unit=1, address=0, value=1234)
+    assert _shown(stand_in) == (["1234", "110", "120", "130"], 1)
+    timers.advance(0.05)
+    program.write_multiple_registers(unit=1, address=1, values=[7, 8, 9])
+    timers.advance(0.05)
+    program.read_holding_registers(unit=1, address=0, count=4)
+    assert _shown(stand_in) == (["1234", "110", "120", "130"], 1)   # throttled: not yet
+    timers.advance(0.1)                                              # 0.2 s after the first redraw
+    assert _shown(stand_in) == (["1234", "7", "8", "9"], 3)
+    assert "01 10 00 01 00 03" in stand_in.rx_log.value                # the RX log follows too
+    assert stand_in.follow.runs == 2
+
+
+def test_without_an_event_loop_the_panel_follows_each_request_at_once():
+    from modbus_edu.links import loopback_tcp
+    from modbus_edu.master import Master
+
+    device = TestTool("tcp_server", unit=1, address=0, length=3)
+    Master(loopback_tcp(device.slave)).write_multiple_registers(unit=1, address=0, values=[5, 6, 7])
+    assert _shown(device) == (["5", "6", "7"], 1)
+
+
+def test_a_panel_made_in_a_kernel_follows_a_real_server_s_thread_on_its_own_loop():
+    from modbus_edu.links.tcp import TcpServer, tcp_link
+
+    async def scenario():
+        stand_in = TestTool("tcp_server", unit=1, address=0, length=2)
+        with TcpServer(stand_in.slave, host="127.0.0.1", port=0) as server:  # the learner's own server
+            link = tcp_link(*server.address, timeout=2.0)
+            try:
+                from modbus_edu.master import Master
+
+                program = Master(link, timeout=2.0)
+                for value in (1, 2, 3):
+                    program.write_single_register(unit=1, address=0, value=value)
+                assert _shown(stand_in) == (["0", "0"], 0)  # the server's thread never draws
+                for _ in range(100):  # the loop draws: the first change, then the last after 0.2 s
+                    await asyncio.sleep(0.05)
+                    if _shown(stand_in) == (["3", "0"], 3):
+                        break
+            finally:
+                link.close()
+        assert _shown(stand_in) == (["3", "0"], 3) and stand_in.follow.runs <= 3
+
+    asyncio.run(asyncio.wait_for(scenario(), timeout=10))

@@ -6,18 +6,22 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from ..course.grade import grade
+from ..course.reports import printable
+
 
 def cmd_grade(args: argparse.Namespace) -> int:
-    from ..course.grade import grade
-
     summary = grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory, jobs=args.jobs,
                     progress=not args.quiet)
-    print(f"graded {summary['learners']} learner(s) in {summary['seconds']:.1f} s: {args.out}/gradebook.csv, "
-          f"{args.out}/summary.html, {args.out}/learners/")
+    out = printable(args.out)
+    print(f"graded {summary['learners']} learner(s) in {summary['seconds']:.1f} s: {out}/gradebook.csv, "
+          f"{out}/summary.html, {out}/learners/")
     for row in summary["exercises"]:
-        print(f"  {row['exercise']:>6}  {row['success rate']:4.0%} right")
+        print(f"  {printable(row['exercise']):>6}  {row['success rate']:4.0%} right")
     for learner, flags in summary["flags"].items():
-        print(f"  {learner}: {'; '.join(flags)}")
+        print(f"  {printable(learner)}: {printable('; '.join(flags))}")
+    for note in summary["notes"]:
+        print(f"  {printable(note)}")
     return 0
 
 

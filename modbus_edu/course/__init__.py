@@ -20,7 +20,8 @@ nbval compares.  ``python -m modbus_edu.course check`` lists what breaks the cou
   more bytes the prose quotes (outside an exercise's prompt) is shown by a code cell or an output of that
   notebook, or is a named specification example; the prose names a source at most 3 times (the closing
   "Where this comes from" box aside) and never "its Table N"; every notebook has that box before its Next
-  link.
+  link; no panel's picture names a source or a source's table or figure (``panel_problems``); every
+  worked solution ends with its own ``check("NN.k", answer)`` (``solution_problems``).
 
 ``python -m modbus_edu.course release DIR`` (``make release``) writes a copy of the course for a class,
 without the worked solutions (:mod:`.release`); ``modbus-edu grade`` grades a class's notebooks

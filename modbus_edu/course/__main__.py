@@ -9,6 +9,7 @@ from pathlib import Path
 from . import __doc__ as PACKAGE_DOC
 from .check import check_course
 from .execute import course_notebooks, execute
+from .release import release
 
 
 def _execute(args: argparse.Namespace, parser: argparse.ArgumentParser) -> int:
@@ -42,8 +43,6 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "execute":
         return _execute(args, parser)
     if args.command == "release":
-        from .release import release
-
         try:
             written = release(args.root, args.destination)
         except FileExistsError as exc:

@@ -3,10 +3,12 @@ the package's docstring."""
 
 from __future__ import annotations
 
+import ast
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from .._optional import load_nbformat
 from .execute import course_notebooks
 
 SHORTHAND_PATTERN = re.compile(r"\bsources?\s+00[0-4]\b|(?<![\w.:-])00[0-4](?:['’]s)?(?![\w.])", re.I)
@@ -35,7 +37,7 @@ def _comments(code: str) -> str:
 
 def source_shorthands(path: Path | str) -> list[str]:
     """The source-number shorthands ("source 003", "003's") in a notebook's prose and code comments."""
-    import nbformat
+    nbformat = load_nbformat()
 
     found = []
     for cell in nbformat.read(Path(path), as_version=4).cells:
@@ -50,7 +52,7 @@ def used_before_introduced(paths: list[Path]) -> list[Problem]:
     ``paths`` are the notebooks in course order.  A name is introduced by a markdown cell or a code
     comment at or before the cell that uses it, in that notebook or an earlier one; its first use is
     reported once."""
-    import nbformat
+    nbformat = load_nbformat()
 
     introduced: set[str] = set()
     reported: set[str] = set()
@@ -76,7 +78,7 @@ def used_before_introduced(paths: list[Path]) -> list[Problem]:
 
 def check_notebook(path: Path | str, last: bool = False) -> list[Problem]:
     """Everything in one notebook that breaks the course's conventions (empty list: none)."""
-    import nbformat
+    nbformat = load_nbformat()
 
     path = Path(path)
     name = path.name
@@ -191,7 +193,7 @@ SPECIFICATION_EXAMPLES = {
 
 def notebook_title(path: Path | str) -> str:
     """The notebook's title, without its number: "The data model: four tables"."""
-    import nbformat
+    nbformat = load_nbformat()
 
     for cell in nbformat.read(Path(path), as_version=4).cells:
         if cell.cell_type == "markdown":
@@ -209,7 +211,7 @@ def names_notebook(text: str, title: str) -> bool:
 
 
 def _markdown(path: Path) -> list[str]:
-    import nbformat
+    nbformat = load_nbformat()
 
     return [_text(cell) for cell in nbformat.read(path, as_version=4).cells if cell.cell_type == "markdown"]
 
@@ -287,7 +289,7 @@ def next_link_problems(notebooks: list[Path]) -> list[Problem]:
 
 def links_in_code(path: Path | str) -> list[Problem]:
     """Markdown links written inside code cells (they show as text, not as links)."""
-    import nbformat
+    nbformat = load_nbformat()
 
     path = Path(path)
     problems = []
@@ -301,8 +303,6 @@ def links_in_code(path: Path | str) -> list[Problem]:
 
 def _byte_runs(text: str) -> list[bytes]:
     """Every run of bytes ``text`` shows: spaced hex, unbroken hex, 0x numbers, Python bytes literals."""
-    import ast
-
     runs = []
     for match in re.finditer(r"(?<![0-9A-Za-z])[0-9A-Fa-f]{2}(?:[ :,-]{1,2}[0-9A-Fa-f]{2})*(?![0-9A-Za-z])",
                              text):
@@ -324,7 +324,7 @@ def _byte_runs(text: str) -> list[bytes]:
 
 def _shown(path: Path) -> str:
     """Everything a notebook's cells show: code and every text output."""
-    import nbformat
+    nbformat = load_nbformat()
 
     parts = []
     for cell in nbformat.read(path, as_version=4).cells:
@@ -424,6 +424,55 @@ def source_problems(path: Path | str) -> list[Problem]:
     return problems
 
 
+PANEL_PICTURE = "mbe-picture"
+"""The class of a panel's stored picture (:mod:`modbus_edu.widgets.picture`): what the learner sees of it."""
+SOURCE_TABLE = re.compile(r"\b(?:table|figure|fig\.)\s*\d+", re.I)
+
+
+def panel_problems(path: Path | str) -> list[Problem]:
+    """A panel whose picture names a source, or a source's table or figure, which the learner never sees
+    (the panel says what it shows in its own words)."""
+    import nbformat
+
+    path = Path(path)
+    problems = []
+    for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
+        for output in cell.get("outputs", []) if cell.cell_type == "code" else []:
+            html = output.get("data", {}).get("text/html", "")
+            html = html if isinstance(html, str) else "".join(html)
+            if PANEL_PICTURE not in html:
+                continue
+            text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html))
+            named = [m.group(0) for m in SOURCE_TABLE.finditer(text)]
+            named += [name for name in SOURCE_NAMES if name.lower() in text.lower()]
+            if named:
+                names = ", ".join(map(repr, named))
+                problems.append(Problem(path.name, f"cell {index}: a panel names {names}, which the learner "
+                                                   "never sees: say what it shows"))
+    return problems
+
+
+def solution_problems(folder: Path | str) -> list[Problem]:
+    """Worked solutions (``solutions/NN_k.py``) that do not end with their own ``check("NN.k", ...)``:
+    ``%load`` replaces the exercise's cell, check call included, so the solution must bring it back."""
+    problems = []
+    for path in sorted(Path(folder).glob("[0-9][0-9]_*.py")):
+        key = path.stem.replace("_", ".", 1)
+        try:
+            body = ast.parse(path.read_text(encoding="utf-8")).body
+        except SyntaxError as exc:
+            problems.append(Problem(f"solutions/{path.name}",
+                                    f"it does not parse: {exc.msg} (line {exc.lineno})"))
+            continue
+        last = body[-1] if body else None
+        call = last.value if isinstance(last, ast.Expr) else None
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "check"
+                and call.args and isinstance(call.args[0], ast.Constant) and call.args[0].value == key):
+            problems.append(Problem(f"solutions/{path.name}", f'it does not end with check("{key}", ...): '
+                                                              "%load replaces the cell, its check included"))
+    return problems
+
+
 def where_box_problems(path: Path | str) -> list[Problem]:
     """A "Where this comes from" section, placed before the notebook's Next link (notebook 00's "Sources"
     section, which cites every source in full, counts as its box)."""
@@ -440,7 +489,8 @@ def where_box_problems(path: Path | str) -> list[Problem]:
 
 def check_integrity(folder: Path | str, readme: Path | str | None = None) -> list[Problem]:
     """The course as one: the map in 00 and the README's table, the Next links, who calls itself the last,
-    links in code, quoted frames, sources in the prose and the "Where this comes from" boxes."""
+    links in code, quoted frames, sources in the prose and the "Where this comes from" boxes, panels
+    that name a source's table, and worked solutions that do not end with their check."""
     notebooks = course_notebooks(folder)
     readme = Path(folder).resolve().parent / "README.md" if readme is None else Path(readme)
     problems = map_problems(notebooks)
@@ -452,4 +502,6 @@ def check_integrity(folder: Path | str, readme: Path | str | None = None) -> lis
         problems.extend(unshown_frames(path))
         problems.extend(source_problems(path))
         problems.extend(where_box_problems(path))
+        problems.extend(panel_problems(path))
+    problems.extend(solution_problems(Path(folder) / "solutions"))
     return problems

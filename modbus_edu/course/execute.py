@@ -7,6 +7,8 @@ import re
 import time
 from pathlib import Path
 
+from .._optional import load_nbclient, load_nbformat
+
 NOTEBOOK_PATTERN = re.compile(r"^\d\d_[a-z0-9_]+\.ipynb$")
 
 
@@ -17,15 +19,14 @@ def course_notebooks(folder: Path | str) -> list[Path]:
 
 def execute(path: Path | str, timeout: int = 120) -> float:
     """Execute one notebook in place from a fresh kernel; return the seconds it took."""
-    import nbformat
-    from nbclient import NotebookClient
+    nbformat, nbclient = load_nbformat(), load_nbclient()
 
     path = Path(path)
     notebook = nbformat.read(path, as_version=4)
     notebook.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3 (ipykernel)",
                                        "language": "python"}
     start = time.perf_counter()
-    client = NotebookClient(notebook, timeout=timeout, kernel_name="python3",
+    client = nbclient.NotebookClient(notebook, timeout=timeout, kernel_name="python3",
                             resources={"metadata": {"path": str(path.parent.resolve())}})
     client.execute()
     elapsed = time.perf_counter() - start

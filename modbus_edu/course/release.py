@@ -13,12 +13,33 @@ import re
 import shutil
 from pathlib import Path
 
+from .._optional import load_nbformat
 from .execute import course_notebooks
 
 #: What a class repository holds, relative to the course's root: the rest (tests, bench, .ci, the
-#: solutions, the instructor's guide) stays behind.
-SHIPPED = ["modbus_edu", "binder", "pyproject.toml", "Makefile", "LICENSE", "LICENSE-COURSE",
-           "CITATION.cff"]
+#: solutions, the instructor's guide) stays behind.  Its Makefile is :func:`class_makefile`'s.
+SHIPPED = ["modbus_edu", "binder", "pyproject.toml", "LICENSE", "LICENSE-COURSE", "CITATION.cff"]
+
+#: The Makefile targets that work in the class copy (the others need the tests, the benchmarks, the
+#: solutions or the instructor's tools, which stay behind).
+CLASS_TARGETS = ("help", "lab", "notebooks", "clean")
+
+CLASS_MAKEFILE_HEADER = """\
+# The course for a class: `make lab` builds its own virtual environment in .venv from the learner's pins
+# (binder/requirements.txt) and opens the course in JupyterLab; a fresh clone needs only Python (3.10 or
+# newer) and git. PYTHON=python3.12 picks the interpreter.
+"""
+
+CLASS_GITIGNORE = """\
+.venv/
+.venv-*/
+__pycache__/
+*.pyc
+*.egg-info/
+.ipynb_checkpoints/
+build/
+dist/
+"""
 
 SOLUTION_MENTION = re.compile(r"solutions/|%load\b")
 SENTENCE_END = re.compile(r"(?<=[.!?])(\s+)")
@@ -68,7 +89,7 @@ def without_solution_hints(text: str) -> str:
 def strip_notebook(path: Path) -> int:
     """Remove the solution hints from one notebook's markdown and code comments; return how many cells
     changed."""
-    import nbformat
+    nbformat = load_nbformat()
 
     notebook = nbformat.read(path, as_version=4)
     changed = 0
@@ -89,6 +110,22 @@ def strip_notebook(path: Path) -> int:
     return changed
 
 
+def class_makefile(makefile: str) -> str:
+    """The course's Makefile cut to the targets that work in a class copy (:data:`CLASS_TARGETS`): each
+    target's block (its ``## name:`` help and its rule) kept or left out whole, the header written for
+    a class, and every environment built from the learner's pins."""
+    kept = [CLASS_MAKEFILE_HEADER.rstrip("\n")]
+    for block in makefile.split("\n\n")[1:]:
+        target = re.search(r"^## ([\w-]+):", block, re.M)
+        if target and target.group(1) not in CLASS_TARGETS:
+            continue
+        block = re.sub(r"^\.PHONY:.*$", ".PHONY: " + " ".join(CLASS_TARGETS), block, flags=re.M)
+        kept.append(block.replace("$(call venv,$(TEST_PINS))", "$(call venv,$(LEARNER_PINS))"))
+    text = "\n\n".join(kept)
+    unused = [name for name in re.findall(r"^([A-Z_]+)\s*[?:]?=", text, re.M) if f"$({name})" not in text]
+    return re.sub(rf"^(?:{'|'.join(unused)})\s*[?:]?=.*\n", "", text, flags=re.M) if unused else text
+
+
 def release(root: Path | str, destination: Path | str) -> list[Path]:
     """Write the class copy of the course at ``root`` into ``destination`` (which must not exist or be
     empty); return the notebooks written."""
@@ -104,6 +141,9 @@ def release(root: Path | str, destination: Path | str) -> list[Path]:
         elif source.exists():
             shutil.copy2(source, destination / name)
     (destination / "README.md").write_text(CLASS_README, encoding="utf-8")
+    (destination / ".gitignore").write_text(CLASS_GITIGNORE, encoding="utf-8")
+    makefile = class_makefile((root / "Makefile").read_text(encoding="utf-8"))
+    (destination / "Makefile").write_text(makefile, encoding="utf-8")
     (destination / "notebooks").mkdir()
     written = []
     for notebook in course_notebooks(root / "notebooks"):

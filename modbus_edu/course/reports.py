@@ -1,25 +1,71 @@
-"""The gradebook's reports: ``gradebook.csv``, a page per learner, and the class summary."""
+"""The gradebook's reports: ``gradebook.csv``, a page per learner, and the class summary.
+
+Everything in them that a learner wrote (a name, a folder's name, an exercise key, a checker's feedback
+quoting an answer, a flag) is data, never markup or a formula: every HTML cell is escaped, and every CSV
+cell that a spreadsheet would read as a formula (one starting with ``=``, ``+``, ``-``, ``@``, a tab or a
+carriage return) starts with a single quote, as OWASP advises.  :func:`printable` does the same for a
+terminal.
+"""
 
 from __future__ import annotations
 
 import csv
+import hashlib
 import html
+import re
 from collections import Counter
 from pathlib import Path
 
-from .verdicts import ERRORED, NOT_ANSWERED, RIGHT, WRONG, Verdict, misconception
+from ..codes import _printable
+from .verdicts import ERRORED, NOT_ANSWERED, RIGHT, WRONG, Verdict, feedback, slip
+
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+SLIPS_SHOWN = 3
+"""Slips the summary names per exercise (the most frequent)."""
+
+
+def csv_cell(value: object) -> str:
+    """A CSV cell a spreadsheet shows as text: a leading formula character is neutralised with ``'``."""
+    text = str(value)
+    return "'" + text if text.startswith(FORMULA_START) else text
+
+
+def _csv(path: Path, rows: list[list]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as stream:
+        csv.writer(stream).writerows([[csv_cell(cell) for cell in row] for row in rows])
+
+
+def _h(value: object) -> str:
+    return html.escape(str(value), quote=True)
+
+
+def printable(text: object) -> str:
+    """``text`` for a terminal: every control character (an escape sequence's ESC, a line break, a
+    bidirectional override) written as Python writes it (``\\x1b``), so a name cannot act on the screen."""
+    return _printable(str(text))
+
+
+def page_name(learner: str) -> str:
+    """The file name of a learner's page: the name itself when it is plain, else a plain form of it and a
+    short hash (so that no name can reach outside ``learners/`` or clash with another)."""
+    plain = re.sub(r"[^a-z0-9_-]+", "_", learner.casefold()).strip("_")[:40]
+    if plain == learner:
+        return f"{plain}.html"
+    return f"{plain or 'learner'}-{hashlib.sha256(learner.encode()).hexdigest()[:8]}.html"
+
+
+def _counts(row: dict, exercises: list[str]) -> Counter:
+    return Counter(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises)
 
 
 def _write_csv(path: Path, table: dict, exercises: list[str], flags: dict) -> None:
-    with path.open("w", newline="", encoding="utf-8") as stream:
-        writer = csv.writer(stream)
-        writer.writerow(["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, "score", "flags"])
-        for learner, row in table.items():
-            statuses = [row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises]
-            counts = Counter(statuses)
-            writer.writerow([learner, *statuses, counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED],
-                             counts[ERRORED], f"{counts[RIGHT]}/{len(exercises)}",
-                             " | ".join(flags[learner])])
+    rows: list[list] = [["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, "score", "flags"]]
+    for learner, row in table.items():
+        counts = _counts(row, exercises)
+        rows.append([learner, *(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises),
+                     counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[ERRORED],
+                     f"{counts[RIGHT]}/{len(exercises)}", " | ".join(flags[learner])])
+    _csv(path, rows)
 
 
 PAGE = """<!doctype html><html><head><meta charset="utf-8"><title>{title}</title><style>
@@ -30,54 +76,92 @@ vertical-align: top; border-bottom: 1px solid #ddd; text-align: left; }} .right 
 """
 
 
+def _list(items: list[str]) -> str:
+    """An HTML list of already escaped items."""
+    return "<ul>" + "".join(f"<li>{item}</li>" for item in items) + "</ul>"
+
+
 def _write_learner(path: Path, learner: str, row: dict, exercises: list[str], flags: list[str]) -> None:
-    right = sum(1 for key in exercises if row.get(key, Verdict(NOT_ANSWERED)).status == RIGHT)
-    parts = [f"<p>{right} of {len(exercises)} exercises right.</p>"]
+    parts = [f"<p>{_counts(row, exercises)[RIGHT]} of {len(exercises)} exercises right.</p>"]
     if flags:
-        parts.append("<h2>About the notebooks</h2><ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in flags)
-                     + "</ul>")
+        parts.append("<h2>About the notebooks</h2>" + _list([_h(flag) for flag in flags]))
     parts.append("<table><tr><th>exercise</th><th>result</th><th>the checker's feedback</th></tr>")
     for key in exercises:
         verdict = row.get(key, Verdict(NOT_ANSWERED, "no cell of the notebooks checks this exercise"))
-        parts.append(f"<tr><td>{key}</td><td class='{verdict.status.split()[0]}'>{verdict.status}</td>"
-                     f"<td><pre>{html.escape(verdict.message)}</pre></td></tr>")
+        parts.append(f"<tr><td>{_h(key)}</td><td class='{_h(verdict.status.split()[0])}'>{_h(verdict.status)}"
+                     f"</td><td><pre>{_h(verdict.message)}</pre></td></tr>")
     parts.append("</table>")
-    path.write_text(PAGE.format(title=f"Feedback for {html.escape(learner)}", body="".join(parts)),
-                    encoding="utf-8")
+    path.write_text(PAGE.format(title=f"Feedback for {_h(learner)}", body="".join(parts)), encoding="utf-8")
 
 
-def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict) -> dict:
+def _slips(table: dict, key: str) -> list[dict]:
+    """The slips of an exercise, most learners first: the slip's name, whether the catalogue names it,
+    the learners who made it and one real feedback message (numbers kept)."""
+    found: dict[str, dict] = {}
+    for learner, row in table.items():
+        verdict = row.get(key)
+        if verdict is None or verdict.status != WRONG:
+            continue
+        name, named = slip(verdict.message)
+        entry = found.setdefault(name, {"slip": name, "named": named, "learners": [],
+                                        "example": feedback(verdict.message)})
+        entry["learners"].append(learner)
+    return sorted(found.values(), key=lambda s: (-len(s["learners"]), not s["named"], s["slip"]))
+
+
+def _slip_html(entry: dict, where: str = "") -> str:
+    name = f"<b>{_h(entry['slip'])}</b>" if entry["named"] else f"unnamed: {_h(entry['slip'])}"
+    return (f"{name}{where} ({len(entry['learners'])}: {_h(', '.join(entry['learners']))})"
+            f"<br><small>e.g. “{_h(entry['example'])}”</small>")
+
+
+def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
+                   look_at: dict[str, list[str]] | None = None, notes: list[str] | None = None) -> dict:
+    """``summary.csv`` and ``summary.html``: each exercise's success rate and slips, the class's slips by
+    their catalogue names, the notebooks to look at and how the submissions were read."""
+    look_at = {learner: found for learner, found in (look_at or {}).items() if found}
     rows = []
     for key in exercises:
-        statuses = [row.get(key, Verdict(NOT_ANSWERED)) for row in table.values()]
-        counts = Counter(v.status for v in statuses)
-        slips = Counter(misconception(v.message) for v in statuses if v.status == WRONG)
-        rows.append({"exercise": key, "learners": len(statuses), **{s: counts[s] for s in
+        counts = Counter(row.get(key, Verdict(NOT_ANSWERED)).status for row in table.values())
+        rows.append({"exercise": key, "learners": len(table), **{s: counts[s] for s in
                      (RIGHT, WRONG, NOT_ANSWERED, ERRORED)},
-                     "success rate": counts[RIGHT] / len(statuses) if statuses else 0.0,
-                     "misconceptions": slips.most_common(3)})
-    with (out / "summary.csv").open("w", newline="", encoding="utf-8") as stream:
-        writer = csv.writer(stream)
-        writer.writerow(["exercise", "learners", RIGHT, WRONG, NOT_ANSWERED, ERRORED, "success rate",
-                         "most frequent misconception", "learners with it"])
-        for row in rows:
-            slip, count = row["misconceptions"][0] if row["misconceptions"] else ("", 0)
-            writer.writerow([row["exercise"], row["learners"], row[RIGHT], row[WRONG], row[NOT_ANSWERED],
-                             row[ERRORED], f"{row['success rate']:.0%}", slip, count])
-    parts = [f"<p>{len(table)} learners, {len(exercises)} exercises.</p><table><tr><th>exercise</th>"
-             "<th>success rate</th><th>right / wrong / not answered / errored</th>"
-             "<th>misconceptions the checkers named (learners)</th></tr>"]
+                     "success rate": counts[RIGHT] / len(table) if table else 0.0,
+                     "slips": _slips(table, key)})
+    lines: list[list] = [["exercise", "learners", RIGHT, WRONG, NOT_ANSWERED, ERRORED, "success rate",
+                          "most frequent misconception", "learners with it", "who", "example feedback"]]
+    for row in rows:
+        top = row["slips"][0] if row["slips"] else {"slip": "", "learners": [], "example": ""}
+        lines.append([row["exercise"], row["learners"], row[RIGHT], row[WRONG], row[NOT_ANSWERED],
+                      row[ERRORED], f"{row['success rate']:.0%}", top["slip"], len(top["learners"]),
+                      ", ".join(top["learners"]), top["example"]])
+    _csv(out / "summary.csv", lines)
+
+    parts = [f"<p>{len(table)} learners, {len(exercises)} exercises.</p>"]
+    named: dict[str, dict] = {}
+    for row in rows:
+        for entry in row["slips"]:
+            if entry["named"]:
+                merged = named.setdefault(entry["slip"], {**entry, "learners": [], "exercises": []})
+                merged["exercises"].append(row["exercise"])
+                merged["learners"] += [name for name in entry["learners"] if name not in merged["learners"]]
+    if named:
+        parts.append("<h2>The class's frequent slips</h2>" + _list([
+            _slip_html(entry, f" in {_h(', '.join(entry['exercises']))}")
+            for entry in sorted(named.values(), key=lambda e: (-len(e["learners"]), e["slip"]))]))
+    parts.append("<h2>Exercises</h2><table><tr><th>exercise</th><th>success rate</th>"
+                 "<th>right / wrong / not answered / errored</th><th>slips (learners)</th></tr>")
     for row in sorted(rows, key=lambda r: r["success rate"]):
-        slips = "".join(f"<li>{html.escape(text)} ({count})</li>" for text, count in row["misconceptions"])
-        parts.append(f"<tr><td>{row['exercise']}</td><td>{row['success rate']:.0%}</td><td>{row[RIGHT]} / "
-                     f"{row[WRONG]} / {row[NOT_ANSWERED]} / {row[ERRORED]}</td>"
-                     f"<td><ul>{slips}</ul></td></tr>")
+        slips = _list([_slip_html(entry) for entry in row["slips"][:SLIPS_SHOWN]]) if row["slips"] else ""
+        parts.append(f"<tr><td>{_h(row['exercise'])}</td><td>{row['success rate']:.0%}</td><td>{row[RIGHT]} "
+                     f"/ {row[WRONG]} / {row[NOT_ANSWERED]} / {row[ERRORED]}</td><td>{slips}</td></tr>")
     parts.append("</table>")
-    flagged = {learner: found for learner, found in flags.items() if found}
-    if flagged:
-        parts.append("<h2>Notebooks to look at</h2><ul>" + "".join(
-            f"<li>{html.escape(learner)}: {html.escape('; '.join(found))}</li>"
-            for learner, found in flagged.items()) + "</ul>")
+    if look_at:
+        parts.append("<h2>Notebooks to look at</h2>" + _list([
+            f"{_h(learner)}: {_h('; '.join(found))}" for learner, found in look_at.items()]))
+    if notes:
+        parts.append("<h2>How the submissions were read</h2>" + _list([_h(note) for note in notes]))
     page = PAGE.format(title="Class summary", body="".join(parts))
     (out / "summary.html").write_text(page, encoding="utf-8")
-    return {"learners": len(table), "exercises": rows, "flags": flagged}
+    flagged = {learner: found for learner, found in flags.items() if found}
+    return {"learners": len(table), "exercises": rows, "flags": flagged, "look_at": look_at,
+            "notes": list(notes or [])}

@@ -18,6 +18,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .._optional import load_nbclient, load_nbformat, load_transformer_manager
+
 RECORDER = "__modbus_edu_record__"
 STARTUP_TIMEOUT = 120
 """Seconds a kernel may take to start (not counted in a notebook's time limit)."""
@@ -61,9 +63,7 @@ kernelapp.launch_new_instance()
 def _python_source(cell_source: str) -> str | None:
     """A cell as plain Python (IPython magics turned into calls), or None if it does not parse."""
     try:
-        from IPython.core.inputtransformer2 import TransformerManager
-
-        source = TransformerManager().transform_cell(cell_source)
+        source = load_transformer_manager()().transform_cell(cell_source)
     except Exception:
         source = cell_source
     try:
@@ -140,6 +140,7 @@ class NotebookRun:
     errored_cells: dict[str, str] = field(default_factory=dict)  # exercise key -> the error
     problems: list[str] = field(default_factory=list)
     seconds: float = 0.0
+    unfinished: str = ""  # the cell that was running when the notebook was stopped or its kernel died
 
 
 def _kernel_spec(folder: Path) -> str:
@@ -154,9 +155,10 @@ def _kernel_spec(folder: Path) -> str:
 
 def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
     """Run one notebook from the top in a fresh, limited kernel; the verdicts its checks recorded."""
-    import nbformat
-    from nbclient import NotebookClient
-    from nbclient.exceptions import CellTimeoutError, DeadKernelError
+    nbformat, nbclient = load_nbformat(), load_nbclient()
+    NotebookClient = nbclient.NotebookClient
+    CellTimeoutError = nbclient.exceptions.CellTimeoutError
+    DeadKernelError = nbclient.exceptions.DeadKernelError
 
     run = NotebookRun(path.name)
     start = time.monotonic()
@@ -167,6 +169,8 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
         return run
     cell_keys: dict[int, list[str]] = {}
     cells = [c for c in notebook.cells if c.cell_type == "code"]
+    first_lines = [(c.source.strip().splitlines() or [""])[0][:80] for c in cells]
+    started: list[int] = [0]  # the index of the cell running (0: the grader's set-up)
     for index, cell in enumerate(cells):
         keys = exercise_keys(cell.source)
         cell_keys[index + 1] = keys
@@ -214,13 +218,19 @@ def run_notebook(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
 
         client = Client(notebook, kernel_name=_kernel_spec(folder), allow_errors=True,
                         startup_timeout=STARTUP_TIMEOUT, timeout_func=time_left,
-                        resources={"metadata": {"path": str(path.parent.resolve())}})
+                        resources={"metadata": {"path": str(path.parent.resolve())}},
+                        on_cell_start=lambda cell, cell_index: started.append(cell_index))
+        def stopped_in() -> str:  # the learner's code cell that was running, and its first line
+            return f"code cell {started[-1]} ({first_lines[started[-1] - 1]!r})" if started[-1] else ""
+
         try:
             client.execute()
         except CellTimeoutError:
             run.problems.append(f"did not finish within {timeout:g} s (stopped)")
+            run.unfinished = stopped_in()
         except DeadKernelError:
             run.problems.append("killed its kernel (the kernel died)")
+            run.unfinished = stopped_in()
         except Exception as exc:  # a learner's notebook must never stop the grading of the others
             run.problems.append(f"could not be run to the end ({type(exc).__name__}: {str(exc)[:200]})")
         if log.exists():
@@ -261,9 +271,7 @@ def run_isolated(path: Path, timeout: float, memory_mb: int) -> NotebookRun:
 def _keys_of(path: Path) -> list[str]:
     """The exercise keys a notebook checks, read from the file (for a notebook whose grader failed)."""
     try:
-        import nbformat
-
-        cells = nbformat.read(path, as_version=4).cells
+        cells = load_nbformat().read(path, as_version=4).cells
     except Exception:
         return []
     return [key for cell in cells if cell.cell_type == "code" for key in exercise_keys(cell.source)]

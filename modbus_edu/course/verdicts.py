@@ -1,13 +1,26 @@
-"""A learner's verdicts: each exercise's status and the checker's feedback, from the notebooks' runs."""
+"""A learner's verdicts: each exercise's status and the checker's feedback, from the notebooks' runs.
+
+Also what a class's runs decide together: which copy of a notebook counts when a learner handed in
+several (:func:`pick_copies`), which exercises are the gradebook's columns (:func:`course_keys`: only the
+course's own, in the notebooks the class handed in, so a key a learner makes up is a flag, never a
+column), and the name of each slip (:func:`slip`: the catalogue's label the checker's feedback begins
+with).
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from dataclasses import dataclass
 
+from ..exercises import EXERCISES
+from ..exercises.misconceptions import CATALOGUE
 from .runner import NotebookRun
+from .submissions import Submission
 
 RIGHT, WRONG, NOT_ANSWERED, ERRORED = "right", "wrong", "not answered", "errored"
+SHOWN_KEYS = 5
+"""Made-up keys a flag names (each cut to 40 characters); the rest are counted."""
 
 
 @dataclass
@@ -32,8 +45,103 @@ def verdicts(runs: list[NotebookRun]) -> dict[str, Verdict]:
     return found
 
 
+def answers(run: NotebookRun) -> int:
+    """How many exercises a run answered (right or wrong)."""
+    return len({record["key"] for record in run.records if record["ok"] is not None})
+
+
+def pick_copies(graded: list[tuple[Submission, NotebookRun]]
+                ) -> tuple[dict[str, list[tuple[Submission, NotebookRun]]], dict[str, list[str]]]:
+    """Per learner, one run per notebook: of several copies, the one with the most answers, then the
+    newest; and, per learner, one line for each choice made."""
+    groups: dict[tuple[str, str], list[tuple[Submission, NotebookRun]]] = {}
+    for submission, run in graded:
+        groups.setdefault((submission.learner, submission.notebook), []).append((submission, run))
+    chosen: dict[str, list[tuple[Submission, NotebookRun]]] = {}
+    choices: dict[str, list[str]] = {}
+    for (learner, notebook), copies in sorted(groups.items()):
+        best = max(copies, key=lambda pair: (answers(pair[1]), pair[0].mtime, pair[0].path.name))
+        chosen.setdefault(learner, []).append(best)
+        if len(copies) > 1:
+            others = ", ".join(f"{other.path.name!r} ({answers(run)} answered)" for other, run in copies
+                               if other is not best[0])
+            choices.setdefault(learner, []).append(
+                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answered; the most, then "
+                f"the newest), not {others}")
+    return chosen, choices
+
+
+def _key_order(key: str) -> tuple:
+    return tuple(int(p) if p.isdigit() else 0 for p in key.split("."))
+
+
+def _belongs(key: str, notebook: str) -> bool:
+    """``key`` is an exercise of the course, and of ``notebook`` when the notebook's title numbers it."""
+    if key not in EXERCISES:
+        return False
+    return not re.match(r"\d\d_", notebook) or key.split(".")[0] == notebook[:2]
+
+
+def course_keys(chosen: dict[str, list[tuple[Submission, NotebookRun]]]
+                ) -> tuple[list[str], dict[str, list[NotebookRun]], dict[str, str]]:
+    """The gradebook's columns (the course's exercises the class's notebooks check), each learner's runs
+    without the checks of any other key, and a flag for each learner who checked other keys."""
+    columns: set[str] = set()
+    runs: dict[str, list[NotebookRun]] = {}
+    flags: dict[str, str] = {}
+    for learner, pairs in chosen.items():
+        foreign: list[str] = []
+        for submission, run in pairs:
+            keep = {str(key) for key in [*run.keys, *(r["key"] for r in run.records)]
+                    if _belongs(str(key), submission.notebook)}
+            foreign += [str(key) for key in [*run.keys, *(r["key"] for r in run.records)]
+                        if str(key) not in keep]
+            columns |= keep
+            runs.setdefault(learner, []).append(dataclasses.replace(
+                run, keys=[k for k in run.keys if k in keep],
+                records=[r for r in run.records if str(r["key"]) in keep],
+                errored_cells={k: v for k, v in run.errored_cells.items() if k in keep}))
+        foreign = list(dict.fromkeys(foreign))
+        if foreign:
+            shown = ", ".join(repr(key[:40]) for key in foreign[:SHOWN_KEYS])
+            more = f" and {len(foreign) - SHOWN_KEYS} more" if len(foreign) > SHOWN_KEYS else ""
+            flags[learner] = f"checks keys that are not its notebooks' exercises (not graded): {shown}{more}"
+    return sorted(columns, key=_key_order), runs, flags
+
+
 def misconception(message: str) -> str:
     """A checker's feedback without the learner's own numbers, so that the same slip counts once."""
     text = message.split("\nHint:")[0].removeprefix("Not yet: ")
     text = re.sub(r"0x[0-9A-Fa-f]+|\b[0-9A-F]{2}(?: [0-9A-F]{2})+\b|\b\d+(?:\.\d+)?\b", "#", text)
     return text.strip()
+
+
+def feedback(message: str) -> str:
+    """A checker's feedback as the learner read it, numbers kept, without the hint."""
+    return message.split("\nHint:")[0].removeprefix("Not yet: ").strip()
+
+
+def slip(message: str) -> tuple[str, bool]:
+    """The name of the slip a wrong answer's feedback describes, and whether the catalogue names it: the
+    longest catalogue label the feedback holds (a checker's verdict begins with the label, then ``:``),
+    else the feedback without the learner's numbers."""
+    text = feedback(message).casefold()
+    labels = [entry.label for entry in CATALOGUE.values() if entry.label.casefold() + ":" in text]
+    if labels:
+        return max(labels, key=len), True
+    return misconception(message), False
+
+
+def concerns(run: NotebookRun) -> list[str]:
+    """Why an instructor should open a notebook: what went wrong running it (with the cell that did not
+    finish), a cell that raised around an exercise, or nothing answered."""
+    found = list(run.problems)
+    if run.unfinished:
+        found.append(f"the cell that did not finish: {run.unfinished}")
+    found += [f"{key}: {error}" for key, error in run.errored_cells.items()]
+    if not run.problems:
+        if not run.keys and not run.records:
+            found.append("empty: it checks no exercise")
+        elif not answers(run) and not run.errored_cells:
+            found.append(f"unanswered: none of its {len(set(run.keys))} exercises answered")
+    return found

@@ -161,6 +161,7 @@ TROUBLESHOOTING: dict[str, tuple[tuple[str, str], ...]] = {
         ("wiring", "A, B and common\n(0 V) connected?"),
         ("A/B", "swap A and B\n(harmless)"),
         ("settings", "baud, parity as\nthe meter's menu?"),
+        ("first answer", "just switched on?\ntimeout 1 s,\nor retries=1"),
         ("unit", "unit = the\nmeter's Addr?"),
     ),
     "exception 02\n(illegal data address)": (
@@ -188,6 +189,7 @@ def troubleshooting_figure():
     """Draw :data:`TROUBLESHOOTING` as a flowchart (one row per symptom, checks left to right).
 
     Returns the matplotlib figure (the course's width, :mod:`modbus_edu.plotstyle`)."""
+    # matplotlib (the course extra) only when the figure is drawn: plotstyle imports it at its top
     from matplotlib.patches import FancyBboxPatch
 
     from ..plotstyle import figure

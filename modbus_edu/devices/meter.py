@@ -49,6 +49,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from importlib import resources
 from typing import Any
 
 from ..datamodel import DataBank, format_reference
@@ -176,8 +177,6 @@ def power_meter_map() -> Any:
     """The same map as a register map file, ``devices/maps/power_meter.csv``, loaded into a
     :class:`~modbus_edu.registermap.RegisterMap` (uint32 ABCD points, scale = 1 / the meter's factor):
     ``power_meter_map().read(master, unit=1)`` gives what :func:`read_meter` gives."""
-    from importlib import resources
-
     return load_map(resources.files("modbus_edu.devices") / "maps" / "power_meter.csv")
 
 

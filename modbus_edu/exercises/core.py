@@ -90,6 +90,20 @@ class Result:
 
 EXERCISES: dict[str, Exercise] = {}
 
+LINES: dict[str, str] = {}
+"""Build exercises' line of code, by key.  The hint gives the idea; :func:`check` adds the line only
+after :data:`TRIES_BEFORE_LINE` wrong tries (:func:`line_after_tries` sets it)."""
+
+TRIES_BEFORE_LINE = 2
+
+wrong_tries: dict[str, int] = {}
+"""How many wrong answers :func:`check` has seen per exercise since its last right one (this kernel)."""
+
+
+def line_after_tries(key: str, line: str) -> None:
+    """Give exercise ``key``'s line of code, shown only after two wrong tries."""
+    LINES[key] = line
+
 
 def register(item: Exercise) -> Exercise:
     """Add ``item`` to :data:`EXERCISES`; a key is registered once."""
@@ -158,8 +172,19 @@ def evaluate(key: Any, answer: Any) -> Result:
 
 
 def check(key: str, answer: Any) -> Result:
-    """Check an answer, print the verdict, and return it (falsy unless right)."""
+    """Check an answer, print the verdict, and return it (falsy unless right).
+
+    Counts the wrong tries per exercise: from the second on, an exercise with a line of code
+    (:data:`LINES`) shows it under the hint."""
     result = evaluate(key, answer)
+    if isinstance(key, str) and key in EXERCISES:
+        if result.ok is False:
+            tries = wrong_tries[key] = wrong_tries.get(key, 0) + 1
+            if tries >= TRIES_BEFORE_LINE and key in LINES:
+                result = Result(key, False, f"{result.message}\nAfter {tries} tries, the line itself: "
+                                            f"{LINES[key]}")
+        elif result.ok:
+            wrong_tries.pop(key, None)
     print(result.message)
     return result
 
@@ -210,9 +235,31 @@ def kind(value: Any) -> str:
     return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
 
 
+class Written(int):
+    """A number drawn for a build exercise that messages write the way the exercise writes it:
+    ``Written(0x43C9, "0x{:04X}")`` as 0x43C9 (a register, in an exercise given in hex),
+    ``Written(38400)`` as 38400 (a baud rate, never 0x9600).  Otherwise a plain int."""
+
+    form: str
+
+    def __new__(cls, value: int, form: str = "{}") -> Written:
+        number = super().__new__(cls, value)
+        number.form = form
+        return number
+
+    def __repr__(self) -> str:
+        return self.form.format(int(self))
+
+    def __str__(self) -> str:
+        return int.__repr__(self)
+
+
 def show(value: Any) -> str:
-    """A short, readable form of ``value`` for a message: bytes in hex, ints also in hex, long things cut."""
+    """A short, readable form of ``value`` for a message: bytes in hex, ints also in hex (a
+    :class:`Written` number as its exercise writes it), long things cut."""
     try:
+        if isinstance(value, Written):
+            return repr(value)
         if isinstance(value, (bytes, bytearray)):
             text = _hex(bytes(value[:24]))
             more = f" … ({len(value)} bytes)" if len(value) > 24 else ""

@@ -170,15 +170,15 @@ def _crc_as_bytes(got: Any) -> bool:
 
 
 @_entry("lrc-ones-complement", "one's complement for the LRC", "data (bytes), got: the learner's LRC (int)",
-        "the LRC is the two's complement of the 8-bit sum of the bytes: invert every bit and add 1, which "
-        "is (-sum(data)) & 0xFF; inverting the bits alone is one less.")
+        "the LRC is the two's complement of the 8-bit sum of the bytes: invert every bit and add 1; "
+        "inverting the bits alone is one less.")
 def _lrc_ones(data: Any, got: Any) -> bool:
     return _int(got) and got == (~sum(bytes(data))) & 0xFF != lrc(bytes(data))
 
 
 @_entry("lrc-plain-sum", "the plain sum for the LRC", "data (bytes), got: the learner's LRC (int)",
-        "the 8-bit sum is only the first step; the LRC is its two's complement, (-sum(data)) & 0xFF, so that "
-        "the sum of the bytes and the LRC is 0.")
+        "the 8-bit sum is only the first step; the LRC is its two's complement, so that the sum of the bytes "
+        "and the LRC is 0 (modulo 256).")
 def _lrc_sum(data: Any, got: Any) -> bool:
     return _int(got) and got == sum(bytes(data)) & 0xFF != lrc(bytes(data))
 
@@ -463,10 +463,84 @@ def _hex_as_decimal(got: Any, text: Any) -> bool:
     return _int(got) and got == int(text) != int(text, 16)
 
 
-@_entry("decimal-written-as-hex", "a decimal number written as hex digits", "got, expected: one byte (int)",
-        "17 is a decimal number: as a byte it is 0x11, hex(17).")
-def _decimal_as_hex(got: Any, expected: Any) -> bool:
-    return _int(got) and _int(expected) and got == int(str(expected), 16) != expected
+def _hex_form(value: int, width: int) -> str:
+    return f"0x{value:0{width}X}"
+
+
+@_entry("decimal-written-as-hex", "a decimal number written as hex digits", "got, expected: one field of "
+        "one or two bytes (int)",
+        "{decimal} is a decimal number: in hex it is {right} (hex({decimal})), while {written} is "
+        "{written_value}.")
+def _decimal_as_hex(got: Any, expected: Any) -> dict | None:
+    if not (_int(got) and _int(expected) and 0 <= expected and got == int(str(expected), 16) != expected):
+        return None
+    width = 2 if max(got, expected) <= 0xFF else 4
+    return {"decimal": expected, "right": _hex_form(expected, width), "written": _hex_form(got, width),
+            "written_value": got}
+
+
+@_entry("field-low-byte-first", "a 16-bit field low byte first", "got, expected: one 2-byte field (int)",
+        "an address, a quantity or a register value goes high byte first: {right} is {right_bytes}, and "
+        "{written_bytes} reads as {written}; only an RTU frame's CRC goes low byte first.")
+def _field_low_first(got: Any, expected: Any) -> dict | None:
+    if not (_int(got) and _int(expected) and 0 <= expected <= 0xFFFF):
+        return None
+    if got != _swap16(expected) or got == expected:
+        return None
+    return {"right": f"{expected} (0x{expected:04X})", "written": f"{got} (0x{got:04X})",
+            "right_bytes": f"{expected >> 8:02X} {expected & 0xFF:02X}",
+            "written_bytes": f"{got >> 8:02X} {got & 0xFF:02X}"}
+
+
+FRAME_SLIPS = ("decimal-written-as-hex", "field-low-byte-first")
+"""The slips :func:`frame_slip` looks for in a frame the learner built byte by byte."""
+
+
+def _windows(start: int, end: int, limit: int) -> list[list[tuple[int, int]]]:
+    """Ways to read the differing bytes ``start..end-1`` as fields of one or two bytes (within ``limit``)."""
+    length = end - start
+    if length == 1:
+        spans = [[(start, start + 1)], [(start - 1, start + 1)], [(start, start + 2)]]
+    else:
+        spans = [[(i, min(i + 2, end)) for i in range(start, end, 2)]]
+    return [span for span in spans if all(0 <= a < b <= limit for a, b in span)]
+
+
+def frame_slip(got: Any, expected: Any, tail: int = 0, keys: tuple[str, ...] = FRAME_SLIPS) -> str | None:
+    """Name the slip that explains every byte where a frame the learner built differs from the right one.
+
+    ``got`` and ``expected`` are frames of the same length; the last ``tail`` bytes (an RTU frame's CRC,
+    which follows whatever came before) are left out.  Each run of differing bytes is read as a field of
+    one or two bytes, high byte first; a slip of ``keys`` that explains every run is named, with the
+    first field's numbers: a value written in decimal digits as hex (500 as ``05 00``), a field low byte
+    first (500 as ``F4 01``).  None when no one slip explains them all.
+    """
+    if not (_bytes(got) and _bytes(expected)) or len(got) != len(expected) or got == expected:
+        return None
+    limit = len(expected) - tail
+    differ = [i for i in range(limit) if got[i] != expected[i]]
+    if not differ:
+        return None
+    runs: list[list[int]] = []
+    for i in differ:
+        if runs and i == runs[-1][1]:
+            runs[-1][1] = i + 1
+        else:
+            runs.append([i, i + 1])
+    for key in keys:
+        fields = []
+        for start, end in runs:
+            for span in _windows(start, end, limit):
+                found = [detect(key, int.from_bytes(got[a:b], "big"), int.from_bytes(expected[a:b], "big"))
+                         for a, b in span]
+                if all(found):
+                    fields.append(found[0])
+                    break
+            else:
+                break
+        else:
+            return name(key, **fields[0])
+    return None
 
 
 @_entry("answer-to-damaged-request", "an answer to a damaged request", "got, expected: what the master "
@@ -516,7 +590,7 @@ def _word_order(registers: Any, dtype: str, value: Any, right: Any) -> dict | No
 
 @_entry("mask-write-or", "the OR mask over the whole register", "current, and_mask, or_mask, got: ints",
         "FC 22 keeps the bits where the AND mask has 1 and takes the OR mask's bits only where the AND "
-        "mask has 0: (current & and_mask) | (or_mask & ~and_mask).")
+        "mask has 0: an OR mask bit never reaches a place where the AND mask has 1.")
 def _mask_or(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
     return _int(got) and got in ((current & and_mask) | or_mask, current | or_mask) and \
         got != mask_write(current, and_mask, or_mask)

@@ -13,8 +13,16 @@ from ..pdu import (
     WriteMultipleRegistersRequest,
 )
 from .build import build_exercise
-from .core import address_diagnosis, as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis
-from .misconceptions import diagnose, name
+from .core import (
+    address_diagnosis,
+    as_bytes,
+    compare_bytes,
+    exercise,
+    int_answer,
+    line_after_tries,
+    pdu_address_diagnosis,
+)
+from .misconceptions import diagnose, frame_slip, name
 
 
 @exercise("02.1", "build a Write Multiple Registers PDU",
@@ -24,7 +32,10 @@ from .misconceptions import diagnose, name
                    bytes.fromhex("10 00 04 00 02 04 01 F4 03 E8")],
           refuses=[("10 00 04 00 02 01 F4 03 E8", "byte-count-missing"),
                    ("10 00 05 00 02 04 01 F4 03 E8", "one-based-address"),
-                   ("10 00 01 00 02 04 00 0A 01 02", None)])
+                   ("10 00 01 00 02 04 00 0A 01 02", None),
+                   ("10 00 04 00 02 04 05 00 10 00", "decimal-written-as-hex"),
+                   ("10 00 04 00 02 04 F4 01 E8 03", "field-low-byte-first"),
+                   ("10 04 00 02 00 04 01 F4 03 E8", "field-low-byte-first")])
 def _check_02_1(answer: Any) -> str | None:
     expected = WriteMultipleRegistersRequest(address=4, values=(500, 1000)).encode()
     got = as_bytes(answer)
@@ -33,7 +44,7 @@ def _check_02_1(answer: Any) -> str | None:
         return named
     if got == expected[1:]:
         return "the PDU starts with the function code."
-    return compare_bytes(got, expected, "your PDU")
+    return frame_slip(got, expected) or compare_bytes(got, expected, "your PDU")
 
 
 @exercise("02.2", "how many requests to read 300 registers",
@@ -112,12 +123,13 @@ build_exercise(
     "02.5", "write the PDU of a read request",
     reference=_fc3_pdu, inputs=_fc3_inputs,
     edge_cases=[(0, 1), (107, 3), (65535, 1), (0, 125), (0, 0), (0, 126), (65535, 2)],
-    hint="the PDU is the function code 3, then the address and the count, each as two bytes high byte first: "
-         "bytes([3]) + address.to_bytes(2, 'big') + count.to_bytes(2, 'big'). Refuse (raise) a count outside "
-         "1..125 or a range past address 65535.",
+    hint="the PDU is the function code 3, then the address, then the count, each in two bytes, high byte "
+         "first (an int can give its bytes in either order). Refuse (raise) a count outside 1..125 or a "
+         "range past address 65535.",
     refuses=[(lambda address, count: bytes([3]) + (address + 1).to_bytes(2, "big") + count.to_bytes(2, "big"),
               "one-based-address"),
              (lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"),
               None)],
     diagnose=lambda args, expected, got: pdu_address_diagnosis(got, expected)
     if isinstance(got, bytes) and isinstance(expected, bytes) else None)
+line_after_tries("02.5", "bytes([3]) + address.to_bytes(2, 'big') + count.to_bytes(2, 'big')")

@@ -18,7 +18,7 @@ from .core import (
     int_answer,
     rtu_request_diagnosis,
 )
-from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
+from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_slip, name
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -41,10 +41,13 @@ def _check_03_1(answer: Any) -> str | None:
           accepts=["01 06 00 02 12 34 25 7D", "01060002123425 7d", bytes.fromhex("010600021234257D")],
           refuses=[("01 06 00 02 12 34 7D 25", "crc-swapped"), ("01 06 00 03 12 34 74 BD",
                                                                 "one-based-address"),
-                   ("01 06 00 02 12 34", "crc-forgotten"), ("01 06 00 02 12 34 25 7E", None)])
+                   ("01 06 00 02 12 34", "crc-forgotten"), ("01 06 00 02 12 34 25 7E", None),
+                   ("01 06 00 02 34 12 BE C7", "field-low-byte-first"),
+                   ("01 06 02 00 12 34 85 05", "field-low-byte-first")])
 def _check_03_2(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
-    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")
+    return (rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)
+            or compare_rtu_frame(answer, expected, "your frame"))
 
 
 @exercise("03.3", "will the slave answer?",

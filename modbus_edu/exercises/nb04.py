@@ -10,7 +10,15 @@ from ..datamodel import parse_reference
 from ..framing import AsciiFrame, RtuFrame, parse_hex
 from ..pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
 from .build import build_exercise
-from .core import AnswerError, address_diagnosis, as_bytes, compare_bytes, exercise, int_answer
+from .core import (
+    AnswerError,
+    address_diagnosis,
+    as_bytes,
+    compare_bytes,
+    exercise,
+    int_answer,
+    line_after_tries,
+)
 from .misconceptions import diagnose, name
 
 
@@ -130,8 +138,10 @@ build_exercise(
     "04.5", "write lrc yourself",
     reference=_library_lrc, inputs=_lrc_inputs,
     edge_cases=[(b"",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),), (b"\xff" * 3,)],
-    hint="add up the bytes, keep the low 8 bits, and take the two's complement: (-sum(data)) & 0xFF.",
+    hint="add up the bytes and keep the low 8 bits; the LRC is the byte that brings that sum to 0 (modulo "
+         "256): its two's complement.",
     refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,
                                                                 "lrc-ones-complement"),
              (lambda data: -sum(data), None)],
     diagnose=_diagnose_lrc)
+line_after_tries("04.5", "return (-sum(data)) & 0xFF")

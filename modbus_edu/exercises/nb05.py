@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from ..explain import explain
@@ -15,7 +16,7 @@ from ..pdu import (
 )
 from .build import build_exercise
 from .core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis
-from .misconceptions import diagnose
+from .misconceptions import diagnose, frame_slip
 
 
 @exercise("05.1", "read a transaction id",
@@ -45,7 +46,9 @@ def _check_05_1(answer: Any) -> str | None:
                    ("00 07 00 00 00 05 01 06 00 00 04 D2", "mbap-length"),
                    ("00 07 00 00 00 08 01 06 00 00 04 D2 89 B5", "crc-on-tcp"),
                    ("00 07 00 00 00 06 01 06 00 01 04 D2", "one-based-address"),
-                   ("00 07 00 00 00 06 01 06 00 00 04 D3", None)])
+                   ("00 07 00 00 00 06 01 06 00 00 04 D3", None),
+                   ("00 07 00 00 00 06 01 06 00 00 12 34", "decimal-written-as-hex"),
+                   ("00 07 00 00 00 06 01 06 00 00 D2 04", "field-low-byte-first")])
 def _check_05_2(answer: Any) -> str | None:
     pdu = WriteSingleRegisterRequest(address=0, value=1234)
     expected = TcpFrame(transaction_id=7, unit=1, pdu=pdu).encode()
@@ -59,7 +62,8 @@ def _check_05_2(answer: Any) -> str | None:
     if len(got) == len(expected) and got[:4] == expected[:4] and got[6:] == expected[6:]:
         return (diagnose("mbap-length", int.from_bytes(got[4:6], "big"), expected[5])
                 or f"the length field is wrong: it counts the unit identifier and the PDU ({expected[5]}).")
-    return diagnose("crc-on-tcp", got, expected) or compare_bytes(got, expected, "your frame")
+    return (diagnose("crc-on-tcp", got, expected) or frame_slip(got, expected)
+            or compare_bytes(got, expected, "your frame"))
 
 
 @exercise("05.3", "the MBAP length of a response",
@@ -108,8 +112,6 @@ def _check_05_4(answer: Any) -> str | None:
 def _field_name(answer: str, fields: list[str]) -> str | None:
     """The field of ``fields`` that ``answer`` names ("the Length field", "protocol id", "MBAP length"),
     or None."""
-    import re
-
     words = [word for word in re.findall(r"[a-z]+", answer.lower())
              if word not in ("the", "field", "mbap", "header", "s", "bytes", "byte")]
     if not words:

@@ -13,7 +13,7 @@ from ..pdu import ExceptionCode, ExceptionResponse
 from ..slave import Slave
 from .build import build_exercise
 from .core import as_bytes, compare_rtu_frame, exercise
-from .misconceptions import diagnose, name
+from .misconceptions import diagnose, frame_slip, name
 
 
 @exercise("07.1", "read an exception response",
@@ -50,8 +50,7 @@ def _check_07_2(answer: Any) -> str | None:
     code = int(ExceptionCode.ILLEGAL_DATA_ADDRESS)
     expected = RtuFrame(unit=17, pdu=ExceptionResponse(function=1, code=code)).encode()
     got = as_bytes(answer)
-    named = diagnose("crc-swapped", got, expected) or (
-        diagnose("decimal-written-as-hex", got[0], expected[0]) if got else None)
+    named = diagnose("crc-swapped", got, expected) or frame_slip(got, expected, tail=2)
     if named:
         return named
     if len(got) > 1 and got[1] == 0x01:

@@ -10,7 +10,7 @@ from ..links.wire import SerialTiming
 from ..master import Master
 from ..slave import Slave
 from .build import build_exercise
-from .core import close, exercise, number_answer, real_answer
+from .core import Written, close, exercise, number_answer, real_answer
 from .misconceptions import diagnose
 
 
@@ -96,8 +96,13 @@ def _transaction_time(baudrate: int, parity: str, stopbits: int, request_bytes: 
 
 
 def _timing_inputs(rng) -> tuple:
-    return (rng.choice([1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200]), rng.choice("NEO"),
-            rng.choice([1, 2]), rng.randrange(8, 256), rng.randrange(5, 256))
+    return _decimal(rng.choice([1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200]), rng.choice("NEO"),
+                    rng.choice([1, 2]), rng.randrange(8, 256), rng.randrange(5, 256))
+
+
+def _decimal(*args) -> tuple:
+    """08.4's inputs with every number written in decimal in messages (38400 baud, never 0x9600)."""
+    return tuple(Written(arg) if isinstance(arg, int) else arg for arg in args)
 
 
 def _close_enough(expected: float, got) -> bool:
@@ -122,7 +127,8 @@ def _diagnose_timing(args, expected, got) -> str | None:
 build_exercise(
     "08.4", "write the transaction time yourself",
     reference=_transaction_time, inputs=_timing_inputs,
-    edge_cases=[(9600, "N", 1, 8, 7), (19200, "E", 1, 8, 255), (38400, "N", 2, 8, 7), (115200, "N", 1, 8, 7)],
+    edge_cases=[_decimal(9600, "N", 1, 8, 7), _decimal(19200, "E", 1, 8, 255), _decimal(38400, "N", 2, 8, 7),
+                _decimal(115200, "N", 1, 8, 7)],
     hint="bits per character = 1 start + 8 data + 1 if parity + stop bits; a character takes bits / baudrate "
          "seconds; t3.5 is 3.5 characters up to 19200 baud and 0.00175 s above; the time is request + t3.5 + "
          "response + t3.5.",

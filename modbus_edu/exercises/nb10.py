@@ -9,7 +9,7 @@ from ..devices.meter import METER_BY_NAME, TRIALS, meter_blocks
 from ..framing import RtuFrame, parse_hex
 from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
-from .core import address_diagnosis, exercise, number_answer, real_answer
+from .core import Written, address_diagnosis, exercise, number_answer, real_answer
 from .misconceptions import diagnose
 
 
@@ -98,12 +98,17 @@ def _float32(registers: list, order: str) -> float:
     return decode_value(registers, "float32", order)
 
 
+def _registers(*registers: int) -> list:
+    """Registers as exercise 10.4 writes them, in hex (0x43C9) in every message."""
+    return [Written(register, "0x{:04X}") for register in registers]
+
+
 def _float_inputs(rng) -> tuple:
     order = rng.choice(ORDERS)
     if rng.random() < 0.8:
         value = struct.unpack(">f", struct.pack(">f", rng.uniform(-1e4, 1e4)))[0]
-        return list(encode_value(value, "float32", order)), order
-    return [rng.randrange(65536), rng.randrange(65536)], order
+        return _registers(*encode_value(value, "float32", order)), order
+    return _registers(rng.randrange(65536), rng.randrange(65536)), order
 
 
 def _diagnose_float(args, expected, got) -> str | None:
@@ -114,8 +119,9 @@ def _diagnose_float(args, expected, got) -> str | None:
 build_exercise(
     "10.4", "decode float32 in any word order",
     reference=_float32, inputs=_float_inputs,
-    edge_cases=[([0x43C9, 0xCCCD], "ABCD"), ([0xCCCD, 0x43C9], "CDAB"), ([0xC943, 0xCDCC], "BADC"),
-                ([0xCDCC, 0xC943], "DCBA"), ([0, 0], "ABCD")],
+    edge_cases=[(_registers(0x43C9, 0xCCCD), "ABCD"), (_registers(0xCCCD, 0x43C9), "CDAB"),
+                (_registers(0xC943, 0xCDCC), "BADC"), (_registers(0xCDCC, 0xC943), "DCBA"),
+                (_registers(0, 0), "ABCD")],
     hint="put the four bytes in the order A B C D that the order names (register 0 holds the first two "
          "letters), then struct.unpack('>f', ...)[0]. CDAB swaps the registers; BADC swaps the bytes inside "
          "each register; DCBA does both.",

@@ -4,6 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
+try:
+    import serial
+    from serial.urlhandler.protocol_socket import Serial as SocketSerial
+except (ImportError, AttributeError):  # pragma: no cover - a dependency; a browser (Pyodide) may lack it
+    serial = SocketSerial = None
+
 from ..framing import RtuFrame, TcpFrame, parse_hex
 from ..pdu import ReadHoldingRegistersRequest
 from .build import build_exercise
@@ -75,9 +81,8 @@ def _check_11_2(answer: Any) -> str | None:
           refuses=[("tcp://192.168.1.60:4001", None), ("rfc2217://192.168.1.60:4001", None),
                    ("socket://192.168.1.60:502", None), ("/dev/ttyUSB0", None)])
 def _check_11_3(answer: Any) -> str | None:
-    import serial
-    from serial.urlhandler.protocol_socket import Serial as SocketSerial
-
+    if serial is None:
+        raise ImportError("exercise 11.3 asks pyserial, which is not installed: pip install pyserial")
     if not isinstance(answer, str):
         return "answer with a string, the URL."
     try:

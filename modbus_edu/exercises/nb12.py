@@ -15,6 +15,13 @@ from .core import address_diagnosis, exercise
 from .misconceptions import diagnose
 
 
+def _testtool() -> Any:
+    """The TestTool widget class."""
+    from ..widgets.testtool import TestTool  # the course extra (ipywidgets): imported when a learner checks
+
+    return TestTool
+
+
 @exercise("12.1", "a grid cell in hex",
           hint="the fill gives 100, 110, 120, ... so address 5 holds 100 + 5 x 10; "
                "mb.format_registers([...], 'hex') shows a register as the test tool's grid does.",
@@ -57,8 +64,7 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
                      "interval": 0.5},
                     None)])
 def _check_12_2(answer: Any) -> str | None:
-    from ..widgets.testtool import TestTool  # the course extra: imported when a learner checks, not before
-
+    TestTool = _testtool()  # noqa: N806 (a class)
     config = answer.config() if isinstance(answer, TestTool) else answer
     if not isinstance(config, dict):
         return "give the TestTool or its config() dict."
@@ -83,8 +89,7 @@ def _check_12_2(answer: Any) -> str | None:
           accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
           refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:
-    from ..widgets.testtool import TestTool  # the course extra: imported when a learner checks, not before
-
+    TestTool = _testtool()  # noqa: N806 (a class)
     server = TestTool("tcp_server", unit=1, length=1)
     client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
     client.run_polls(3)

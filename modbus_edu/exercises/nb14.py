@@ -10,7 +10,7 @@ from ..master import Master
 from ..pdu import mask_write
 from ..slave import Slave
 from .build import build_exercise
-from .core import exercise, int_answer
+from .core import exercise, int_answer, line_after_tries
 from .misconceptions import diagnose
 
 
@@ -36,9 +36,11 @@ build_exercise(
     reference=mask_write,
     inputs=lambda rng: (rng.randrange(0x10000), rng.randrange(0x10000), rng.randrange(0x10000)),
     edge_cases=[(0x12, 0xF2, 0x25), (0, 0, 0xFFFF), (0xFFFF, 0xFFFF, 0), (0xFFFF, 0, 0)],
-    hint="(current & and_mask) | (or_mask & ~and_mask), kept to 16 bits with & 0xFFFF.",
+    hint="bit by bit: where the AND mask has a 1 the register keeps its bit; where it has a 0 the bit comes "
+         "from the OR mask. The result stays a 16-bit value.",
     refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or")],
     diagnose=lambda args, expected, got: diagnose("mask-write-or", *args, got))
+line_after_tries("14.2", "return ((current & and_mask) | (or_mask & ~and_mask)) & 0xFFFF")
 
 
 def counters_scenario() -> dict[str, int]:

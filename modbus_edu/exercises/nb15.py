@@ -142,11 +142,12 @@ _CASE_NOTES = {
                                     "does not answer: 0B.",
           "timeout": "case b: the client waits 5 s, longer than the gateway's 0.2 s: the gateway's 0B "
                      "arrives first."},
-    "c": {GATEWAY_TARGET_FAILED: "case c: an unknown function gets an answer: exception 01, illegal "
-                                 "function, passed on unchanged.",
-          GATEWAY_PATH_UNAVAILABLE: "case c: the meter is there and answers; an unknown function is "
-                                    "exception 01.",
-          "timeout": "case c: an unknown function is answered at once, with exception 01."},
+    "c": {GATEWAY_TARGET_FAILED: "case c: a function the meter does not implement (0x41 is a user-defined "
+                                 "code) gets an answer: exception 01, illegal function, passed on unchanged.",
+          GATEWAY_PATH_UNAVAILABLE: "case c: the meter is there and answers; a function it does not "
+                                    "implement is exception 01.",
+          "timeout": "case c: a function the meter does not implement is answered at once, with exception "
+                     "01."},
     "d": {GATEWAY_TARGET_FAILED: "case d: the gateway answers 0B after 0.2 s of waiting, but this client "
                                  "gave up after 0.1 s: it sees a timeout.",
           GATEWAY_PATH_UNAVAILABLE: "case d: the client gives up before any answer comes."},

@@ -161,7 +161,8 @@ def _check_16_2(answer: Any) -> str | None:
         return ("that is one request per value; frequency (30071-30072) and import energy (30073-30074) "
                 "sit side by side, so one request reads both: the planner sends 4 requests.")
     if len(frames) != len(expected):
-        return f"you give {len(frames)} frames; the planner sends {len(expected)} requests for this map."
+        given = f"{len(frames)} frame" + ("s" if len(frames) != 1 else "")
+        return f"you give {given}; the planner sends {len(expected)} requests for this map."
     for index, (got, want) in enumerate(zip(frames, expected)):
         if got == want:
             continue

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from .. import pdu as p
+from ..security import course_roles
 from .build import build_exercise
 from .core import exercise, int_answer, show
 from .misconceptions import diagnose
@@ -61,14 +63,10 @@ _ROLES = ("viewer", "operator", "engineer", "guest")
 
 
 def _reference(pdu: bytes, role: str) -> bytes | None:
-    from ..security import course_roles
-
     return course_roles().decide(pdu, role).response
 
 
 def _request(function: int, address: int, count: int) -> bytes:
-    from .. import pdu as p
-
     if function in (1, 2, 3, 4):
         cls = {1: p.ReadCoilsRequest, 2: p.ReadDiscreteInputsRequest, 3: p.ReadHoldingRegistersRequest,
                4: p.ReadInputRegistersRequest}[function]

@@ -31,7 +31,16 @@ from __future__ import annotations
 
 from .ascii import ASCII_MAX_FRAME, AsciiFrame, AsciiSplitter
 from .base import BROADCAST, MAX_SERIAL_UNIT, MBAP_HEADER_SIZE, MODES, ROLES, parse_hex
-from .modes import Frame, decode_frame, detect_mode, encode_frame, frame_class, make_frame, splitter_for
+from .modes import (
+    Frame,
+    decode_frame,
+    detect_mode,
+    detect_mode_why,
+    encode_frame,
+    frame_class,
+    make_frame,
+    splitter_for,
+)
 from .rtu import RTU_MAX_FRAME, RtuFrame, RtuSplitter
 from .tcp import TCP_MAX_FRAME, TcpFrame, TcpSplitter
 
@@ -53,6 +62,7 @@ __all__ = [
     "encode_frame",
     "decode_frame",
     "detect_mode",
+    "detect_mode_why",
     "parse_hex",
     "RtuSplitter",
     "AsciiSplitter",

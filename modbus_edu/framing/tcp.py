@@ -12,7 +12,7 @@ from ..codes import MAX_MBAP_LENGTH, MBAP, MBAP_HEADER_SIZE, MIN_MBAP_LENGTH, _h
 from ..errors import FrameLengthError, MbapError, shown
 from .base import _as_bytes, _check_pdu, _check_unit, _decode_pdu, _span, _Splitter
 
-__all__ = ["TCP_MAX_FRAME", "TcpFrame", "TcpSplitter"]
+__all__ = ["TCP_MAX_FRAME", "TcpFrame", "TcpSplitter", "is_one_frame"]
 
 TCP_MAX_FRAME = 260
 """Largest Modbus/TCP frame: MBAP header (7) + PDU (at most 253)."""
@@ -100,6 +100,14 @@ class TcpFrame:
                 f"{_hex((n - 6).to_bytes(2, 'big'))}"
             )
         return cls(int.from_bytes(data[0:2], "big"), data[6], _decode_pdu(data[7:], role, 7))
+
+
+def is_one_frame(data: bytes) -> bool:
+    """Whether ``data`` is exactly one Modbus/TCP frame by its MBAP header: 8 to 260 bytes, protocol id 0
+    and a length field equal to the bytes after it (what :meth:`TcpFrame.decode` checks before the PDU).
+    The fast paths of the slave and the server ask it before they look at a request's bytes."""
+    n = len(data)
+    return 8 <= n <= TCP_MAX_FRAME and not data[2] and not data[3] and (data[4] << 8 | data[5]) == n - 6
 
 
 class TcpSplitter(_Splitter):

@@ -90,13 +90,16 @@ try:
 except (ImportError, AttributeError):  # Windows has no termios; Pyodide's stand-in has no termios.error
     _OS_REFUSALS = ()
 
+try:
+    import serial  # pyserial
+except (ImportError, AttributeError):  # pragma: no cover - a dependency; a browser (Pyodide) may lack it
+    serial = None
+
 
 def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None = 2.0) -> Any:
     """Open a pyserial port (or URL) with the settings of ``timing``; raise LinkError saying why not."""
-    try:
-        import serial  # pyserial
-    except ImportError as exc:  # pragma: no cover - pyserial is a dependency
-        raise LinkError("serial links need pyserial: pip install pyserial") from exc
+    if serial is None:  # pragma: no cover - pyserial is a dependency
+        raise LinkError("serial links need pyserial: pip install pyserial")
     try:
         port = serial.serial_for_url(
             url,

@@ -1,13 +1,8 @@
 """Modbus/TCP on real sockets, the server side: :class:`TcpServer` serves the course's slaves.
 
-Modbus/TCP wraps each PDU in an *MBAP header* (Modbus Application Protocol header) of seven bytes::
-
-    transaction id (2)  protocol id (2, always 0)  length (2)  unit id (1)  | PDU (function code + data)
-
-``length`` counts the bytes that follow it: the unit id plus the PDU, so 2 (unit + function code) at the
-least and 254 (unit + the largest PDU of 253 bytes) at the most. TCP is a byte *stream*: a request can
-arrive split over several reads, or two requests in one read. The length field is what tells where a
-frame ends - there is no CRC and no silence to go by.
+Modbus/TCP wraps each PDU in a seven-byte *MBAP header* (:class:`~modbus_edu.framing.TcpFrame` shows its
+fields). TCP is a byte *stream*: a request can arrive split over several reads, or two in one read; the
+header's length field tells where a frame ends - there is no CRC and no silence to go by.
 
 :class:`TcpServer` serves one or several :class:`~modbus_edu.slave.Slave` objects (selected by the unit
 id of each request, see :func:`~.routing.route_unit`) from a background thread; the client's side is
@@ -47,8 +42,10 @@ from ..clock import RealClock
 from ..codes import MBAP_HEADER_SIZE
 from ..errors import ConfigError, LinkError, guard_numbers
 from ..framing import TcpSplitter, splitter_for
+from ..framing.tcp import is_one_frame
 from ..pdu import REQUEST_CLASSES
 from ..platform import require_sockets
+from ..security import load_x509, role_of
 from .routing import (
     SERVER_DEVICE_FAILURE,
     _units_text,
@@ -214,6 +211,7 @@ class TcpServer:
         self._replies: deque[tuple[_Connection, bytes | None]] = deque()
         self.counters = TcpServerCounters()
         self._tls_setup(tls, handshake_timeout, authorization, framing, request_timeout)
+        self._direct = framing == "tcp" and not (tls or authorization or self._submit)  # see _answer_directly
         self.lock = threading.RLock()
         self._listener: socket.socket | None = None
         self._selector: selectors.BaseSelector | None = None
@@ -226,6 +224,9 @@ class TcpServer:
         self._backlog: dict[int, _Connection] = {}  # connections with a complete request still waiting
         self._accept_paused_until = 0.0
         self._accept_backoff = 0.0
+        # at most the earliest connection deadline: lowered wherever one can move earlier (a connection, a
+        # request begun, an answer delivered), so that _expire scans them all only once it is reached
+        self._earliest = float("inf")
         self._warned: dict[str, tuple[float, int]] = {}  # key -> (last warning time, suppressed since)
         self.address: tuple[str, int] | None = None
 
@@ -426,8 +427,8 @@ class TcpServer:
         return due
 
     def _next_deadline(self) -> float | None:
-        """Seconds until the next connection deadline or the end of an accept pause (None: no limit)."""
-        due = min((self._deadlines(conn) for conn in self._connections.values()), default=float("inf"))
+        """Seconds until the next connection deadline (at the least) or accept pause's end (None: never)."""
+        due = self._earliest
         if self._accept_paused_until:
             due = min(due, self._accept_paused_until)
         return None if due == float("inf") else max(0.0, due - time.monotonic())
@@ -439,6 +440,8 @@ class TcpServer:
             self._accept_paused_until = 0.0
             if self._selector is not None and self._listener is not None:
                 self._selector.register(self._listener, selectors.EVENT_READ, None)
+        if now < self._earliest:
+            return
         for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
             if conn.handshake is not None and now >= conn.handshake.deadline:
                 self._tls_refuse(conn, f"no TLS handshake within {self.handshake_timeout:g} s", timeout=True)
@@ -452,6 +455,7 @@ class TcpServer:
             else:
                 self.counters.idle_closed += 1
                 self._drop(conn, f"silent for {self.idle_timeout:g} s (idle timeout)")
+        self._earliest = min(map(self._deadlines, self._connections.values()), default=float("inf"))
 
     def _warn(self, key: str, message: str, *args: Any) -> None:
         """Log a warning at most once per 10 s per ``key``, saying how many were held back."""
@@ -497,6 +501,7 @@ class TcpServer:
                 conn.sock = sock = conn.handshake.sock
             self._connections[sock.fileno()] = conn
             self._selector.register(sock, selectors.EVENT_READ, conn)
+            self._earliest = min(self._earliest, self._deadlines(conn))
             self.counters.connections += 1
             self.log.debug("client %s connected", peer)
 
@@ -541,7 +546,7 @@ class TcpServer:
             return
         try:
             data = conn.sock.recv(_READ_SIZE if self.framing == "tcp" else _SERIAL_READ_SIZE)
-            if pending(conn.sock):  # TLS: the rest of a record already decrypted
+            if self.tls is not None and pending(conn.sock):  # TLS: the rest of a record already decrypted
                 data += conn.sock.recv(pending(conn.sock))
         except WOULD_BLOCK:
             return
@@ -552,6 +557,8 @@ class TcpServer:
             self._drop(conn, None)  # the client closed its end: an ordinary goodbye
             return
         conn.last_activity = conn.last_byte = now = time.monotonic()
+        if self._direct and self._answer_directly(conn, data):
+            return
         if self.framing != "tcp" and conn.partial_since is None:
             conn.partial_since = now
         self._cut(conn, conn.splitter.feed(data), now)
@@ -562,8 +569,25 @@ class TcpServer:
         first byte after the last request cut to the next one, junk and flushed scraps included, so a
         client that trickles a frame or sends a junk byte now and then is closed in request_timeout."""
         conn.frames.extend(frames)
-        if self.framing != "tcp" and any(self._implemented(frame) for frame in frames):
-            conn.partial_since = now if conn.splitter.pending else None
+        if self.framing != "tcp":
+            if any(self._implemented(frame) for frame in frames):
+                conn.partial_since = now if conn.splitter.pending else None
+            self._earliest = min(self._earliest, self._deadlines(conn))
+
+    def _answer_directly(self, conn: _Connection, data: bytes) -> bool:
+        """Answer ``data`` now if it is one whole Modbus/TCP request and nothing of ``conn`` waits (no
+        bytes, requests or answers): the splitter, :meth:`_pump` and :meth:`_process` in one step."""
+        if conn.frames or conn.outbuf or conn.awaiting or conn.splitter.pending or not is_one_frame(data):
+            return False
+        conn.served += 1
+        conn.junk_mark = conn.splitter.discarded
+        conn.partial_since = None
+        reply = self._dispatch(data)
+        if reply:
+            conn.outbuf += reply
+            if self._send(conn) and conn.outbuf:
+                self._set_events(conn, selectors.EVENT_READ | selectors.EVENT_WRITE)
+        return True
 
     def _pump(self, conn: _Connection) -> None:
         """Answer one request that has arrived and send what is owed; queue the connection for the next
@@ -625,6 +649,7 @@ class TcpServer:
                 conn.partial_since = None
             elif conn.partial_since is None:
                 conn.partial_since = time.monotonic()
+                self._earliest = min(self._earliest, self._deadlines(conn))
         return True
 
     def _implemented(self, frame: bytes) -> bool:
@@ -667,6 +692,7 @@ class TcpServer:
                 continue
             conn.awaiting = False
             conn.last_activity = time.monotonic()
+            self._earliest = min(self._earliest, self._deadlines(conn))
             if data:
                 self.counters.responses += 1
                 conn.outbuf += data
@@ -715,8 +741,6 @@ class TcpServer:
         if self.tls is not None and framing != "tcp":
             raise ConfigError("Modbus/TCP Security carries MBAP frames: tls= needs framing=\"tcp\"")
         if self.tls is not None:
-            from ..security import load_x509
-
             load_x509()  # cryptography loads now, not during the first client's handshake
         if handshake_timeout is None:
             handshake_timeout = request_timeout
@@ -741,8 +765,6 @@ class TcpServer:
         if want != "done":
             self._set_events(conn, selectors.EVENT_READ if want == "read" else selectors.EVENT_WRITE)
             return
-        from ..security import role_of
-
         conn.handshake = None
         try:
             conn.role = role_of(handshake.peer_certificate())

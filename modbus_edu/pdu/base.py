@@ -240,6 +240,28 @@ class Pdu:
         the byte count fits the function.  True unless a class knows better."""
         return True
 
+    @classmethod
+    def answer_from_bytes(cls, pdu: bytes, bank: Any) -> bytes | None:
+        """A server's fast path: the bytes of the normal response to the request ``pdu`` (function code
+        first), carried out on ``bank`` (a plain :class:`~modbus_edu.datamodel.DataBank`) without
+        building a PDU object, or None when this request is not one the fast path takes.
+
+        None by default.  A class that has one (the reads, FC 1-4) takes only a well-formed request its
+        bank can answer, and has no side effect before it returns None: anything else (a bad length, a
+        quantity out of range, an address not in a sparse bank) goes the general way, :meth:`decode`
+        and the slave's handler, which answer it with their teaching errors and exception codes.  The
+        slave asks it only when nothing else would act on the request (no hooks, no subclass, a plain
+        bank), and ``tests/test_fast_path.py`` holds both ways to the same bytes, counters and log.
+        """
+        return None
+
+    @classmethod
+    def reply_note(cls, request: bytes, reply: bytes) -> str:
+        """The traffic log's note for ``reply``, which :meth:`answer_from_bytes` gave to ``request``: the
+        ``summary()`` of the response object the general way would have built.  The log writes it when it
+        is read, not per request."""
+        return RESPONSE_CLASSES[cls.function_code]._decode(reply, 0).summary()
+
     def misfit(self, response: Pdu) -> str:
         """How ``response``, of this request's function, fails to fit this request ('' if it fits):
         the wrong number of values for a read, an echo that differs for a write."""
@@ -287,12 +309,6 @@ class Pdu:
             object.__setattr__(obj, name, value)
         return obj
 
-    def _repr_html_(self) -> str:
-        """In a notebook a PDU shows as its dissection table (:func:`modbus_edu.explain.explain_pdu`)."""
-        from ..explain import explain_pdu
-
-        return explain_pdu(self)._repr_html_()
-
     def summary(self) -> str:
         """One line such as ``Read Holding Registers request: address 0, count 1``."""
         parts = [f"{name} {value}" for name, value in self._summary_items()]
@@ -337,9 +353,34 @@ class _AddressQuantity(Pdu):
         return [("address", self.address), ("count", self.count)]
 
 
+_ADDRESS_COUNT = struct.Struct(">HH")
+"""A read request's starting address and quantity, after its function code."""
+
+
 @dataclass(frozen=True, slots=True)
 class _ReadRequest(_AddressQuantity):
     role: ClassVar[str] = "request"
+    table: ClassVar[str]
+    """The name of the :class:`~modbus_edu.datamodel.DataBank` table this function reads."""
+
+    @classmethod
+    def answer_from_bytes(cls, pdu: bytes, bank: Any) -> bytes | None:
+        """A read of ``count`` values from ``address``: the same checks as :meth:`decode` (exactly five
+        bytes, a quantity of 1 to the limit, no address past 65535), then the bank's table read and the
+        response packed from the values as the table keeps them (:meth:`_pack_reply`)."""
+        if len(pdu) != 5:
+            return None
+        address, count = _ADDRESS_COUNT.unpack_from(pdu, 1)
+        if not 1 <= count <= cls.limit or address + count > 0x10000:
+            return None
+        table = getattr(bank, cls.table)
+        if table.sparse and not table.is_declared(address, count):
+            return None  # exception 02 and its message: the general way
+        return cls._pack_reply(table.stored(address, count))
+
+    @classmethod
+    def _pack_reply(cls, values: Any) -> bytes:  # pragma: no cover - each read class packs its own
+        raise NotImplementedError
 
     def fields(self) -> list[Field]:
         raw = self.encode()

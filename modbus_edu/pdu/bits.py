@@ -16,6 +16,7 @@ from ..errors import (
 from .base import (
     MAX_READ_BITS,
     MAX_WRITE_COILS,
+    RESPONSE_CLASSES,
     Field,
     Pdu,
     _check_address,
@@ -41,6 +42,18 @@ COIL_OFF = 0x0000
 
 @dataclass(frozen=True, slots=True)
 class _ReadBitsRequest(_ReadRequest):
+    @classmethod
+    def _pack_reply(cls, values: bytearray) -> bytes:
+        """Function code, byte count and the bits (0/1 bytes), eight to a byte."""
+        packed = pack_bits(values)
+        return bytes((cls.function_code, len(packed))) + packed
+
+    @classmethod
+    def reply_note(cls, request: bytes, reply: bytes) -> str:
+        """The response object the general way builds holds the bits asked for, not the padding."""
+        count = int.from_bytes(request[3:5], "big")
+        return RESPONSE_CLASSES[cls.function_code](bits=unpack_bits(reply[2:])[:count]).summary()
+
     def misfit(self, response: Pdu) -> str:
         """A read-bits response carries ceil(count / 8) data bytes."""
         needed = (self.count + 7) // 8
@@ -112,6 +125,7 @@ class ReadCoilsRequest(_ReadBitsRequest):
     function_code: ClassVar[int] = 0x01
     limit: ClassVar[int] = MAX_READ_BITS
     what: ClassVar[str] = "coils"
+    table: ClassVar[str] = "coils"
 
 
 @dataclass(frozen=True, slots=True)
@@ -144,6 +158,7 @@ class ReadDiscreteInputsRequest(_ReadBitsRequest):
     function_code: ClassVar[int] = 0x02
     limit: ClassVar[int] = MAX_READ_BITS
     what: ClassVar[str] = "discrete inputs"
+    table: ClassVar[str] = "discrete_inputs"
 
 
 @dataclass(frozen=True, slots=True)

@@ -5,6 +5,8 @@ Write Register (FC 22), Read/Write Multiple Registers (FC 23) and Read FIFO Queu
 from __future__ import annotations
 
 import struct
+import sys
+from array import array
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -33,9 +35,19 @@ from .base import (
     _WriteMultipleResponse,
 )
 
+_LITTLE_ENDIAN = sys.byteorder == "little"
+"""An ``array('H')`` keeps registers in the machine's byte order; the wire wants the high byte first."""
+
 
 @dataclass(frozen=True, slots=True)
 class _ReadRegistersRequest(_ReadRequest):
+    @classmethod
+    def _pack_reply(cls, values: array) -> bytes:
+        """Function code, byte count and the registers (an ``array('H')``), high byte first."""
+        if _LITTLE_ENDIAN:
+            values.byteswap()
+        return bytes((cls.function_code, 2 * len(values))) + values.tobytes()
+
     def misfit(self, response: Pdu) -> str:
         """A read-registers response carries ``count`` registers."""
         if len(response.registers) != self.count:
@@ -114,6 +126,7 @@ class ReadHoldingRegistersRequest(_ReadRegistersRequest):
     function_code: ClassVar[int] = 0x03
     limit: ClassVar[int] = MAX_READ_REGISTERS
     what: ClassVar[str] = "registers"
+    table: ClassVar[str] = "holding_registers"
 
 
 @dataclass(frozen=True, slots=True)
@@ -142,6 +155,7 @@ class ReadInputRegistersRequest(_ReadRegistersRequest):
     function_code: ClassVar[int] = 0x04
     limit: ClassVar[int] = MAX_READ_REGISTERS
     what: ClassVar[str] = "input registers"
+    table: ClassVar[str] = "input_registers"
 
 
 @dataclass(frozen=True, slots=True)

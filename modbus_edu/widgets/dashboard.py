@@ -119,8 +119,8 @@ class MeterDashboard(StaticView, W.VBox):
         self.tabs = W.Tab(children=[W.Box([self.image]), self.table_box], titles=("trend", "values"))
         self.tabs.add_class("mbe-md-tabs")
         self.children = [
-            W.HTML("<b>Power meter dashboard</b> &mdash; the power-meter paper's Table 5, "
-                   "read with function 03"),
+            W.HTML("<b>Power meter dashboard</b> &mdash; the meter's register map, read "
+                   "with function 03"),
             self.message,
             W.HBox([self.interval, self.read_button, self.start_button, self.stop_button, self.plot_group,
                     self.clear_button]),

@@ -116,7 +116,7 @@ class FrameDecoder(StaticView, W.VBox):
         d = explain(data, mode, role)
         self.dissection = d
         self.error = d.error
-        how = f"{_NAMES.get(d.mode, d.mode)} ({'detected' if mode is None else 'chosen'})"
+        how = f"{_NAMES.get(d.mode, d.mode)} ({f'detected: {d.detected}' if mode is None else 'chosen'})"
         if d.error is not None:
             self.message.show(f"{how}: {type(d.error).__name__}: {d.error}", "error")
         else:

@@ -1,4 +1,6 @@
 # A reference number is the table's digit, then a 4-digit number counted from 1: the address is one less.
+from modbus_edu.exercises import check
+
 TABLES = {"0": "coils", "1": "discrete_inputs", "3": "input_registers", "4": "holding_registers"}
 
 
@@ -12,3 +14,4 @@ def parse_reference(text: str) -> tuple:
 
 print(parse_reference("40108"))          # ('holding_registers', 107)
 answer = parse_reference
+check("01.5", answer)

@@ -2,6 +2,8 @@
 import math
 
 import modbus_edu as mb
+from modbus_edu.exercises import check
 
 answer = math.ceil(300 / mb.MAX_READ_REGISTERS)
 print(answer)   # 3
+check("02.2", answer)

@@ -1,4 +1,7 @@
 # FC3's request PDU: the function code, then the starting address and the count, each high byte first.
+from modbus_edu.exercises import check
+
+
 def read_holding_registers_pdu(address: int, count: int) -> bytes:
     if not 1 <= count <= 125:
         raise ValueError(f"count {count}: a read asks for 1 to 125 registers")
@@ -9,3 +12,4 @@ def read_holding_registers_pdu(address: int, count: int) -> bytes:
 
 print(read_holding_registers_pdu(107, 3).hex(" ").upper())   # 03 00 6B 00 03
 answer = read_holding_registers_pdu
+check("02.5", answer)

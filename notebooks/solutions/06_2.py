@@ -1,5 +1,6 @@
 # The slave implements function 5, but its sparse bank has no coils: exception 02, illegal data address.
 import modbus_edu as mb
+from modbus_edu.exercises import check
 
 bank = mb.DataBank(sparse=True)
 bank.holding_registers.declare(0, 20)
@@ -9,3 +10,4 @@ try:
 except mb.ModbusExceptionError as error:
     print(error)
     answer = error.code   # 2
+check("06.2", answer)

@@ -1,4 +1,7 @@
 # A slave's request handler for FC3 and FC6 over a list of holding registers.
+from modbus_edu.exercises import check
+
+
 def handle(registers: list, pdu: bytes) -> bytes:
     function = pdu[0]
     address = int.from_bytes(pdu[1:3], "big")
@@ -20,3 +23,4 @@ def handle(registers: list, pdu: bytes) -> bytes:
 
 print(handle([1234, 42], bytes.fromhex("03 00 00 00 02")).hex(" ").upper())   # 03 04 04 D2 00 2A
 answer = handle
+check("06.5", answer)

@@ -1,5 +1,6 @@
 # Try each pause on a loopback wire: the slave answers only when the pause is at most 1.5 characters.
 import modbus_edu as mb
+from modbus_edu.exercises import check
 
 answer = []
 for chars in [1.0, 1.4, 2.0, 3.0, 5.0]:
@@ -10,3 +11,4 @@ for chars in [1.0, 1.4, 2.0, 3.0, 5.0]:
     except mb.ModbusError:
         answer.append(chars)
 print(answer)          # [2.0, 3.0, 5.0]
+check("08.3", answer)

@@ -2,6 +2,8 @@
 # Any timeout from about 1.83 s works; 2 s is a round number with some margin.
 from modbus_edu.devices import loop_time_experiment
 from modbus_edu.devices.arduino import SLOW_LOOP
+from modbus_edu.exercises import check
 
 answer = 2.0
 print(loop_time_experiment([SLOW_LOOP], timeout=answer))     # [(1.65, 1.0)]
+check("09.3", answer)

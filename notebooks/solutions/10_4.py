@@ -1,4 +1,5 @@
 import struct
+from modbus_edu.exercises import check
 
 # Register 0 holds bytes A B, register 1 holds C D (in ABCD order); the order's name says where each sits.
 def decode_float32(registers: list, order: str) -> float:
@@ -10,3 +11,4 @@ def decode_float32(registers: list, order: str) -> float:
 
 print(round(decode_float32([0xCCCD, 0x43C9], "CDAB"), 1))   # 403.6
 answer = decode_float32
+check("10.4", answer)

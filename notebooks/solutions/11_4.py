@@ -1,4 +1,7 @@
 # The MBAP header's fields, big-endian, and the PDU after them; the length must fit the frame.
+from modbus_edu.exercises import check
+
+
 def split_mbap(frame: bytes) -> tuple:
     tid = int.from_bytes(frame[0:2], "big")
     protocol = int.from_bytes(frame[2:4], "big")
@@ -10,3 +13,4 @@ def split_mbap(frame: bytes) -> tuple:
 
 print(split_mbap(bytes.fromhex("01 18 00 00 00 06 01 03 00 00 00 01")))
 answer = split_mbap
+check("11.4", answer)

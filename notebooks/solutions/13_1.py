@@ -5,6 +5,7 @@
 #  - no slave at all on the wire, nothing counted -> no slave on the line (off, or not connected).
 import modbus_edu as mb
 from modbus_edu.exercises import lab
+from modbus_edu.exercises import check
 
 answer = {}
 for name, wire in lab("silent").items():
@@ -16,3 +17,4 @@ for name, wire in lab("silent").items():
     else:
         answer[name] = "wrong baud rate or parity"
 print(answer)
+check("13.1", answer)

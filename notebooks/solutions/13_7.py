@@ -1,6 +1,7 @@
 import math
 
 import modbus_edu as mb
+from modbus_edu.exercises import check
 
 
 # Try the four word orders; the one whose float32 is the value the device should show is the device's.
@@ -13,3 +14,4 @@ def find_order(registers: list, expected: float):
 
 print(find_order([0x8000, 0x4396], 301.0))   # CDAB
 answer = find_order
+check("13.7", answer)

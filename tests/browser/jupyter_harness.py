@@ -126,7 +126,12 @@ class JupyterLab:
             cmd.append("--allow-root")
         log = open(self.log_path, "wb")  # noqa: SIM115 - closed in stop()
         self._log = log
-        self.proc = subprocess.Popen(cmd, env=self._env(home), stdout=log, stderr=subprocess.STDOUT,
+        env = self._env(home)
+        # matplotlib's font cache, built once here: in the fresh MPLCONFIGDIR the first plot of a Run All
+        # (notebook 03's) would build it, slowly on a loaded machine, and say so on stderr
+        subprocess.run([sys.executable, "-c", "import matplotlib.font_manager"], env=env, check=True,
+                       capture_output=True, timeout=self.startup_timeout)
+        self.proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT,
                                      cwd=str(self.root_dir))
         deadline = time.monotonic() + self.startup_timeout
         while time.monotonic() < deadline:

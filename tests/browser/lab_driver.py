@@ -146,6 +146,10 @@ def cell_errors(page) -> list[str]:
                         '.jp-RenderedText[data-mime-type="application/vnd.jupyter.error"]').all_inner_texts()
 
 
+RESTART_TIMEOUT_S = 90
+"""How long a Restart Kernel and Run All Cells may take to start the first cell (a new kernel starts)."""
+
+
 def restart_and_run_all(page, attempts: int = 4) -> None:
     """Kernel > Restart Kernel and Run All Cells (command ``runmenu:restart-and-run-all``), accepting
     the "Restart kernel?" dialog; returns once some cell has started ("[*]:")."""
@@ -160,11 +164,14 @@ def restart_and_run_all(page, attempts: int = 4) -> None:
             continue
         item.click()
         accept_dialogs(page, settle_ms=3000)
-        deadline = time.monotonic() + 20
+        # a restart starts a new kernel, which takes tens of seconds on a loaded machine: asking again
+        # meanwhile finds no kernel to restart (JupyterLab's uncaught "No kernel to restart")
+        deadline = time.monotonic() + RESTART_TIMEOUT_S
         while time.monotonic() < deadline:
             if any(p == "[*]:" or re.fullmatch(r"\[\d+\]:", p) for p in _prompts(page)):
                 return
             page.wait_for_timeout(200)
+        wait_kernel_idle(page)  # before asking again, whatever restart is under way has finished
     raise TimeoutError("Kernel > Restart Kernel and Run All Cells did not start the cells")
 
 

@@ -130,3 +130,18 @@ def safe_name(path: str) -> str:
 
 
 __all__ = ["MAX_HEIGHT", "PANEL_SELECTOR", "check_panel", "measure", "panel_kind", "safe_name"]
+
+
+# A test tool's grid (the inputs of its data tab, drawn even while another tab is shown) and its counters.
+_TOOL_SHOWS = r"""
+(tool) => ({
+  grid: [...tool.querySelectorAll('.mbe-tt-cell input')].map(i => i.value),
+  counts: Object.fromEntries([...tool.querySelectorAll('[class*="mbe-tt-count-"]')].map(
+      b => [b.className.match(/mbe-tt-count-(\w+)/)[1], Number(b.innerText)])),
+})
+"""
+
+
+def tool_shows(tool) -> dict:
+    """What a TestTool panel shows on screen now: ``{"grid": [cell texts], "counts": {name: n}}``."""
+    return tool.evaluate(_TOOL_SHOWS)

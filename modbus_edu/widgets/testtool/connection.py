@@ -423,10 +423,7 @@ class ConnectionMixin:
                 self.transaction_id.value = self.master.transaction_id
             finally:
                 self._updating = previous
-        self.refresh()
-        if self.partner is not None:
-            self.partner._clear_stale()
-            self.partner.refresh()
+        self.refresh()  # a loopback partner's slave redraws its own panel (TestTool.follow)
 
     # =====================================================================================================
     # the slave's hook and the real-time ticker

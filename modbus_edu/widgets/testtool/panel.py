@@ -26,6 +26,7 @@ from ...slave import Slave
 from ...traffic import TrafficLog
 from ..common import MessageLine, esc, guarded, shown
 from ..picture import StaticView
+from ..throttle import Throttle
 from .config import ConfigMixin
 from .connection import ConnectionMixin
 from .controls import (
@@ -143,6 +144,10 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         """How the master's last exchange ended: "" (none yet), "valid", "timeout" or "error"."""
 
         self._build()
+        self.follow = Throttle(guarded(self.message, self._follow_traffic))
+        """Redraws the panel after its slave's traffic, from any link, at most every 0.2 s (a
+        :class:`~modbus_edu.widgets.throttle.Throttle`): the grid and counters follow without
+        :meth:`refresh`."""
         self._apply_role()
         self._render_auto_state()
         values = dataclasses.asdict(settings)
@@ -436,7 +441,13 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
             except ModbusError as exc:  # unit 0 (broadcast) in the field: serve unit 1 until it is fixed
                 self.message.error(exc)
                 self.slave = Slave(unit=1, bank=self.bank, on_read=self._on_read, name=self.label)
+            self.slave.listeners.append(lambda _slave: self.follow.poke())
         return self.slave
+
+    def _follow_traffic(self) -> None:
+        """The slave handled requests (from any link): what the panel showed is no longer the present."""
+        self._clear_stale()
+        self.refresh()
 
     def _unit_changed(self) -> None:
         if self.slave is not None:
@@ -457,6 +468,11 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
     def static_text(self) -> str:
         name = f" {self.name.value!r}" if self.name.value else ""
         return f"Modbus test tool panel, {self.role_info.title}{name}"
+
+    def static_html(self) -> str:
+        """The picture as the panel is now: a redraw still waiting for the throttle is drawn first."""
+        self.follow.flush()
+        return super().static_html()
 
     def __repr__(self) -> str:
         state = "connected" if self.connected else "not connected"
