@@ -105,11 +105,8 @@ class TcpServer:
       must be 0 and the length field 2..254; a client that sends anything else is not speaking
       Modbus/TCP and its connection is closed (``bad_frames``); other clients are not affected.
     * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed.
-    * a request must arrive whole within ``request_timeout`` seconds of its first byte, or its
-      connection is closed (``slow_closed``): a client that trickles a frame byte by byte (slowloris)
-      holds nothing.  RTU and ASCII over TCP count from the first byte after the last whole request,
-      whatever the bytes are, so a frame cut into scraps by quiet gaps, or a junk byte now and then,
-      is closed in ``request_timeout`` too.
+    * a request must arrive whole within ``request_timeout`` s of its first byte (RTU, ASCII: the first
+      after the last request, junk included), or it is closed (``slow_closed``): slowloris holds nothing.
     * at most ``max_connections`` clients at a time; when a new one comes, the connection that has been
       idle longest is closed to make room (``evicted``), so idle clients cannot lock others out.
     * the server is fair: each turn it answers at most one request per connection, so a client that
@@ -124,10 +121,8 @@ class TcpServer:
       not say (an unknown function code, FC 8 Return Query Data) ends where its CRC checks out, and
       an unfinished one ends after ``quiet_gap`` seconds without a byte (a socket has no silence of
       3.5 characters, but a short quiet gap works the same way).
-    * when the server is full, it makes room by closing a connection whose TLS handshake has not
-      finished, else one that has never completed a request (the oldest such), else the longest idle
-      one: a flood of new or broken connections cannot push out a client that is being served, nor
-      (``tls=``) one that has shaken hands.
+    * when the server is full, it closes an unfinished TLS handshake, else a connection never served (the
+      oldest), else the longest idle one: a flood of new or broken connections cannot push out the served.
     * when ``accept()`` fails (out of file descriptors), the server stops accepting for a moment instead
       of spinning; refusal and failure warnings are rate-limited.
 
@@ -484,9 +479,7 @@ class TcpServer:
                 self._warn("accept", "accept failed: %s; pausing %.2f s", exc, self._accept_backoff)
                 return
             if len(self._connections) >= self.max_connections:
-                # room for the newcomer: first a TLS handshake not finished, then a connection that never
-                # completed a request, then the longest idle one, so that a flood of new or broken
-                # connections cannot push out clients that are being served (or have shaken hands)
+                # room: an unfinished handshake, then a connection never served, then the longest idle
                 oldest = min(self._connections.values(),
                              key=lambda c: (c.handshake is None, c.served > 0, c.last_activity))
                 self.counters.evicted += 1
@@ -559,19 +552,16 @@ class TcpServer:
         conn.last_activity = conn.last_byte = now = time.monotonic()
         if self._direct and self._answer_directly(conn, data):
             return
-        if self.framing != "tcp" and conn.partial_since is None:
-            conn.partial_since = now
         self._cut(conn, conn.splitter.feed(data), now)
         self._pump(conn)
 
     def _cut(self, conn: _Connection, frames: list[bytes], now: float) -> None:
-        """Queue the requests the splitter cut.  RTU and ASCII over TCP: the request clock runs from the
-        first byte after the last request cut to the next one, junk and flushed scraps included, so a
-        client that trickles a frame or sends a junk byte now and then is closed in request_timeout."""
+        """Queue the requests cut.  RTU, ASCII: the request clock runs from a byte to the next request."""
         conn.frames.extend(frames)
         if self.framing != "tcp":
-            if any(self._implemented(frame) for frame in frames):
-                conn.partial_since = now if conn.splitter.pending else None
+            since = conn.partial_since or now  # a whole request stops the clock (restarts if bytes remain)
+            conn.partial_since = (now if conn.splitter.pending else None) if any(
+                self._implemented(frame) for frame in frames) else since
             self._earliest = min(self._earliest, self._deadlines(conn))
 
     def _answer_directly(self, conn: _Connection, data: bytes) -> bool:
@@ -642,8 +632,7 @@ class TcpServer:
             if self._send(conn):  # the answers to the good frames before it, as far as they go
                 self._drop(conn, f"not Modbus: {why}")
             return False
-        # Modbus/TCP: a request under way (bytes of it, not all) starts its clock; a finished one stops
-        # it (RTU and ASCII: see _cut)
+        # Modbus/TCP: bytes of a request start its clock, a whole one stops it (RTU and ASCII: _cut)
         if self.framing == "tcp":
             if not splitter.pending or conn.frames:
                 conn.partial_since = None
