@@ -66,6 +66,7 @@ from typing import Any
 
 from .errors import CaptureError, ModbusError
 from .framing import TcpSplitter, decode_frame
+from .pcapfile import MAGICS, MAX_PACKET, bad_magic, check_blocks, cut_short
 from .traffic import Traffic, TrafficLog
 
 __all__ = [
@@ -99,7 +100,6 @@ _MODES = ("rtu", "ascii", "tcp")
 _SERIAL_LINKTYPES = {LINKTYPE_RTU: "rtu", LINKTYPE_ASCII: "ascii"}
 _MAX_FRAME = 65_000           # bytes of one frame in one written packet (IPv4 total length is 16 bits)
 _MAX_SECONDS = 2**32 - 1      # the classic pcap header keeps the seconds in 32 bits
-_MAX_PACKET = 262_144         # the largest snapshot length libpcap and Wireshark accept
 _CLIENT_ISN = 1_000           # the initial sequence numbers of the written connection
 _SERVER_ISN = 500_000
 _WINDOW = 65_483
@@ -222,7 +222,7 @@ def _nanoseconds(time: float) -> tuple[int, int]:
 
 
 def _write(scapy: Any, path: Path, linktype: int, packets: list[tuple[float, bytes]]) -> None:
-    writer = scapy.RawPcapWriter(str(path), linktype=linktype, nano=True, snaplen=_MAX_PACKET)
+    writer = scapy.RawPcapWriter(str(path), linktype=linktype, nano=True, snaplen=MAX_PACKET)
     try:
         writer.write_header(None)
         for time, data in packets:
@@ -295,7 +295,12 @@ def read_pcap(path: str | os.PathLike[str], *, port: int | None = None) -> Traff
     Without ``port``, a connection counts as Modbus/TCP when it is on port 502 or when all its bytes cut
     cleanly into MBAP frames; give ``port`` to read a server on another port whatever else it carries.
     Bytes that cannot start a frame are skipped, and the next frame's note says how many; so does a gap
-    (bytes the capture missed).
+    (bytes the capture missed).  Without the SYN, the first segment seen starts a direction until one
+    from before it arrives (the first segments swapped): the direction is then read again from there,
+    within its first 256 segments.  While a gap waits, at most 256 later segments are held; one more,
+    and the reader goes on without the gap's bytes, and the next frame's note says so; should they come
+    after all, they are not read, and a note says that too (on the direction's last frame if no frame
+    follows).
 
     **Serial** packets (link types :data:`LINKTYPE_RTU` and :data:`LINKTYPE_ASCII`) are one frame each.
     The file does not say who sent them, so the role is worked out as a person reading the line would: a
@@ -303,8 +308,9 @@ def read_pcap(path: str | os.PathLike[str], *, port: int | None = None) -> Traff
     and FC 6 echo their requests) is the response when it answers the request just before it (same unit,
     same function), else a request.  A frame that decodes as neither (a CRC error) keeps ``role None``.
 
-    A file that is not a capture, or is damaged (cut short, a length field that runs past the end, a
-    block that does not parse), raises :class:`CaptureError` saying where.  The work is linear in the
+    A file that is not a capture, or is damaged (cut short at any byte but between two packets, a length
+    field that runs past the end or past its block, a block that does not parse), raises
+    :class:`CaptureError` saying where.  The work is linear in the
     size of the file.
     """
     if port is not None and (not isinstance(port, int) or isinstance(port, bool) or not 1 <= port <= 65535):
@@ -329,9 +335,12 @@ def _records(path: Path) -> list[tuple[float, int, bytes]]:
     with handle:
         magic = handle.read(4)
         handle.seek(0)
-        kind = _MAGICS.get(magic)
+        kind = MAGICS.get(magic)
         if kind is None:
-            raise CaptureError(_bad_magic(path, magic))
+            raise CaptureError(bad_magic(path, magic))
+        if kind == "pcapng":
+            check_blocks(path, handle, size)
+            handle.seek(0)
         scapy = _scapy()
         records: list[tuple[float, int, bytes]] = []
         with _quiet_scapy():
@@ -345,7 +354,7 @@ def _records(path: Path) -> list[tuple[float, int, bytes]]:
             while True:
                 where = handle.tell()
                 try:
-                    data, meta = reader._read_packet(_MAX_PACKET + 1)
+                    data, meta = reader._read_packet(MAX_PACKET + 1)
                 except EOFError:
                     break
                 except Exception as exc:  # a damaged block that scapy reports other than by EOFError
@@ -353,7 +362,7 @@ def _records(path: Path) -> list[tuple[float, int, bytes]]:
                                        f"damaged: {exc}") from None
                 if kind == "pcap":
                     if meta.caplen != len(data):
-                        raise CaptureError(_cut_short(path, len(records), where, meta.caplen, len(data)))
+                        raise CaptureError(cut_short(path, len(records), where, meta.caplen, len(data)))
                     time = meta.sec + meta.usec / (1e9 if nano else 1e6)
                     records.append((time, linktype, data))
                 elif meta.tshigh is None or not meta.tsresol:
@@ -373,29 +382,6 @@ def _records(path: Path) -> list[tuple[float, int, bytes]]:
     return records
 
 
-_MAGICS = {
-    b"\xd4\xc3\xb2\xa1": "pcap", b"\xa1\xb2\xc3\xd4": "pcap",
-    b"\x4d\x3c\xb2\xa1": "pcap", b"\xa1\xb2\x3c\x4d": "pcap",
-    b"\x0a\x0d\x0d\x0a": "pcapng",
-}
-
-
-def _bad_magic(path: Path, magic: bytes) -> str:
-    shown = magic.hex(" ").upper() or "nothing (the file is empty)"
-    if magic[:2] == b"\x1f\x8b":
-        return f"{path.name} is gzip-compressed (starts 1F 8B): unpack it first (gunzip), then read it"
-    return (f"{path.name} is not a capture file: it starts with {shown}, where a pcap file starts with "
-            f"D4 C3 B2 A1 or 4D 3C B2 A1 (or the same reversed) and a pcapng file with 0A 0D 0D 0A")
-
-
-def _cut_short(path: Path, count: int, where: int, caplen: int, got: int) -> str:
-    if caplen > _MAX_PACKET:
-        return (f"{path.name}: packet {count + 1} (record at byte {where}) claims {caplen} bytes, more than "
-                f"any capture holds (at most {_MAX_PACKET}): its length field is damaged")
-    return (f"{path.name}: the file ends inside packet {count + 1} (record at byte {where}): its header "
-            f"says {caplen} bytes, only {got} are there; the capture was cut short")
-
-
 @dataclass
 class _Direction:
     """One direction of a TCP connection: the bytes put back in order and cut into frames."""
@@ -405,7 +391,16 @@ class _Direction:
     position: int = 0        # bytes of this direction put in order so far (not wrapped, unlike next_seq)
     held: list[tuple[int, int, int, float, bytes]] = field(default_factory=list)
     """Segments that came early: (position, arrival order, packet index, time, bytes)."""
+    origin: int | None = None
+    """The sequence number of the direction's first byte, where no SYN said it: the first segment seen."""
+    replay: list[tuple[int, float, int, bytes]] | None = None
+    """Without a SYN, the first segments (packet index, time, seq, bytes), kept to read the direction
+    again should bytes from before the first one seen arrive; None once there is a SYN or too many."""
     missed: int = 0          # bytes of gaps the capture did not hold, not yet reported
+    skipped: int = 0         # bytes of gaps read past while too many segments waited, not yet reported
+    skipped_spans: list[tuple[int, int]] = field(default_factory=list)
+    """Positions (start, end) of the gaps read past, to know their bytes if they come after all."""
+    late: int = 0            # bytes that came after the reader had read past them, not yet reported
     reported_junk: int = 0   # splitter.discarded already reported
 
 
@@ -467,23 +462,68 @@ class _Reader:
         direction = stream.directions[src]
         if syn:
             direction.next_seq = (seq + 1) % 2**32
+            direction.replay = None
             if not ack and stream.server != dst and self.port is None and not stream.data_seen:
                 stream.server, stream.client = dst, src  # the SYN's destination accepts: it is the server
             return
         if not payload:
             return
         stream.data_seen = True
-        if direction.next_seq is None:
-            direction.next_seq = seq
-        offset = _seq_offset(seq, direction.next_seq)
+        if direction.next_seq is None:  # no SYN: the first bytes seen start the direction, until earlier come
+            direction.next_seq = direction.origin = seq
+            direction.replay = []
+        self._segment(stream, src, direction, index, time, seq, payload)
+
+    def _segment(self, stream: _Stream, src: tuple[str, int], direction: _Direction, index: int,
+                 time: float, seq: int, payload: bytes) -> None:
+        """Put one segment's bytes in their place: read now, held until a gap fills, or known already."""
+        if direction.replay is not None:
+            if _seq_offset(seq, direction.origin) < 0:  # type: ignore[arg-type]
+                self._rewind(stream, src, direction, index, time, seq, payload)
+                return
+            direction.replay.append((index, time, seq, payload))
+            if len(direction.replay) > _MAX_HELD:
+                direction.replay = None  # the start is settled: later bytes from before it come too late
+        offset = _seq_offset(seq, direction.next_seq)  # type: ignore[arg-type]
         if offset > 0:  # early: hold it until the gap before it fills
             heapq.heappush(direction.held, (direction.position + offset, self._next_order(), index, time,
                                             payload))
             if len(direction.held) > _MAX_HELD:
-                self._skip_gap(stream, src, direction)
+                self._skip_gap(stream, src, direction, missing=False)
             return
+        if offset < 0:
+            self._count_late(direction, direction.position + offset, min(-offset, len(payload)))
         self._take(stream, src, direction, index, time, -offset, payload)
         self._release(stream, src, direction, index, time)
+
+    def _rewind(self, stream: _Stream, src: tuple[str, int], direction: _Direction, index: int,
+                time: float, seq: int, payload: bytes) -> None:
+        """Bytes from before the first segment seen (a capture without the SYN, the first segments
+        swapped): read the direction again, from them."""
+        mine = "tx" if src == stream.client else "rx"
+        stream.frames = [item for item in stream.frames if item[2].direction != mine]
+        fresh = _Direction(next_seq=seq, origin=seq, replay=[])
+        stream.directions[src] = fresh
+        for segment in [*direction.replay, (index, time, seq, payload)]:  # type: ignore[misc]
+            self._segment(stream, src, fresh, *segment)
+
+    @staticmethod
+    def _count_late(direction: _Direction, start: int, size: int) -> None:
+        """Bytes at positions start.. that the reader has passed: late if they are a gap's it read past
+        (or from before a settled start), else a retransmission of bytes already read."""
+        end = start + size
+        late = max(0, min(end, 0) - start)  # before the first byte of a start without a SYN
+        spans = []
+        for low, high in direction.skipped_spans:
+            inside = max(0, min(high, end) - max(low, start))
+            late += inside
+            if inside:  # what is left of the gap around these bytes
+                pieces = ((low, max(low, min(high, start))), (max(low, end), high))
+                spans += [(a, b) for a, b in pieces if a < b]
+            else:
+                spans.append((low, high))
+        direction.skipped_spans = spans
+        direction.late += late
 
     def _next_order(self) -> int:
         self.order += 1
@@ -499,10 +539,7 @@ class _Reader:
         direction.position += len(fresh)
         to_server = src == stream.client
         for frame in direction.splitter.feed(fresh):
-            notes = []
-            if direction.missed:
-                notes.append(f"after a gap: the capture lacks {direction.missed} bytes of this direction")
-                direction.missed = 0
+            notes = self._gap_notes(direction)
             junk = direction.splitter.discarded - direction.reported_junk
             if junk:
                 notes.append(f"{junk} bytes before it skipped: they cannot start a Modbus/TCP frame")
@@ -525,13 +562,35 @@ class _Reader:
             heapq.heappop(held)
             self._take(stream, src, direction, index, time, -start, payload)
 
-    def _skip_gap(self, stream: _Stream, src: tuple[str, int], direction: _Direction) -> None:
-        """Segments wait for bytes the capture never had (too many, or the capture ended): jump the gap."""
+    @staticmethod
+    def _gap_notes(direction: _Direction) -> list[str]:
+        """What the next frame's note says about the gaps and late bytes before it (then forgotten)."""
+        notes = []
+        if direction.missed:
+            notes.append(f"after a gap: the capture lacks {direction.missed} bytes of this direction")
+        if direction.skipped:
+            notes.append(f"after a gap: {direction.skipped} bytes of this direction had not arrived while "
+                         f"{_MAX_HELD} later segments waited for them; the reader went on without them")
+        if direction.late:
+            notes.append(f"{direction.late} bytes of this direction arrived after the reader had gone on "
+                         f"without them: not read")
+        direction.missed = direction.skipped = direction.late = 0
+        return notes
+
+    def _skip_gap(self, stream: _Stream, src: tuple[str, int], direction: _Direction, *,
+                  missing: bool) -> None:
+        """Segments wait for bytes the capture never had (``missing``: it ended) or has not had yet (too
+        many wait): jump the gap."""
         first = direction.held[0]
         gap = max(first[0] - direction.position, 0)
         direction.splitter.flush()  # a frame cut by the gap cannot be completed
         direction.reported_junk = direction.splitter.discarded
-        direction.missed += gap
+        if missing:
+            direction.missed += gap
+        elif gap:
+            direction.skipped += gap
+            direction.skipped_spans = [*direction.skipped_spans[-(_MAX_HELD - 1):],
+                                       (direction.position, direction.position + gap)]
         direction.next_seq = (direction.next_seq + gap) % 2**32  # type: ignore[operator]
         direction.position += gap
         self._release(stream, src, direction, first[2], first[3])
@@ -586,14 +645,30 @@ class _Reader:
         """Every frame, in the order of the packets that completed them."""
         frames = list(self.serial_frames)
         for stream in [*self.done, *self.streams.values()]:
-            for direction in stream.directions.values():
-                src = next(k for k, v in stream.directions.items() if v is direction)
+            for src, direction in stream.directions.items():
                 while direction.held:  # the capture ended with a gap before them: skip it
-                    self._skip_gap(stream, src, direction)
-            if self._is_modbus(stream):
+                    self._skip_gap(stream, src, direction, missing=True)
+            modbus = self._is_modbus(stream)
+            for src, direction in stream.directions.items():
+                self._note_last(stream, src, direction)
+            if modbus:
                 frames.extend(stream.frames)
         frames.sort(key=lambda item: (item[0], item[1]))
         return [entry for _, _, entry in frames]
+
+    def _note_last(self, stream: _Stream, src: tuple[str, int], direction: _Direction) -> None:
+        """Late bytes or gaps after a direction's last frame: its note says so (never silently)."""
+        if not (direction.late or direction.skipped or direction.missed):
+            return
+        mine = "tx" if src == stream.client else "rx"
+        for at in range(len(stream.frames) - 1, -1, -1):
+            index, order, entry = stream.frames[at]
+            if entry.direction == mine:
+                notes = [entry.note, *(f"after it: {note}" for note in self._gap_notes(direction))]
+                stream.frames[at] = (index, order, Traffic(
+                    entry.time, entry.direction, entry.mode, entry.data, source=entry.source,
+                    dest=entry.dest, note="; ".join(n for n in notes if n), role=entry.role))
+                return
 
     def _is_modbus(self, stream: _Stream) -> bool:
         if not stream.frames:

@@ -15,6 +15,7 @@ __all__ = [
     "FunctionCode",
     "ExceptionCode",
     "SERIAL_LINE_ONLY",
+    "WRITE_FUNCTIONS",
     "exception_meaning",
     "function_title",
     "ROLES",
@@ -73,6 +74,10 @@ class FunctionCode(IntEnum):
 SERIAL_LINE_ONLY = frozenset({0x07, 0x08, 0x0B, 0x0C, 0x11})
 """Functions the specification defines for serial lines only (a gateway may still pass them on)."""
 
+WRITE_FUNCTIONS = frozenset({0x05, 0x06, 0x0F, 0x10, 0x15, 0x16, 0x17})
+"""Functions that write to the data model (FC 23 reads as well): the ones a broadcast carries out, and
+the ones a role's write grant covers."""
+
 _TITLES = {0x11: "Report Server ID", 0x17: "Read/Write Multiple Registers", 0x18: "Read FIFO Queue"}
 
 
@@ -114,7 +119,9 @@ _EXCEPTION_MEANINGS = {
     ExceptionCode.NEGATIVE_ACKNOWLEDGE: (
         "negative acknowledge: the server cannot perform the program function (from the older Modicon "
         "guide; the current specification no longer lists code 07)"),
-    ExceptionCode.MEMORY_PARITY_ERROR: "memory parity error: the server found a parity error in its memory",
+    ExceptionCode.MEMORY_PARITY_ERROR: (
+        "memory parity error: reading a file record (FC 20 or 21, reference type 6), the server found its "
+        "extended file memory failed a consistency check"),
     ExceptionCode.GATEWAY_PATH_UNAVAILABLE: (
         "gateway path unavailable: the gateway could not set up a path to the target"),
     ExceptionCode.GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND: (

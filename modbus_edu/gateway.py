@@ -10,10 +10,10 @@ What the client sees when the serial side fails (*Modbus Application Protocol* V
 * **0x0B gateway target device failed to respond** - the slave stayed silent (or only garbled
   answers came back) for the gateway's ``timeout`` on each of its ``retries + 1`` attempts;
 * **0x0A gateway path unavailable** - no path to that unit: unit 0 (a serial broadcast, which nobody
-  answers while the TCP client waits for an answer), units 248-255 (reserved on a serial line), or the
-  serial port itself failing;
-* **0x06 server device busy** - more requests wait for the bus than the gateway keeps
-  (``max_queued_per_unit`` for one unit, ``max_queued`` in all): the client may ask again later.
+  answers while the TCP client waits for an answer), units 248-255 (reserved on a serial line), the
+  serial port itself failing, or the gateway **overloaded**: more requests wait for the bus than it
+  keeps (``max_queued_per_unit`` for one unit, ``max_queued`` in all), the case the *Modbus Messaging
+  on TCP/IP Implementation Guide* (section 7) names for 0x0A; the client may ask again later.
 
 **The timeout starts when the request has left**, as a serial-line master's response timeout does:
 a silent unit costs the request's characters on the line plus ``timeout`` (at 9600 baud 8N1, an 8-byte
@@ -73,14 +73,12 @@ from .master import Master
 from .pdu import ExceptionResponse
 from .platform import require_sockets
 
-__all__ = ["GATEWAY_PATH_UNAVAILABLE", "GATEWAY_TARGET_FAILED", "SERVER_DEVICE_BUSY", "TcpGateway"]
+__all__ = ["GATEWAY_PATH_UNAVAILABLE", "GATEWAY_TARGET_FAILED", "TcpGateway"]
 
-#: Exception code 0x0A: the gateway has no path to the target.
+#: Exception code 0x0A: the gateway has no path to the target (or is overloaded: its queues are full).
 GATEWAY_PATH_UNAVAILABLE = 0x0A
 #: Exception code 0x0B: the target device behind the gateway failed to respond.
 GATEWAY_TARGET_FAILED = 0x0B
-#: Exception code 0x06: the gateway's queues for the bus are full; ask again later.
-SERVER_DEVICE_BUSY = 0x06
 #: Seconds before the first attempt to reopen a lost serial line; doubled after each failure ...
 REOPEN_FIRST = 0.1
 #: ... up to this many.
@@ -136,7 +134,7 @@ class _Forwarder:
         self.forwarded = 0
         self.no_response = 0
         self.path_unavailable = 0
-        self.busy = 0
+        self.overloaded = 0
         self.late = 0
         self.reopened = 0
         self.worst_wait: dict[int, float] = {}
@@ -166,8 +164,8 @@ class _Forwarder:
                 answer = exception_reply(frame, GATEWAY_PATH_UNAVAILABLE)
             elif (self._queued >= self.max_queued
                   or len(self._queues.get(unit, ())) >= self.max_queued_per_unit):
-                self.busy += 1
-                answer = exception_reply(frame, SERVER_DEVICE_BUSY)
+                self.overloaded += 1
+                answer = exception_reply(frame, GATEWAY_PATH_UNAVAILABLE)
             else:
                 queue = self._queues.get(unit)
                 if queue is None:
@@ -403,7 +401,7 @@ class TcpGateway:
     (seconds on the link's clock), and ``retries`` how often it asks again before answering 0x0B.
     ``late_window`` (default: ``timeout``) is how long a unit that did not answer is left alone while
     its answer may still come; ``max_queued_per_unit`` and ``max_queued`` bound the requests waiting for
-    the bus (beyond them: exception 0x06, server device busy). A context manager with ``.address``::
+    the bus (beyond them: exception 0x0A, the gateway overloaded). A context manager with ``.address``::
 
         bus = mb.loopback_serial([meter, arduino], baudrate=9600)
         with mb.TcpGateway(bus, timeout=0.1) as gw:
@@ -449,15 +447,16 @@ class TcpGateway:
 
     @property
     def counters(self) -> dict[str, int]:
-        """Requests ``forwarded`` to the bus; answered 0x0B (``no_response``), 0x0A
-        (``path_unavailable``) and 0x06 (``busy``); frames from the bus that answered no request waiting
-        for them and were dropped (``late``); times the lost serial line was ``reopened``."""
+        """Requests ``forwarded`` to the bus; answered 0x0B (``no_response``), 0x0A for want of a path
+        (``path_unavailable``) and 0x0A because the queues were full (``overloaded``); frames from the bus
+        that answered no request waiting for them and were dropped (``late``); times the lost serial line
+        was ``reopened``."""
         f = self._forwarder
         return {
             "forwarded": f.forwarded,
             "no_response": f.no_response,
             "path_unavailable": f.path_unavailable,
-            "busy": f.busy,
+            "overloaded": f.overloaded,
             "late": f.late,
             "reopened": f.reopened,
         }

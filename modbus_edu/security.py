@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import datetime
 import ipaddress
+import json
 import ssl
 import threading
 from collections import Counter, deque
@@ -43,8 +44,17 @@ from pathlib import Path
 from types import SimpleNamespace
 from typing import Any, NamedTuple
 
+from .codes import WRITE_FUNCTIONS
 from .errors import ConfigError, ModbusError, SecurityError
-from .pdu import ExceptionCode, ExceptionResponse, decode_pdu
+from .pdu import (
+    MAX_FIFO_COUNT,
+    ExceptionCode,
+    ExceptionResponse,
+    ReadFifoQueueRequest,
+    ReadFileRecordRequest,
+    WriteFileRecordRequest,
+    decode_pdu,
+)
 
 __all__ = [
     "ROLE_OID",
@@ -56,6 +66,7 @@ __all__ = [
     "Decision",
     "RoleTable",
     "course_roles",
+    "load_roles",
     "make_test_pki",
     "server_context",
     "client_context",
@@ -406,21 +417,33 @@ def client_context(pki: Pki | None = None, role: str | None = None, *, cert: Any
 # --------------------------------------------------------------------------------------------------
 #: The function codes that read and do not change anything.
 READ_FUNCTIONS = frozenset({1, 2, 3, 4, 7, 11, 12, 17, 20, 24, 43})
-#: The function codes that write to the data model.
-WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 21, 22, 23})
 #: Which table each function code's address field points into.
 _TABLES = {1: "coils", 5: "coils", 15: "coils", 2: "discrete inputs", 4: "input registers",
            3: "holding registers", 6: "holding registers", 16: "holding registers",
-           22: "holding registers", 23: "holding registers", 24: "holding registers"}
+           22: "holding registers", 23: "holding registers", 24: "holding registers",
+           20: "file records", 21: "file records"}
 
 
 def touched_addresses(request: Any) -> list[range]:
     """The addresses a decoded request reads or writes, as ranges (empty for functions without any).
 
-    >>> from modbus_edu.pdu import ReadHoldingRegistersRequest
+    Most requests name them (an address and a count or values).  Two kinds reach further than their
+    fields say: FC 24 reads the count at its pointer address and up to 31 queued registers after it,
+    so it may touch the pointer and the 31 addresses that follow (within 0..65535); FC 20 and 21 reach
+    the records of each sub-request, so for them the record numbers are the addresses (in any file).
+
+    >>> from modbus_edu.pdu import ReadFifoQueueRequest, ReadHoldingRegistersRequest
     >>> touched_addresses(ReadHoldingRegistersRequest(address=10, count=3))
     [range(10, 13)]
+    >>> touched_addresses(ReadFifoQueueRequest(address=99))
+    [range(99, 131)]
     """
+    if isinstance(request, ReadFifoQueueRequest):
+        return [range(request.address, min(request.address + 1 + MAX_FIFO_COUNT, 0x10000))]
+    if isinstance(request, ReadFileRecordRequest):
+        return [range(record, record + length) for _file, record, length in request.records]
+    if isinstance(request, WriteFileRecordRequest):
+        return [range(record, record + len(values)) for _file, record, values in request.records]
     if hasattr(request, "read_address"):  # FC 23: a write range and a read range
         return [range(request.write_address, request.write_address + len(request.values)),
                 range(request.read_address, request.read_address + request.read_count)]
@@ -436,7 +459,11 @@ def touched_addresses(request: Any) -> list[range]:
 
 @dataclass(frozen=True)
 class Grant:
-    """What a role may do: these ``functions`` on these ``addresses`` (a range; default: all 65536)."""
+    """What a role may do: these ``functions`` on these ``addresses`` (a range; default: all 65536).
+
+    The range bounds every address a request touches (:func:`touched_addresses`), in whichever table
+    the function reaches; for FC 20 and 21 it bounds the record numbers, in every file.
+    """
 
     functions: frozenset[int]
     addresses: range = range(0, 65536)
@@ -458,6 +485,10 @@ class Decision(NamedTuple):
     allowed: bool
     reason: str
     response: bytes | None  # the PDU to answer with: exception 01 (function | 0x80, 0x01)
+
+
+def _covers(grant: Grant, span: range) -> bool:
+    return span.start in grant.addresses and span.stop - 1 in grant.addresses
 
 
 def _refuse(function: int, reason: str) -> Decision:
@@ -525,11 +556,25 @@ class RoleTable:
             return Decision(True, f"function {function} allowed; the slave judges the malformed request",
                             None)
         for grant in mine:
-            if all(span.start in grant.addresses and span.stop - 1 in grant.addresses for span in spans):
+            if all(_covers(grant, span) for span in spans):
                 return Decision(True, f"{who} may use function {function} there", None)
-        where = ", ".join(f"{s.start}..{s.stop - 1}" for s in spans)
+        outside = [span for span in spans if not any(_covers(grant, span) for grant in mine)] or spans
+        where = ", ".join(f"{s.start}..{s.stop - 1}" for s in outside)
         table = _TABLES.get(function, "the data model")
         return _refuse(function, f"{who} may use function {function} but not on {table} {where}")
+
+    def describe(self) -> str:
+        """The table in one line: each role's function codes and addresses, and what a client with no
+        role (or one not in the table) gets."""
+        def grant(g: Grant) -> str:
+            span = g.addresses
+            where = "" if span == range(0, 65536) else f" at {span.start}..{span.stop - 1}"
+            return f"FC {_runs(sorted(g.functions))}{where}"
+
+        roles = "; ".join(f"{role} {' and '.join(grant(g) for g in grants)}"
+                          for role, grants in self.rules.items())
+        other = f"those of {self.default!r}" if self.default is not None else "nothing"
+        return f"{roles}; a client without a role in the table: {other}"
 
     def check(self, pdu: bytes, role: str | None, peer: Any = None) -> Decision:
         """:meth:`decide`, counted; a refusal is logged with ``peer``."""
@@ -542,6 +587,61 @@ class RoleTable:
                 self.refused_by_role[role] += 1
                 self.log.append(f"{peer}: {decision.reason}" if peer is not None else decision.reason)
         return decision
+
+
+def _runs(codes: list[int]) -> str:
+    """1, 2, 3, 4, 7 -> '1-4, 7'."""
+    parts: list[str] = []
+    for code in codes:
+        if parts and code == parts[-1][1] + 1:
+            parts[-1] = (parts[-1][0], code)
+        else:
+            parts.append((code, code))
+    return ", ".join(f"{a}" if a == b else f"{a}-{b}" for a, b in parts)
+
+
+def load_roles(path: str | Path) -> RoleTable:
+    """A :class:`RoleTable` from a JSON file (what ``modbus-edu serve --roles FILE`` reads)::
+
+        {"roles": {"viewer":   [{"functions": [1, 2, 3, 4]}],
+                   "operator": [{"functions": [1, 2, 3, 4]},
+                                {"functions": [5, 6, 15, 16], "addresses": [0, 99]}]},
+         "default": null}
+
+    Each grant is function codes and, optionally, the first and last address it covers (default: all);
+    ``default`` names the role whose grants a client without a known role gets (null: nothing).
+    """
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ConfigError(f"cannot read the role table {str(path)!r}: {exc.strerror or exc}") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise ConfigError(f"the role table {str(path)!r} is not JSON: {exc}") from None
+    if (not isinstance(data, dict) or not isinstance(data.get("roles"), dict)
+            or set(data) - {"roles", "default"}):
+        raise ConfigError(f"the role table {str(path)!r} must be an object with \"roles\" (role -> list of "
+                          f"grants) and optionally \"default\"")
+    rules = {}
+    for role, grants in data["roles"].items():
+        if not isinstance(grants, list):
+            raise ConfigError(f"role {role!r} in {str(path)!r}: a list of grants such as "
+                              f"[{{\"functions\": [3]}}], got {grants!r}")
+        rules[role] = [_grant(role, g, path) for g in grants]
+    return RoleTable(rules, default=data.get("default"))
+
+
+def _grant(role: str, entry: Any, path: Any) -> Grant:
+    where = f"role {role!r} in {str(path)!r}"
+    if not isinstance(entry, dict) or "functions" not in entry or set(entry) - {"functions", "addresses"}:
+        raise ConfigError(f"{where}: a grant is {{\"functions\": [...], \"addresses\": [first, last]}}, "
+                          f"got {entry!r}")
+    functions, span = entry["functions"], entry.get("addresses", [0, 65535])
+    if not isinstance(functions, list):
+        raise ConfigError(f"{where}: \"functions\" is a list of function codes, got {functions!r}")
+    if (not isinstance(span, list) or len(span) != 2 or not all(type(a) is int for a in span)
+            or not 0 <= span[0] <= span[1] <= 65535):
+        raise ConfigError(f"{where}: \"addresses\" is [first, last] within 0..65535, got {span!r}")
+    return Grant(frozenset(functions), range(span[0], span[1] + 1))
 
 
 def course_roles() -> RoleTable:

@@ -8,8 +8,9 @@ It never speaks first.  For each frame that reaches it, in this order (the order
    master will time out.  Counted in ``counters.checksum_errors`` / ``counters.bad_frames``.
 2. **Check the unit.**  A request for another unit is none of its business: silence
    (``counters.other_unit``).  On a serial bus every slave hears every frame, so this is normal.
-   Unit 0 is the **broadcast** address of a serial line: every slave carries out the write, and none
-   answers (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
+   Unit 0 is the **broadcast** address of a serial line: every slave carries out the write (FC 5, 6,
+   15, 16, 21, 22, 23: :data:`~modbus_edu.codes.WRITE_FUNCTIONS`), and none answers
+   (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
 3. **Carry out the request** on the bank and answer, or answer an **exception response** (the function
    code with its top bit set, and an exception code):
 
@@ -55,6 +56,7 @@ from typing import Any, ClassVar
 
 from . import pdu as _pdu
 from .codes import MBAP as _MBAP
+from .codes import WRITE_FUNCTIONS
 from .datamodel import DataBank, Table, table_kind
 from .errors import (
     AddressRangeError,
@@ -81,8 +83,6 @@ WriteHook = Callable[["Slave", str, int, list], Any]
 _SEND_EVENT = {1: 0x01, 2: 0x01, 3: 0x01, 4: 0x02, 5: 0x04, 6: 0x04, 7: 0x08}
 """FC 12's send-event bits for an exception response: read exception (01-03), abort (04), busy (05, 06),
 program NAK (07)."""
-
-_WRITE_FUNCTIONS = frozenset({5, 6, 15, 16, 0x16})
 
 _RESETS_EVENT_COUNT = frozenset({0x01, 0x0A})
 """FC 8's Restart Communications and Clear Counters reset FC 11's event counter (spec, section 6.9)."""
@@ -461,7 +461,7 @@ class Slave:
             counters.requests += 1
             if self.listen_only:  # the spec: messages are monitored, no action is taken
                 return None, None, "broadcast in listen-only mode (FC 8/04): heard, not carried out"
-            if pdu.function_code in _WRITE_FUNCTIONS:
+            if pdu.function_code in WRITE_FUNCTIONS:
                 self.process(pdu)
                 return None, None, "broadcast: carried out, no answer"
             return None, None, "broadcast read: ignored (a broadcast can only write)"

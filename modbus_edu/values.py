@@ -339,7 +339,7 @@ def text_to_registers(
     ['0x4142', '0x4300']
 
     An odd length is completed with ``pad`` (NUL by default; some devices pad with spaces: ``pad=" "``).
-    ``length`` is a number of registers: shorter text is padded up to it, longer text raises
+    ``length`` is a number of registers (0..65536): shorter text is padded up to it, longer text raises
     :class:`~modbus_edu.errors.ValueFormatError`.  ``order="BA"`` puts the first character in the low
     byte, as some devices do.  Characters outside ASCII (0..127) raise ValueFormatError.
     """
@@ -357,8 +357,9 @@ def text_to_registers(
             )
     needed = (len(text) + 1) // 2
     if length is not None:
-        if isinstance(length, bool) or not isinstance(length, int) or length < 0:
-            raise ValueFormatError(f"length is a number of registers (0 or more), got {length!r}")
+        if isinstance(length, bool) or not isinstance(length, int) or not 0 <= length <= 0x10000:
+            raise ValueFormatError(f"length is a number of registers, 0..65536 (a table holds 65536), "
+                                   f"got {length!r}")
         if needed > length:
             raise ValueFormatError(
                 f"{len(text)} characters need {needed} registers (2 per register), only {length} allowed"

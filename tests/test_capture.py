@@ -595,3 +595,110 @@ def test_records_carry_the_serial_link_types(rtu_monitor, tmp_path):
     mb.Master(link).read_coils(1, 0, 3)
     with RawPcapReader(str(mb.write_pcap(link.monitor, tmp_path / "ascii.pcap"))) as reader:
         assert reader.linktype == LINKTYPE_ASCII
+
+
+# --- pcapng cut short, and blocks that lie -----------------------------------------------------------------
+def _pcapng(packets: list[bytes], linktype: int = LINKTYPE_RTU) -> tuple[bytes, list[int]]:
+    """A little-endian pcapng file (a section header, one interface, an enhanced packet block per packet)
+    and the byte offset where each block ends."""
+    def block(kind: int, body: bytes) -> bytes:
+        body += b"\0" * (-len(body) % 4)
+        return struct.pack("<II", kind, len(body) + 12) + body + struct.pack("<I", len(body) + 12)
+
+    blocks = [block(0x0A0D0D0A, struct.pack("<IHHq", 0x1A2B3C4D, 1, 0, -1)),
+              block(1, struct.pack("<HHI", linktype, 0, 0))]
+    blocks += [block(6, struct.pack("<IIIII", 0, 0, i, len(p), len(p)) + p) for i, p in enumerate(packets)]
+    ends, at = [], 0
+    for b in blocks:
+        at += len(b)
+        ends.append(at)
+    return b"".join(blocks), ends
+
+
+def test_a_pcapng_cut_short_at_any_byte_is_a_capture_error(tmp_path):
+    """Cut anywhere but between two blocks, a pcapng raises CaptureError, as a cut pcap does; cut between
+    two blocks, it is a shorter capture and reads as one."""
+    master = mb.Master(mb.loopback_serial(course_slave()))
+    for address in range(3):
+        master.read_holding_registers(unit=1, address=address, count=2)
+    packets = [entry.data for entry in master.link.monitor]
+    data, ends = _pcapng(packets)
+    path = tmp_path / "cut.pcapng"
+    path.write_bytes(data)
+    assert [e.data for e in mb.read_pcap(path)] == packets
+    for cut in range(len(data)):
+        path.write_bytes(data[:cut])
+        if cut in ends:
+            assert [e.data for e in mb.read_pcap(path)] == packets[:max(0, ends.index(cut) - 1)]
+            continue
+        with pytest.raises(mb.CaptureError):
+            mb.read_pcap(path)
+    path.write_bytes(data[:ends[3] + 10])
+    with pytest.raises(mb.CaptureError, match=rf"ends inside block 5 \(at byte {ends[3]}\).*cut short"):
+        mb.read_pcap(path)
+
+
+def test_a_packet_block_whose_captured_length_runs_past_it_is_refused(tmp_path):
+    frame = mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=2)).encode()
+    data, ends = _pcapng([frame, frame])
+    damaged = bytearray(data)
+    damaged[ends[1] + 20:ends[1] + 24] = struct.pack("<I", 200)  # the first packet's captured length
+    path = tmp_path / "liar.pcapng"
+    path.write_bytes(bytes(damaged))
+    with pytest.raises(mb.CaptureError, match=rf"block 3 \(at byte {ends[1]}\).*200 captured bytes"):
+        mb.read_pcap(path)
+
+
+# --- TCP put back in order when the capture lacks the start, or holds too much out of order ----------------
+def _tcp_capture(path: Path, segments: list[tuple[int, bytes]], syn: int | None = None) -> Path:
+    """A capture of segments (sequence number, bytes), 127.0.0.11:40000 to 127.0.0.12:502, in this order."""
+    from scapy.layers.inet import IP, TCP
+    from scapy.layers.l2 import Ether
+    from scapy.utils import wrpcap
+
+    def packet(seq, data, flags="PA"):
+        return Ether() / IP(src="127.0.0.11", dst="127.0.0.12") / TCP(sport=40000, dport=502, seq=seq,
+                                                                       flags=flags) / data
+
+    packets = [packet(syn, b"", "S")] if syn is not None else []
+    packets += [packet(seq, data) for seq, data in segments]
+    for i, p in enumerate(packets):
+        p.time = 1.0 + i
+    wrpcap(str(path), packets)
+    return path
+
+
+def _requests(count: int) -> list[bytes]:
+    return [mb.TcpFrame(transaction_id=t, unit=1, pdu=mb.ReadHoldingRegistersRequest(address=t, count=2))
+            .encode() for t in range(count)]
+
+
+def test_without_a_syn_two_swapped_first_segments_keep_both_frames(tmp_path):
+    first, second, third = _requests(3)
+    swapped = _tcp_capture(tmp_path / "swapped.pcap", [(112, second), (100, first), (124, third)])
+    back = mb.read_pcap(swapped)
+    assert [e.data for e in back] == [first, second, third]
+    assert [e.time for e in back] == [2.0, 2.0, 3.0]
+    assert all(not e.note for e in back)
+    # the first segment seen starts inside a frame: its bytes are put back behind the ones before them
+    stream = first + second
+    cut = _tcp_capture(tmp_path / "cut.pcap", [(105, stream[5:]), (100, stream[:5])])
+    back = mb.read_pcap(cut)
+    assert [e.data for e in back] == [first, second] and all(not e.note for e in back)
+
+
+def test_past_256_held_segments_the_notes_say_what_happened(tmp_path):
+    frames = _requests(300)
+    late = [(1000 + 12 * i, f) for i, f in enumerate(frames)][1:] + [(1000, frames[0])]
+    back = mb.read_pcap(_tcp_capture(tmp_path / "late.pcap", late, syn=999))
+    assert [e.data for e in back] == frames[1:]
+    notes = [(i, e.note) for i, e in enumerate(back) if e.note]
+    assert len(notes) == 2, notes
+    assert notes[0][0] == 0 and "12 bytes of this direction had not arrived" in notes[0][1]
+    assert "256" in notes[0][1] and "lacks" not in notes[0][1]
+    assert notes[1][0] == len(back) - 1 and "12 bytes of this direction arrived after" in notes[1][1]
+    assert "not read" in notes[1][1]
+    # a gap the capture never fills is what the capture lacks
+    back = mb.read_pcap(_tcp_capture(tmp_path / "lost.pcap", late[:-1], syn=999))
+    assert [e.data for e in back] == frames[1:]
+    assert [e.note for e in back if e.note] == [notes[0][1]]

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import pytest
 
+import modbus_edu as mb
+from modbus_edu import security
 from modbus_edu.devices.meter import METER_MAP, TRIAL_ENERGY_KWH, TRIALS, PowerMeter
 from modbus_edu.framing import RtuFrame
 from modbus_edu.links.serial import SerialServer, TcpSerialPort
@@ -676,3 +678,94 @@ def test_identify_escapes_what_a_device_says_so_it_cannot_act_on_the_terminal():
     assert "\x1b" not in out and "\r" not in out
     assert "server ID: 1B 5B 32 4A (b'\\x1b[2J'), run indicator: ON" in out
     assert "additional data: 4C 4D 42 0D 0A 76 33 2E 31 2E 36 FF (b'LMB\\r\\nv3.1.6\\xff')" in out
+
+
+# --- Modbus/TCP Security from the command line: roles apply ----------------------------------------------
+@pytest.fixture(scope="module")
+def pki(tmp_path_factory):
+    return security.make_test_pki(tmp_path_factory.mktemp("pki"))
+
+
+def _tls_args(pki) -> list[str]:
+    return ["--tls-cert", str(pki.server_cert), "--tls-key", str(pki.server_key),
+            "--tls-ca", str(pki.ca_cert)]
+
+
+def _secure_master(pki, port: int, **context):
+    link = mb.tcp_link("127.0.0.1", port, tls=security.client_context(pki, **context), timeout=5)
+    return mb.Master(link, timeout=5)
+
+
+def _refused(call) -> bool:
+    try:
+        call()
+    except mb.ModbusExceptionError as exc:
+        assert exc.code == 1
+        return True
+    return False
+
+
+@contextlib.contextmanager
+def _started(*args: str) -> Iterator[tuple[subprocess.Popen, int, list[str]]]:
+    """A serving subcommand as a subprocess: yields it, its port and its first two lines; Ctrl-C ends it."""
+    proc = subprocess.Popen([*CLI, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=ROOT, env=ENV)
+    try:
+        lines = [_readline(proc.stdout, 20)]
+        lines.append(proc.stdout.readline())  # printed right after the first (maybe read with it already)
+        port = int(lines[0].split("127.0.0.1:")[1].split(" ")[0].rstrip(";"))
+        yield proc, port, lines
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=15)
+        assert proc.returncode == 0 and "Traceback" not in err, err
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+
+
+def test_serve_with_tls_applies_the_course_roles_and_says_so(pki):
+    with _started("serve", "bank", "--tcp", "127.0.0.1:0", *_tls_args(pki)) as (_, port, lines):
+        assert "Modbus/TCP Security" in lines[0]
+        assert lines[1].startswith("roles: the course's table") and "viewer" in lines[1], lines
+        viewer = _secure_master(pki, port, role="viewer")
+        assert viewer.read_holding_registers(unit=1, address=1, count=1) == [1]
+        assert _refused(lambda: viewer.write_single_register(unit=1, address=1, value=5))
+        nobody = _secure_master(pki, port, cert=pki.no_role.cert, key=pki.no_role.key)
+        assert _refused(lambda: nobody.read_holding_registers(unit=1, address=1, count=1))
+        assert _refused(lambda: nobody.write_single_register(unit=1, address=1, value=5))
+        engineer = _secure_master(pki, port, role="engineer")
+        engineer.write_single_register(unit=1, address=1, value=5)
+        assert viewer.read_holding_registers(unit=1, address=1, count=1) == [5]
+        for master in (viewer, nobody, engineer):
+            master.link.close()
+
+
+def test_serve_and_gateway_take_a_role_file(pki, tmp_path):
+    roles = tmp_path / "roles.json"
+    roles.write_text(json.dumps({"roles": {"viewer": [{"functions": [3, 6], "addresses": [0, 9]}]}}))
+    with _started("serve", "bank", "--tcp", "127.0.0.1:0", *_tls_args(pki), "--roles", str(roles)) \
+            as (_, port, lines):
+        assert lines[1].startswith(f"roles: {roles}") and "viewer" in lines[1], lines
+        viewer = _secure_master(pki, port, role="viewer")
+        viewer.write_single_register(unit=1, address=1, value=7)               # this table lets it write
+        assert _refused(lambda: viewer.write_single_register(unit=1, address=10, value=7))
+        engineer = _secure_master(pki, port, role="engineer")                  # not in this table
+        assert _refused(lambda: engineer.read_holding_registers(unit=1, address=1, count=1))
+        for master in (viewer, engineer):
+            master.link.close()
+    with _started("gateway", "--tcp", "127.0.0.1:0", "--serial", "loop://", *_tls_args(pki)) \
+            as (_, port, lines):
+        assert lines[1].startswith("roles: the course's table"), lines
+        viewer = _secure_master(pki, port, role="viewer")
+        assert _refused(lambda: viewer.write_single_register(unit=1, address=1, value=5))
+        viewer.link.close()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["serve", "bank", "--tcp", "127.0.0.1:0", "--roles", "roles.json"], "--roles needs TLS"),
+    (["serve", "bank", "--tcp", "127.0.0.1:0", "--tls-cert", "c", "--tls-key", "k", "--tls-ca", "a",
+      "--roles", "/no/such/roles.json"], "cannot read"),
+])
+def test_roles_without_tls_or_without_a_file_are_refused(args, message):
+    fails(*args, message=message)

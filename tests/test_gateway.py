@@ -251,24 +251,26 @@ def test_many_clients_of_a_dead_unit_and_one_live_client_at_once():
 
         _together([dead_client] * 8 + [live_client])
         assert gw.worst_wait[1] <= 0.25 + REQUEST_AIRTIME + 1e-9
-        assert gw.counters["busy"] == 0
+        assert gw.counters["overloaded"] == 0
     assert errors == [] and results == [0x0B] * 24
 
 
-def test_the_queues_are_bounded_and_answer_busy_beyond():
+def test_the_queues_are_bounded_and_answer_0a_beyond():
     bus, _, _ = _bus()
     gw = mb.TcpGateway(bus, timeout=0.2, max_queued_per_unit=2, max_queued=3)
     try:
         links = _queue_then_serve(gw, [1, 1, 1, 2, 2])
-        # the third request for unit 1, and a fourth in all, are answered 06 (server device busy) at once
+        # the third request for unit 1, and a fourth in all, are answered at once with 0A, gateway path
+        # unavailable: the TCP guide's answer for an overloaded gateway
         for i in (2, 4):
             frame = links[i].receive(5.0)
-            assert frame is not None and frame[7:] == bytes([0x83, 0x06]), frame
+            assert frame is not None and frame[7:] == bytes([0x83, 0x0A]), frame
         gw.start()  # the bus thread serves what was queued
         for i in (0, 1, 3):
             frame = links[i].receive(5.0)
             assert frame is not None and frame[7] == 0x03, frame
-        assert gw.counters["busy"] == 2 and gw.counters["forwarded"] == 3
+        assert gw.counters["overloaded"] == 2 and gw.counters["forwarded"] == 3
+        assert gw.counters["path_unavailable"] == 0
     finally:
         for link in links:
             link.close()

@@ -7,7 +7,7 @@ import pytest
 from modbus_edu.clock import VirtualClock
 from modbus_edu.errors import ConfigError, LinkError, ModbusTimeoutError
 from modbus_edu.framing import AsciiFrame, RtuFrame
-from modbus_edu.links import Link, SerialTiming, character_time, loopback_serial
+from modbus_edu.links import Link, SerialTiming, character_time, loopback_serial, wire
 from modbus_edu.master import Master
 from modbus_edu.pdu import ReadHoldingRegistersRequest
 from modbus_edu.slave import Slave
@@ -81,6 +81,8 @@ def test_timing_object():
     fast = SerialTiming(38400)
     assert (fast.t15, fast.t35) == (0.00075, 0.00175)
     assert SerialTiming(19200).t35 == pytest.approx(3.5 * 10 / 19200)  # 19200 itself: still characters
+    # the serial line guide (2.5.1.1) recommends those fixed values; it does not impose them
+    assert "recommends fixed values" in " ".join(wire.__doc__.split()) and "fixes" not in wire.__doc__
     assert character_time(9600) == 10 / 9600
     assert character_time(9600, "N", 2, 7) == 10 / 9600
     assert str(SerialTiming(9600, "e", 2)) == "9600 baud 8E2"

@@ -642,6 +642,8 @@ def test_exception_codes_and_meanings() -> None:
     assert "function" in ExceptionCode.ILLEGAL_FUNCTION.meaning
     assert "address" in ExceptionCode.ILLEGAL_DATA_ADDRESS.meaning
     assert "value" in ExceptionCode.ILLEGAL_DATA_VALUE.meaning
+    parity = ExceptionCode.MEMORY_PARITY_ERROR.meaning                   # spec section 7: FC 20/21 only
+    assert "file record" in parity and "20" in parity and "21" in parity
     assert ExceptionResponse(function=3, code=0x42).meaning  # undefined codes still get a sentence
 
 

@@ -28,7 +28,14 @@ import modbus_edu as mb
 from modbus_edu import security
 from modbus_edu.errors import ConfigError, LinkError, ModbusExceptionError, SecurityError
 from modbus_edu.links.tls import client_handshake
-from modbus_edu.security import Grant, RoleTable, course_roles, role_extension_value, role_of
+from modbus_edu.security import (
+    Grant,
+    RoleTable,
+    course_roles,
+    role_extension_value,
+    role_of,
+    touched_addresses,
+)
 
 
 @pytest.fixture(scope="module")
@@ -173,6 +180,27 @@ def test_role_table_decides_by_function_and_address():
     assert (roles.allowed, roles.refused) == (0, 0)                          # decide() counts nothing
 
 
+def test_touched_addresses_cover_what_fifo_and_file_requests_reach():
+    """FC 24 reads the count at its pointer and up to 31 registers after it; FC 20 and 21 reach the
+    records of each sub-request."""
+    assert touched_addresses(mb.ReadFifoQueueRequest(address=99)) == [range(99, 131)]
+    assert touched_addresses(mb.ReadFifoQueueRequest(address=65530)) == [range(65530, 65536)]
+    assert touched_addresses(mb.ReadFileRecordRequest(records=[(4, 1, 2), (5, 150, 3)])) == \
+        [range(1, 3), range(150, 153)]
+    assert touched_addresses(mb.WriteFileRecordRequest(records=[(4, 98, [1, 2, 3])])) == [range(98, 101)]
+
+
+def test_a_grant_bounds_fifo_and_file_records():
+    guest = RoleTable({"guest": [Grant({20, 21, 24}, range(0, 100))]})
+    assert not guest.decide(_pdu(mb.ReadFifoQueueRequest(address=99)), "guest").allowed  # 100..130 are out
+    assert guest.decide(_pdu(mb.ReadFifoQueueRequest(address=60)), "guest").allowed      # 60..91
+    assert guest.decide(_pdu(mb.ReadFileRecordRequest(records=[(4, 0, 10)])), "guest").allowed
+    far_read = guest.decide(_pdu(mb.ReadFileRecordRequest(records=[(4, 0, 2), (4, 150, 2)])), "guest")
+    assert not far_read.allowed and "file records 150..151" in far_read.reason
+    assert not guest.decide(_pdu(mb.WriteFileRecordRequest(records=[(1, 99, [1, 2])])), "guest").allowed
+    assert guest.decide(_pdu(mb.WriteFileRecordRequest(records=[(1, 98, [1, 2])])), "guest").allowed
+
+
 def test_role_table_check_counts_and_logs_refusals():
     roles = RoleTable({"viewer": Grant({3}), "guest": Grant({4}, range(0, 10))}, default="guest", log_size=2)
     write = _pdu(mb.WriteSingleRegisterRequest(address=5, value=1))
@@ -309,6 +337,28 @@ def test_the_connection_limit_holds_under_tls(pki):
             master.link.close()
 
 
+def test_unfinished_handshakes_are_evicted_before_a_client_that_finished_its_own(pki):
+    """An engineer connects (its handshake done, no request yet), then 32 plain connects that never
+    start a handshake fill the server: they push each other out, never the engineer."""
+    with mb.TcpServer(_slave(), tls=security.server_context(pki), max_connections=4,
+                      handshake_timeout=30, request_timeout=30) as server:
+        master = _master(server, pki, role="engineer")
+        assert _wait_for(lambda: server.counters.tls_handshakes == 1)
+        plain = []
+        try:
+            for _ in range(32):
+                plain.append(socket.create_connection(server.address[:2]))
+                time.sleep(0.005)
+            assert _wait_for(lambda: server.counters.evicted >= 29)
+            assert master.read_holding_registers(unit=1, address=0, count=1) == [11]
+            # on its first connection: the link did not have to connect (and shake hands) again
+            assert server.counters.tls_handshakes == 1 and server.counters.connections == 33
+        finally:
+            for sock in plain:
+                sock.close()
+            master.link.close()
+
+
 def test_pipelined_requests_over_tls_are_all_answered(secure, pki):
     server, _, _ = secure
     sock = _tls_socket(server, pki)
@@ -438,3 +488,20 @@ def test_a_refused_client_does_not_connect_again_by_itself(pki):
             mb.Master(link, timeout=2).write_single_register(unit=1, address=0, value=1)
         assert link.reconnects == 0
     assert server.counters.tls_refused == 1
+
+
+def test_load_roles_reads_a_json_table_and_names_what_is_wrong(tmp_path):
+    path = tmp_path / "roles.json"
+    path.write_text('{"roles": {"viewer": [{"functions": [3, 4]}], '
+                    '"operator": [{"functions": [6], "addresses": [0, 99]}]}, "default": "viewer"}')
+    roles = security.load_roles(path)
+    assert roles.decide(_pdu(mb.WriteSingleRegisterRequest(address=99, value=1)), "operator").allowed
+    assert not roles.decide(_pdu(mb.WriteSingleRegisterRequest(address=100, value=1)), "operator").allowed
+    assert roles.decide(_pdu(mb.ReadInputRegistersRequest(address=0, count=1)), None).allowed  # default
+    assert "operator FC 6 at 0..99" in roles.describe()
+    for text, words in [("{", "not JSON"), ('{"viewer": []}', '"roles"'),
+                        ('{"roles": {"viewer": [{"functions": [3], "addresses": [5, 2]}]}}', "[first, last]"),
+                        ('{"roles": {"viewer": [{"function": [3]}]}}', "a grant is")]:
+        path.write_text(text)
+        with pytest.raises(ConfigError, match=words):
+            security.load_roles(path)

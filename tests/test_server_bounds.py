@@ -180,3 +180,54 @@ def test_two_hundred_connections_reset_mid_frame_leave_a_served_client_alone():
                 sock.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
                 sock.close()  # a reset, mid-frame
             assert _ask(bystander, "tcp", 2)
+
+
+def _open_after(socks: list[socket.socket], payloads: list[bytes], interval: float, seconds: float) -> int:
+    """Send each socket its payload one byte per ``interval`` for ``seconds``; how many the server has
+    not closed by then (a closed one reads as end of file or a reset)."""
+    for sock in socks:
+        sock.setblocking(False)
+    closed: set[int] = set()
+    end = time.monotonic() + seconds
+    at = 0
+    while time.monotonic() < end:
+        for i, sock in enumerate(socks):
+            if i in closed:
+                continue
+            try:
+                if sock.recv(64) == b"":
+                    closed.add(i)
+                    continue
+            except BlockingIOError:
+                pass
+            except OSError:
+                closed.add(i)
+                continue
+            try:
+                sock.send(payloads[i][at % len(payloads[i]):at % len(payloads[i]) + 1])
+            except OSError:
+                closed.add(i)
+        at += 1
+        time.sleep(interval)
+    return len(socks) - len(closed)
+
+
+@pytest.mark.parametrize("framing", ["rtu", "ascii"])
+def test_rtu_and_ascii_trickled_frames_and_lone_junk_bytes_close_within_the_request_timeout(framing):
+    """Ten clients trickle a 109-byte FC 16 request at one byte per 0.1 s, and one sends a 0xFF every
+    0.5 s: all are closed once request_timeout has passed since their first byte, and counted."""
+    frame = (mb.RtuFrame if framing == "rtu" else mb.AsciiFrame)(
+        unit=1, pdu=mb.WriteMultipleRegistersRequest(address=0, values=list(range(50)))).encode()
+    with TcpServer(mb.Slave(unit=1), framing=framing, request_timeout=1.0, idle_timeout=60) as server:
+        port = server.address[1]
+        with raw_client(port) as bystander:
+            socks = [socket.create_connection((HOST, port)) for _ in range(11)]
+            try:
+                still_open = _open_after(socks[:10], [frame] * 10, 0.1, 2.5)
+                assert _ask(bystander, framing)  # the bystander is served meanwhile, and stays
+                junk_open = _open_after(socks[10:], [b"\xff"], 0.5, 2.5)
+            finally:
+                for sock in socks:
+                    sock.close()
+        assert (still_open, junk_open) == (0, 0)
+        assert server.counters.slow_closed == 11

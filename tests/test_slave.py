@@ -10,6 +10,7 @@ from modbus_edu.errors import ConfigError, FrameError, ModbusExceptionError
 from modbus_edu.framing import AsciiFrame, RtuFrame, TcpFrame
 from modbus_edu.pdu import (
     ExceptionResponse,
+    MaskWriteRegisterRequest,
     ReadCoilsRequest,
     ReadCoilsResponse,
     ReadDiscreteInputsRequest,
@@ -18,6 +19,8 @@ from modbus_edu.pdu import (
     ReadHoldingRegistersResponse,
     ReadInputRegistersRequest,
     ReadInputRegistersResponse,
+    ReadWriteMultipleRegistersRequest,
+    WriteFileRecordRequest,
     WriteMultipleCoilsRequest,
     WriteMultipleCoilsResponse,
     WriteMultipleRegistersRequest,
@@ -295,6 +298,21 @@ def test_broadcast_read_is_ignored_and_broadcast_exception_is_silent(slave):
     assert slave.handle(rtu("00 03 00 00 00 00"), "rtu") is None  # quantity 0: no exception either
     assert slave.handle(rtu("00 2B 0E 01 00"), "rtu") is None
     assert slave.counters.broadcasts == 3 and slave.counters.responses == 0
+
+
+@pytest.mark.parametrize("request_pdu, written", [
+    (WriteFileRecordRequest(records=[(4, 2, [7, 8])]), lambda bank: bank.files.read(4, 2, 2) == [7, 8]),
+    (MaskWriteRegisterRequest(address=3, and_mask=0x0000, or_mask=0x0025),
+     lambda bank: bank.holding_registers[3] == 0x0025),
+    (ReadWriteMultipleRegistersRequest(read_address=0, read_count=1, write_address=5, values=[9]),
+     lambda bank: bank.holding_registers[5] == 9),
+], ids=["FC 21", "FC 22", "FC 23"])
+def test_every_write_function_is_carried_out_on_broadcast(request_pdu, written):
+    """FC 21, 22 and 23 write: a broadcast of them is carried out (never answered), not ignored as a read."""
+    slave = Slave(unit=1)
+    assert slave.handle(RtuFrame(0, request_pdu).encode(), "rtu") is None
+    assert written(slave.bank)
+    assert slave.counters.broadcasts == 1 and slave.counters.responses == 0
 
 
 def test_bad_unit_argument():

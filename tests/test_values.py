@@ -293,6 +293,10 @@ def test_text_errors():
         text_to_registers("AB", order="CD")
     with pytest.raises(ValueFormatError):
         text_to_registers("AB", length=-1)
+    for huge in (2**70, 2**40, 65537):  # more registers than a table holds: our error, not Overflow/Memory
+        with pytest.raises(ValueFormatError, match="65536"):
+            text_to_registers("\x00", length=huge)
+    assert len(text_to_registers("A", length=65536)) == 65536
     with pytest.raises(ValueFormatError, match=r"register 1 \(0x41C3\) byte 1 is 0xC3, not ASCII"):
         registers_to_text([0x4142, 0x41C3])
     with pytest.raises(ValueFormatError):

@@ -243,6 +243,10 @@ def _tls_options(parser: argparse.ArgumentParser, serve: bool) -> None:
     tls.add_argument("--tls-cert", metavar="PEM", help=f"{whose} certificate; turns TLS on")
     tls.add_argument("--tls-key", metavar="PEM", help=f"{whose} private key")
     tls.add_argument("--tls-ca", metavar="PEM", help=f"the certificate authority that signs {other}")
+    if serve:
+        tls.add_argument("--roles", metavar="JSON",
+                         help="the role table clients' certificates are judged by (default with TLS: the "
+                              "course's: viewer reads, operator also writes 0..99, engineer everything)")
 
 
 def _tls_context(args: argparse.Namespace, side: str) -> Any:
@@ -258,6 +262,21 @@ def _tls_context(args: argparse.Namespace, side: str) -> Any:
                           f"together ({', '.join(missing)} missing)")
     make = security.server_context if side == "server" else security.client_context
     return make(**given)
+
+
+def _authorization(args: argparse.Namespace) -> tuple[Any, str | None]:
+    """With TLS on (--tls-*), the role table every request is judged by (--roles FILE, else the
+    course's) and the start-up line that says so; without TLS, (None, None)."""
+    tls_on = any(getattr(args, f"tls_{name}", None) for name in ("cert", "key", "ca"))
+    path = getattr(args, "roles", None)
+    if not tls_on:
+        if path:
+            raise ConfigError("--roles needs TLS (--tls-cert, --tls-key, --tls-ca): a role is read from the "
+                              "client's certificate, and plain Modbus/TCP has none")
+        return None, None
+    table = security.load_roles(path) if path else security.course_roles()
+    name = path if path else "the course's table"
+    return table, f"roles: {name}: {table.describe()}"
 
 
 def _tcp_name(server: Any) -> str:

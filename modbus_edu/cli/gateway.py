@@ -10,6 +10,7 @@ from ..errors import ConfigError
 from ..gateway import TcpGateway
 from ..links.serial import serial_link
 from .common import (
+    _authorization,
     _check_seconds,
     _install_stop_signals,
     _tcp_name,
@@ -26,16 +27,20 @@ def cmd_gateway(args: argparse.Namespace) -> int:
     _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
 
     host, port = parse_endpoint(args.tcp)
+    authorization, roles = _authorization(args)
     tls = _tls_context(args, "server")
     link = serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
                        stopbits=args.stopbits, mode=args.mode)
     _install_stop_signals()
-    gateway = TcpGateway(link, host=host, port=port, timeout=args.timeout, tls=tls)
+    gateway = TcpGateway(link, host=host, port=port, timeout=args.timeout, tls=tls,
+                         authorization=authorization)
     try:
         gateway.start()
         bound_host, bound_port = gateway.address[:2]
         print(f"gateway: {_tcp_name(gateway.server)} {bound_host}:{bound_port} -> {link.description}; "
               "Ctrl-C to stop", flush=True)
+        if roles:
+            print(roles, flush=True)
         while True:
             time.sleep(0.2)
     except KeyboardInterrupt:
@@ -45,7 +50,8 @@ def cmd_gateway(args: argparse.Namespace) -> int:
         link.close()
     c = gateway.counters
     print(f"stopped: {c['forwarded']} forwarded, {c['no_response']} answered 0B, "
-          f"{c['path_unavailable']} answered 0A", flush=True)
+          f"{c['path_unavailable'] + c['overloaded']} answered 0A ({c['overloaded']} of them overloaded)",
+          flush=True)
     return 0
 
 

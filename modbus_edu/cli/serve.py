@@ -19,6 +19,7 @@ from ..slave import Slave
 from .common import (
     DEFAULT_HOST,
     DEFAULT_PORT,
+    _authorization,
     _EchoLog,
     _install_stop_signals,
     _int,
@@ -96,6 +97,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
     _install_stop_signals()
     if args.serial is not None:
         _tls_context(args, "serial")  # refuses --tls-* on a serial line
+    authorization, roles = _authorization(args)  # with TLS on, roles apply
+    if args.serial is not None:
         server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=args.parity,
                                    stopbits=args.stopbits, mode=args.mode)
         bits = 7 if args.mode == "ascii" else 8  # what SerialServer opens: ASCII carries 7 data bits
@@ -103,7 +106,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
                  f"{args.mode.upper()}")
     else:
         host, port = parse_endpoint(args.tcp or f"{DEFAULT_HOST}:{DEFAULT_PORT}")
-        server = TcpServer(device, host=host, port=port, tls=_tls_context(args, "server"))
+        server = TcpServer(device, host=host, port=port, tls=_tls_context(args, "server"),
+                           authorization=authorization)
         where = None
     counter = _Counter(device, sys.stderr)
     started = False
@@ -114,6 +118,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
             bound_host, bound_port = server.address[:2]
             where = f"{_tcp_name(server)} {bound_host}:{bound_port}"
         print(f"serving {device.name} (unit {device.unit}) on {where}; Ctrl-C to stop", flush=True)
+        if roles:
+            print(roles, flush=True)
         counter.show(force=True)
         while True:
             time.sleep(0.2)

@@ -314,8 +314,8 @@ def _parity(got: Any, ten_bits: Any) -> bool:
 
 @_entry("fixed-silence-ignored", "3.5 characters above 19200 baud", "got, scaled: a time, and the same "
         "time with 3.5-character silences above 19200 baud",
-        "above 19200 baud the specification fixes the silence at 1.75 ms (and 1.5 characters at 0.75 ms) "
-        "instead of 3.5 character times.")
+        "above 19200 baud the specification recommends a fixed silence of 1.75 ms (and 0.75 ms for 1.5 "
+        "characters) instead of 3.5 character times, and the course's line uses it.")
 def _fixed_silence(got: Any, scaled: Any) -> bool:
     return _same_time(got, scaled)
 

@@ -25,7 +25,8 @@ class TcpServerCounters:
     server with several slaves), answered with exception 0x0B;
     ``idle_closed``  connections closed after ``idle_timeout`` seconds of silence;
     ``slow_closed``  connections closed because a request did not complete within ``request_timeout``
-    seconds of its first byte;  ``evicted``  idle connections closed to make room for a new client;
+    seconds of its first byte;  ``evicted``  connections closed to make room for a new client (unfinished
+    TLS handshakes first, then clients that never completed a request, then the longest idle);
     ``held_back``  times a connection was not read because its unanswered input or unsent output was
     at its bound (a client that pipelines without reading);  ``late_replies``  answers of an
     asynchronous slave (a gateway) that came after their connection had gone, and were dropped.

@@ -105,8 +105,8 @@ class TcpServer:
       must be 0 and the length field 2..254; a client that sends anything else is not speaking
       Modbus/TCP and its connection is closed (``bad_frames``); other clients are not affected.
     * a connection silent for ``idle_timeout`` seconds (``None``: never) is closed.
-    * a request must arrive whole within ``request_timeout`` seconds of its first byte, or its
-      connection is closed: a client that trickles a frame byte by byte (slowloris) holds nothing.
+    * a request must arrive whole within ``request_timeout`` s of its first byte (RTU, ASCII: the first
+      after the last request, junk included), or it is closed (``slow_closed``): slowloris holds nothing.
     * at most ``max_connections`` clients at a time; when a new one comes, the connection that has been
       idle longest is closed to make room (``evicted``), so idle clients cannot lock others out.
     * the server is fair: each turn it answers at most one request per connection, so a client that
@@ -121,9 +121,8 @@ class TcpServer:
       not say (an unknown function code, FC 8 Return Query Data) ends where its CRC checks out, and
       an unfinished one ends after ``quiet_gap`` seconds without a byte (a socket has no silence of
       3.5 characters, but a short quiet gap works the same way).
-    * when the server is full, it makes room by closing a connection that has never completed a
-      request (the oldest such), else the longest idle one: a flood of new or broken connections
-      cannot push out a client that is being served.
+    * when the server is full, it closes an unfinished TLS handshake, else a connection never served (the
+      oldest), else the longest idle one: a flood of new or broken connections cannot push out the served.
     * when ``accept()`` fails (out of file descriptors), the server stops accepting for a moment instead
       of spinning; refusal and failure warnings are rate-limited.
 
@@ -418,8 +417,8 @@ class TcpServer:
             due = min(due, conn.last_activity + self.idle_timeout)
         if conn.partial_since is not None:
             due = min(due, conn.partial_since + self.request_timeout)
-            if self.framing == "rtu":
-                due = min(due, conn.last_byte + self.quiet_gap)
+        if self.framing == "rtu" and conn.splitter.pending:
+            due = min(due, conn.last_byte + self.quiet_gap)
         return due
 
     def _next_deadline(self) -> float | None:
@@ -441,11 +440,9 @@ class TcpServer:
         for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
             if conn.handshake is not None and now >= conn.handshake.deadline:
                 self._tls_refuse(conn, f"no TLS handshake within {self.handshake_timeout:g} s", timeout=True)
-            elif (self.framing == "rtu" and conn.partial_since is not None
-                    and now >= conn.last_byte + self.quiet_gap):
+            elif self.framing == "rtu" and conn.splitter.pending and now >= conn.last_byte + self.quiet_gap:
                 # a quiet gap: what has come is all there is of this frame (a socket's silence)
-                conn.frames.extend(conn.splitter.flush())
-                conn.partial_since = None
+                self._cut(conn, conn.splitter.flush(), now)
                 self._pump(conn)
             elif conn.partial_since is not None and now >= conn.partial_since + self.request_timeout:
                 self.counters.slow_closed += 1
@@ -482,10 +479,9 @@ class TcpServer:
                 self._warn("accept", "accept failed: %s; pausing %.2f s", exc, self._accept_backoff)
                 return
             if len(self._connections) >= self.max_connections:
-                # room for the newcomer: first a connection that never completed a request, then the
-                # longest idle one, so that a flood of new or broken connections cannot push out clients
-                # that are being served
-                oldest = min(self._connections.values(), key=lambda c: (c.served > 0, c.last_activity))
+                # room: an unfinished handshake, then a connection never served, then the longest idle
+                oldest = min(self._connections.values(),
+                             key=lambda c: (c.handshake is None, c.served > 0, c.last_activity))
                 self.counters.evicted += 1
                 self._warn("evict", "client %s connects with %d connections open (max_connections=%d): "
                            "closing %s", peer, len(self._connections), self.max_connections, oldest.peer)
@@ -553,11 +549,20 @@ class TcpServer:
         if not data:
             self._drop(conn, None)  # the client closed its end: an ordinary goodbye
             return
-        conn.last_activity = conn.last_byte = time.monotonic()
+        conn.last_activity = conn.last_byte = now = time.monotonic()
         if self._direct and self._answer_directly(conn, data):
             return
-        conn.frames.extend(conn.splitter.feed(data))
+        self._cut(conn, conn.splitter.feed(data), now)
         self._pump(conn)
+
+    def _cut(self, conn: _Connection, frames: list[bytes], now: float) -> None:
+        """Queue the requests cut.  RTU, ASCII: the request clock runs from a byte to the next request."""
+        conn.frames.extend(frames)
+        if self.framing != "tcp":
+            since = conn.partial_since or now  # a whole request stops the clock (restarts if bytes remain)
+            conn.partial_since = (now if conn.splitter.pending else None) if any(
+                self._implemented(frame) for frame in frames) else since
+            self._earliest = min(self._earliest, self._deadlines(conn))
 
     def _answer_directly(self, conn: _Connection, data: bytes) -> bool:
         """Answer ``data`` now if it is one whole Modbus/TCP request and nothing of ``conn`` waits (no
@@ -627,13 +632,13 @@ class TcpServer:
             if self._send(conn):  # the answers to the good frames before it, as far as they go
                 self._drop(conn, f"not Modbus: {why}")
             return False
-        # a request under way (bytes of it, not all) starts its clock; a finished one stops it
-        if splitter.pending and not conn.frames:
-            if conn.partial_since is None:
+        # Modbus/TCP: bytes of a request start its clock, a whole one stops it (RTU and ASCII: _cut)
+        if self.framing == "tcp":
+            if not splitter.pending or conn.frames:
+                conn.partial_since = None
+            elif conn.partial_since is None:
                 conn.partial_since = time.monotonic()
                 self._earliest = min(self._earliest, self._deadlines(conn))
-        else:
-            conn.partial_since = None
         return True
 
     def _implemented(self, frame: bytes) -> bool:

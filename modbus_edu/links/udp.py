@@ -1,8 +1,9 @@
 """Modbus/UDP: the MBAP framing of Modbus/TCP, one datagram per ADU.
 
-UDP keeps datagram boundaries, so there is no stream to cut; each datagram is still checked by the same
-:class:`~modbus_edu.framing.TcpSplitter` as a TCP stream (reset before every datagram), so a datagram
-that is not exactly one valid MBAP frame is dropped and counted, never half-used. UDP does not resend:
+UDP keeps datagram boundaries, so there is no stream to cut: a datagram must be exactly one MBAP frame
+(protocol identifier 0, a length field of 2..254 that counts the rest of the datagram), checked on its
+bytes as :func:`~modbus_edu.framing.detect_mode` checks them; any other datagram is dropped and
+counted, never half-used. UDP does not resend:
 a lost request or response is simply never answered, and the master's timeout and retries
 (``Master(link, retries=...)``) take care of it.
 
@@ -13,6 +14,7 @@ a lost request or response is simply never answered, and the master's timeout an
 from __future__ import annotations
 
 import logging
+import select
 import socket
 import threading
 import time
@@ -21,7 +23,7 @@ from typing import Any
 
 from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError
-from ..framing import TcpSplitter
+from ..framing.modes import _looks_like_mbap
 from ..platform import require_sockets
 from .base import Link
 from .routing import dispatch, normalize_slaves
@@ -31,15 +33,21 @@ __all__ = ["UdpLink", "UdpServer", "udp_link"]
 
 #: The largest datagram read: an MBAP ADU is at most 260 bytes, so anything longer is not Modbus.
 _DATAGRAM = 2048
+#: Requests a :class:`UdpServer` holds per source address (host, port) while it is busy; one more from
+#: the same source pushes out that source's oldest (a master that retried wants its newest answered).
+QUEUE_PER_SOURCE = 4
+#: Source addresses a :class:`UdpServer` holds requests for; a datagram from one more source is dropped.
+MAX_SOURCES = 1024
+#: Datagrams a :class:`UdpServer` takes from its socket between two requests it serves.
+DRAIN_PER_TURN = 1024
+#: The receive buffer a :class:`UdpServer` asks of the kernel (bytes; the kernel may grant less): it
+#: holds a flood's datagrams while the server thread waits for a processor.
+RECEIVE_BUFFER = 1 << 22
 
 
-def _one_frame(splitter: TcpSplitter, data: bytes) -> bytes | None:
-    """The single MBAP frame a datagram must be, or None (nothing valid, or bytes left over)."""
-    splitter.reset()
-    frames = splitter.feed(data)
-    if len(frames) != 1 or len(frames[0]) != len(data):
-        return None
-    return frames[0]
+def _one_frame(data: bytes) -> bytes | None:
+    """The single MBAP frame a datagram must be, or None (no valid header, or bytes missing or left over)."""
+    return data if _looks_like_mbap(data) else None
 
 
 class UdpServer:
@@ -48,6 +56,16 @@ class UdpServer:
     Routing by unit id is :class:`~modbus_edu.links.tcp.TcpServer`'s
     (:func:`~modbus_edu.links.routing.route_unit`): a unit nobody serves is answered 0x0B.
     ``bad_datagrams`` counts datagrams that were not one MBAP frame.
+
+    **Fair to every source.**  UDP has no connection to hold a client back: one source can send faster
+    than any server answers.  Served first come, first served, a flood from one port (junk or valid
+    requests) fills the socket's buffer, and the kernel drops a legitimate master's datagrams with the
+    flood's.  So the server empties its socket between any two requests it serves (at most
+    :data:`DRAIN_PER_TURN` datagrams, junk dropped at once), keeps at most :data:`QUEUE_PER_SOURCE`
+    requests per source address (:data:`MAX_SOURCES` sources), and serves the sources in turn, one
+    request each: a flooding source waits its turn like any other, and a master's request is answered
+    after at most one request of each other source.  ``dropped_datagrams`` counts the valid requests
+    pushed out of a full queue or refused for lack of room for one more source.
 
     It binds the loopback address 127.0.0.1 unless told otherwise, and logs a warning when told
     otherwise, as :class:`~modbus_edu.links.tcp.TcpServer` does: Modbus has no authentication, and UDP
@@ -72,8 +90,10 @@ class UdpServer:
         self.requests = 0
         self.responses = 0
         self.bad_datagrams = 0
+        self.dropped_datagrams = 0
         self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
+            self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
             self._sock.bind((host, port))
         except OSError as exc:
             self._sock.close()
@@ -85,7 +105,7 @@ class UdpServer:
                 "register - and a forged source address turns each small request into a response up "
                 "to 21.6 times larger sent to someone else. Use 127.0.0.1 unless you mean it.",
                 *self._sock.getsockname()[:2])
-        self._sock.settimeout(0.1)
+        self._sock.setblocking(False)
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
 
@@ -116,24 +136,55 @@ class UdpServer:
         self.close()
 
     def _serve(self) -> None:
-        splitter = TcpSplitter()
+        # source address -> its waiting requests; the dict's order is the round: served, a source with
+        # more waiting goes to the back
+        queues: dict[Any, deque[bytes]] = {}
         while not self._stop.is_set():
-            try:
-                data, peer = self._sock.recvfrom(_DATAGRAM)
-            except (TimeoutError, BlockingIOError, InterruptedError):
+            if not queues:
+                try:
+                    select.select([self._sock], [], [], 0.1)
+                except (OSError, ValueError):
+                    return  # socket closed
+            if not self._drain(queues):
+                return
+            if not queues:
                 continue
-            except OSError:
-                return  # socket closed
-            frame = _one_frame(splitter, data)
-            if frame is None:
-                self.bad_datagrams += 1
-                continue
+            peer = next(iter(queues))
+            waiting = queues.pop(peer)
+            frame = waiting.popleft()
+            if waiting:
+                queues[peer] = waiting
             reply = self._dispatch(frame)
             if reply:
                 try:
                     self._sock.sendto(reply, peer)
                 except OSError as exc:  # pragma: no cover - peer vanished
                     self.log.warning("reply to %s failed: %s", peer, exc)
+
+    def _drain(self, queues: dict[Any, deque[bytes]]) -> bool:
+        """Take what the socket holds (at most DRAIN_PER_TURN datagrams) into the sources' queues;
+        False once the socket is closed."""
+        for _ in range(DRAIN_PER_TURN):
+            try:
+                data, peer = self._sock.recvfrom(_DATAGRAM)
+            except (BlockingIOError, InterruptedError):
+                return True
+            except OSError:
+                return False
+            frame = _one_frame(data)
+            if frame is None:
+                self.bad_datagrams += 1
+                continue
+            waiting = queues.get(peer)
+            if waiting is None:
+                if len(queues) >= MAX_SOURCES:
+                    self.dropped_datagrams += 1
+                    continue
+                waiting = queues[peer] = deque(maxlen=QUEUE_PER_SOURCE)
+            elif len(waiting) == QUEUE_PER_SOURCE:
+                self.dropped_datagrams += 1  # the oldest goes
+            waiting.append(frame)
+        return True
 
     def _dispatch(self, frame: bytes) -> bytes | None:
         self.requests += 1
@@ -157,8 +208,6 @@ class UdpLink(Link):
         self.clock = clock if clock is not None else RealClock()
         self.closed = False
         self.discarded = 0
-        self._splitter = TcpSplitter()
-        self._frames: deque[bytes] = deque()
         self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
             self._sock.connect((host, port))
@@ -196,7 +245,7 @@ class UdpLink(Link):
                 continue
             except OSError as exc:
                 raise LinkError(f"receiving from UDP {self.host}:{self.port} failed: {exc}") from exc
-            frame = _one_frame(self._splitter, data)
+            frame = _one_frame(data)
             if frame is not None:
                 return frame
             self.discarded += len(data)

@@ -6,8 +6,9 @@ baud it takes ``bits / B`` seconds: 1.0417 ms for 8N1 at 9600 baud.
 
 **RTU frames are delimited by silence.**  A frame ends when the line has been quiet for 3.5 character
 times (``t3.5``); inside a frame the characters must follow each other with at most 1.5 character times
-of silence (``t1.5``).  Above 19200 baud the specification fixes ``t1.5 = 0.750 ms`` and
-``t3.5 = 1.750 ms`` (the character-based values would be too short for a PC's timers).
+of silence (``t1.5``).  Above 19200 baud the serial line specification recommends fixed values,
+``t1.5 = 0.750 ms`` and ``t3.5 = 1.750 ms`` (the character-based values would be too short for a PC's
+timers), and this line uses them.
 
 What the receivers of this virtual line do (the state machine of the serial line specification):
 
@@ -95,7 +96,7 @@ class SerialTiming:
     >>> t = SerialTiming(baudrate=9600)
     >>> t.bits_per_char, round(t.char_time * 1000, 4), round(t.t35 * 1000, 4)
     (10, 1.0417, 3.6458)
-    >>> SerialTiming(baudrate=115200).t35   # fixed above 19200 baud
+    >>> SerialTiming(baudrate=115200).t35   # the recommended fixed value above 19200 baud
     0.00175
     """
 
