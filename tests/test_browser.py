@@ -9,7 +9,7 @@ variable ``CI`` is set (``.ci/run`` installs chromium): then a missing browser F
 Screenshots go to tests/artifacts/ (gitignored), with panels.json: each panel's measured height per tab
 and the typing latency.
 
-Three tests share one JupyterLab and one chromium (1400 x 900, as a learner's screen):
+The tests share one JupyterLab and one chromium (1400 x 900, as a learner's screen):
 
 * the test notebook (tests/browser/widgets_test.ipynb): panels render and respond; the frame builder,
   frame decoder and CRC explorer follow the typing, key by key, without Enter (the latency from the
@@ -20,7 +20,12 @@ Three tests share one JupyterLab and one chromium (1400 x 900, as a learner's sc
   clipped, no sideways overflow, logs that scroll both ways;
 * a notebook executed by ``course.execute`` and opened without running: no widget state was saved, so
   no dead controls are drawn; each panel shows its static HTML picture, labelled "run this cell to use
-  it".
+  it";
+* the panels for everyone, one test per panel of the test notebook (run once, in a page tall enough to
+  hold a whole panel): axe-core (npm, pinned by package-lock.json; tests/browser/axe.py) injected into
+  the page and run on the panel's DOM node in each of its tabs finds no violation of serious or critical
+  impact (the counts by rule go to panels.json); and from the keyboard alone, Tab reaches every control
+  with a visible focus ring, and Enter, the arrow keys or typing do the panel's main action.
 
 No JavaScript console errors anywhere.  Every wait has an absolute timeout.
 """
@@ -46,7 +51,7 @@ VIEWPORT = {"width": 1400, "height": 900}
 RUN_ALL_TIMEOUT_S = 240  # one notebook's Restart & Run All on two shared cores, generous but absolute
 
 sys.path.insert(0, str(HERE))
-from browser import lab_driver, panels  # noqa: E402
+from browser import axe, lab_driver, panels  # noqa: E402
 from browser.jupyter_harness import JupyterLab, copy_notebook  # noqa: E402
 
 FIGURES: dict = {"panels": [], "typing_latency_ms": {}}
@@ -442,3 +447,138 @@ def test_a_test_tool_panel_follows_its_slave_s_traffic_from_another_link_on_scre
         raise
     finally:
         page.close()
+
+
+# --- axe-core on every panel: 0 violations of serious or critical impact ----------------------
+#: The panels of the test notebook, each by the selector of its outermost element.
+AXE_PANELS = {
+    "frame builder": ".mbe-framebuilder",
+    "frame decoder": ".mbe-framedecoder",
+    "CRC explorer": ".mbe-crcexplorer",
+    "test tool (RTU master)": ".mbe-testtool.mbe-role-rtu_master",
+    "test tool (RTU slave)": ".mbe-testtool.mbe-role-rtu_slave",
+    "meter dashboard": ".mbe-meterdashboard",
+}
+
+
+#: Tall enough that a whole panel (at most panels.MAX_HEIGHT) is on screen below JupyterLab's bars.
+AXE_VIEWPORT = {"width": VIEWPORT["width"], "height": panels.MAX_HEIGHT + 400}
+
+
+@pytest.fixture(scope="module")
+def panels_page(lab):
+    """The test notebook run once in a page of its own, axe-core injected; shared by the panel checks."""
+    try:
+        script = axe.axe_script()
+    except RuntimeError as exc:
+        if _in_ci():
+            pytest.fail(f"axe-core could not be installed: {exc}")
+        pytest.skip(f"axe-core could not be installed: {exc}")
+    nb = copy_notebook(NOTEBOOK, lab.root_dir)
+    page, console = _open(lab, nb)
+    try:
+        page.set_viewport_size(AXE_VIEWPORT)
+        lab_driver.run_all(page, timeout_s=90, on_retry=console.forgive)
+        page.wait_for_function(
+            "sels => sels.every(s => { const el = document.querySelector(s);"
+            " return !!el && !!el.querySelector('input, select, textarea, button'); })",
+            arg=list(AXE_PANELS.values()), timeout=30_000)
+        page.add_script_tag(path=str(script))
+        yield page, console
+    finally:
+        page.close()
+        _save_figures()
+
+
+@pytest.mark.parametrize("name", list(AXE_PANELS))
+def test_axe_core_finds_no_serious_or_critical_violation_in_the_panel(panels_page, name):
+    """axe-core (WCAG 2.1 A/AA and best practices), run inside JupyterLab on the panel's DOM node in
+    each of its tabs: no violation of serious or critical impact.  The counts per panel (by rule, any
+    impact) go to tests/artifacts/panels.json."""
+    page, console = panels_page
+    panel = page.locator(AXE_PANELS[name]).first
+    panel.scroll_into_view_if_needed()
+    violations = axe.run_axe(page, panel, panels.tab_titles(panel))
+    found = axe.counts(violations)
+    FIGURES.setdefault("axe", {"version": axe.pinned_version(), "panels": {}})["panels"][name] = found
+    print(f"axe-core on the {name}: {json.dumps(found)}")
+    serious = [v for v in violations if v["impact"] in axe.SERIOUS]
+    assert not serious, f"{len(serious)} serious or critical:\n{axe.describe(serious)}"
+    assert not console.errors, console.errors
+
+
+def _press_enter_on(page, control) -> None:
+    """Give ``control`` the keyboard focus and press Enter (no mouse)."""
+    control.focus()
+    page.keyboard.press("Enter")
+
+
+#: For each panel: what Enter, an arrow key or a typed letter on one of its controls must do, in the page.
+def _keyboard_action(page, name: str, panel) -> None:
+    if name == "frame builder":  # a dropdown chosen by typing its first letter rebuilds the frame
+        panel.locator(".mbe-field-role select").focus()
+        page.keyboard.press("e")  # "exception response"
+        _shows(page, ".mbe-framebuilder .mbe-frame-hex", "01 83 02 C0 F1")
+    elif name == "frame decoder":
+        panel.locator(".mbe-decoder-input textarea").focus()
+        page.keyboard.press("Control+A")
+        page.keyboard.type("01 03 00 00 00 01 84 0A")
+        _shows(page, ".mbe-framedecoder .mbe-frame-hex", "01 03 00 00 00 01 84 0A")
+    elif name == "CRC explorer":
+        _press_enter_on(page, panel.locator(".mbe-crc-reset"))
+        page.wait_for_function("() => !document.querySelector('.mbe-crcexplorer .mbe-crc-result')"
+                               ".innerText.includes('CRC =')", timeout=15_000)
+        _press_enter_on(page, panel.locator(".mbe-crc-run-to-end"))
+        page.wait_for_function("() => document.querySelector('.mbe-crcexplorer .mbe-crc-result')"
+                               ".innerText.includes('CRC =')", timeout=15_000)
+    elif name == "test tool (RTU master)":
+        polls = int(panel.locator(".mbe-tt-count-polls").inner_text())
+        _press_enter_on(page, panel.locator(".mbe-tt-read"))
+        page.wait_for_function(
+            "n => Number(document.querySelector('.mbe-role-rtu_master .mbe-tt-count-polls').innerText) > n",
+            arg=polls, timeout=15_000)
+    elif name == "meter dashboard":
+        values = panel.locator(".lm-TabBar-tab").nth(1)
+        panel.locator(".lm-TabBar-tab.lm-mod-current").focus()
+        page.keyboard.press("ArrowRight")  # the tab bar: arrows move among the titles, Enter opens one
+        page.keyboard.press("Enter")
+        page.wait_for_function("el => el.classList.contains('lm-mod-current')", arg=values.element_handle(),
+                               timeout=15_000)
+        _press_enter_on(page, panel.locator(".mbe-md-read"))
+        page.wait_for_function("() => document.querySelector('.mbe-meterdashboard .mbe-message-line')"
+                               ".innerText.includes('read at')", timeout=15_000)
+    elif name == "test tool (RTU slave)":
+        data = panel.locator(".lm-TabBar-tab").nth(1)
+        panel.locator(".lm-TabBar-tab.lm-mod-current").focus()
+        page.keyboard.press("ArrowRight")
+        page.keyboard.press("Enter")
+        page.wait_for_function("el => el.classList.contains('lm-mod-current')", arg=data.element_handle(),
+                               timeout=15_000)
+
+
+@pytest.mark.parametrize("name", list(AXE_PANELS))
+def test_the_panel_works_from_the_keyboard_alone(panels_page, name):
+    """Tab reaches every control the panel shows, in the page's order (no tabindex > 0), each with a
+    focus ring anyone can see (an outline of 2 px or more), in each of its tabs; the panel's main
+    action answers Enter (buttons), the arrow keys (dropdowns, tab titles) or typing."""
+    page, console = panels_page
+    panel = page.locator(AXE_PANELS[name]).first
+    panel.scroll_into_view_if_needed()
+    tabs = panels.tab_titles(panel)
+    results = {}
+    for tab in tabs or [None]:
+        if tab is not None:
+            tab.click()
+            page.wait_for_timeout(150)
+        walk = axe.tab_through(page, panel)
+        title = tab.inner_text().strip() if tab is not None else "-"
+        results[title] = {"controls": walk["controls"], "reached": len(walk["reached"])}
+        assert walk["controls"] > 0, f"{name} [{title}]: no control to reach"
+        assert not walk["missed"], f"{name} [{title}]: Tab never reaches {len(walk['missed'])} controls"
+        assert not walk["no_ring"], f"{name} [{title}]: no visible focus ring on {walk['no_ring']}"
+        assert walk["positive_tabindex"] == 0
+    if tabs:
+        tabs[0].click()
+    FIGURES.setdefault("keyboard", {})[name] = results
+    _keyboard_action(page, name, panel)
+    assert not console.errors, console.errors

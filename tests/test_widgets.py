@@ -716,7 +716,7 @@ def test_meter_dashboard_trends_on_the_virtual_clock():
     times, volts = dash.series("VL1")
     assert times[0] == 0.0 and times[-1] == pytest.approx(58.0)  # one reading every 2 s of line time
     assert len(set(volts)) > 1 and all(395 < v < 412 for v in volts)  # drifting around 403.6 V
-    assert dash.plot_png.startswith(b"\x89PNG") and dash.image.value == dash.plot_png
+    assert dash.plot_png.startswith(b"\x89PNG") and dash.image.png == dash.plot_png
     before = dash.plot_png
     dash.plot_group.value = "A"
     assert dash.plot_png != before
@@ -814,15 +814,15 @@ def test_a_master_whose_request_timed_out_is_not_shown_as_plainly_connected():
     slave = TestTool("rtu_slave", unit=1, length=4)
     master = TestTool("rtu_master", partner=slave, unit=1, length=4, timeout=0.2)
     master.poll_once()
-    assert master.last_outcome == "valid" and "#2f9e44" in master.status.value
+    assert master.last_outcome == "valid" and "#2b6e35" in master.status.value
     assert _status_text(master).startswith("connected")
     slave.stop()  # the slave falls silent
     master.poll_once()
     assert master.last_outcome == "timeout"
-    assert "timed out" in _status_text(master) and "#2f9e44" not in master.status.value
+    assert "timed out" in _status_text(master) and "#2b6e35" not in master.status.value
     slave.start()
     master.poll_once()
-    assert "timed out" not in _status_text(master) and "#2f9e44" in master.status.value
+    assert "timed out" not in _status_text(master) and "#2b6e35" in master.status.value
     master.disconnect()
     assert _status_text(master) == "not connected"
 

@@ -9,6 +9,7 @@ coloured HTML.
 from __future__ import annotations
 
 import asyncio
+import base64
 import html
 import traceback
 from collections.abc import Callable, Iterable
@@ -22,6 +23,12 @@ from ..errors import shown as shown_value
 
 __all__ = [
     "PALETTE",
+    "PANEL_CLASSES",
+    "PANEL_CSS",
+    "panel_style",
+    "scroll_box",
+    "PlotImage",
+    "FIELD_NUMBER_STYLE",
     "ROLE_COLOURS",
     "esc",
     "hex_text",
@@ -175,8 +182,8 @@ def parse_bit_list(text: str | Iterable[Any], name: str) -> list[bool]:
 # --- the message line -------------------------------------------------------------------------------
 _KIND_STYLE = {
     "info": "color: var(--jp-ui-font-color1, #333)",
-    "ok": "color: #2b8a3e",
-    "warn": "color: #e67700",
+    "ok": "color: #2b6e35",
+    "warn": "color: #9c4a00",
     "error": "color: #c92a2a; font-weight: 600",
 }
 
@@ -238,36 +245,45 @@ def field_colours(rows: Iterable[Any]) -> list[str]:
     return [PALETTE[i % len(PALETTE)] for i, _ in enumerate(rows)]
 
 
+#: The field number in front of a field's bytes and in its legend chip: dark on every palette colour.
+FIELD_NUMBER_STYLE = "font-size:0.7em;color:#343a40;margin-right:2px"
+
+
 def frame_html(dissection: Any) -> str:
     """The frame's bytes (ASCII: characters), each field on its own colour, with a tooltip per field.
 
-    Field boundaries come from ``dissection.rows`` (offset, raw bytes, field name, meaning); a row that
-    breaks a rule is underlined in red.
+    Colour is never the only sign: each field's bytes start with the field's number, which its legend
+    chip carries too (:func:`legend_html`), and the tooltip names the field.  Field boundaries come from
+    ``dissection.rows`` (offset, raw bytes, field name, meaning); a row that breaks a rule is underlined
+    in red (and its rule is said in words in the dissection).
     """
     rows = list(dissection.rows)
     colours = field_colours(rows)
     spans = []
-    for row, colour in zip(rows, colours):
+    for number, (row, colour) in enumerate(zip(rows, colours), 1):
         border = "border-bottom: 3px solid #c92a2a;" if not getattr(row, "ok", True) else ""
         title = f"{row.field}: {row.meaning}" if row.meaning else row.field
         spans.append(
             f'<span class="mbe-field" title="{esc(title)}" style="background:{colour};{border}'
-            f'padding:2px 4px;margin-right:3px;border-radius:4px">{esc(dissection.raw_text(row))}'
-            f"</span>"
+            f'padding:2px 4px;margin-right:3px;border-radius:4px"><sup class="mbe-field-number" '
+            f'style="{FIELD_NUMBER_STYLE}">{number}</sup>{esc(dissection.raw_text(row))}</span>'
         )
     return (f'<div class="mbe-frame-bytes" style="{MONO}; font-size: 1.15em; line-height: 2em">'
             f'{"".join(spans)}</div>')
 
 
 def legend_html(dissection: Any) -> str:
-    """A legend: one colour chip and the field's name per row."""
+    """A legend: per row, a chip in the field's colour holding the field's number, and the field's name
+    (the number ties the name to the bytes in :func:`frame_html` without relying on colour)."""
     rows = list(dissection.rows)
     items = []
-    for row, colour in zip(rows, field_colours(rows)):
+    for number, (row, colour) in enumerate(zip(rows, field_colours(rows)), 1):
         items.append(
-            f'<span style="display:inline-block;margin:0 10px 2px 0;white-space:nowrap">'
-            f'<span style="display:inline-block;width:0.9em;height:0.9em;background:{colour};'
-            f'border:1px solid #999;vertical-align:middle;margin-right:4px"></span>{esc(row.field)}</span>'
+            f'<span class="mbe-legend-item" style="display:inline-block;margin:0 10px 2px 0;'
+            f'white-space:nowrap"><span style="display:inline-block;min-width:0.9em;padding:0 3px;'
+            f'background:{colour};border:1px solid #999;border-radius:3px;text-align:center;'
+            f'vertical-align:middle;margin-right:4px;{FIELD_NUMBER_STYLE.split(";margin")[0]}">{number}</span>'
+            f'{esc(row.field)}</span>'
         )
     return f'<div class="mbe-legend" style="font-size:0.9em">{"".join(items)}</div>'
 
@@ -292,7 +308,8 @@ def dissection_html(dissection: Any, with_error: bool = False) -> str:
     return DISSECTION_CSS + table
 
 
-STALE_STYLE = "opacity:0.4;filter:grayscale(1)"
+#: Greyed, yet still readable (WCAG AA contrast): the colours go, a dashed frame goes round it.
+STALE_STYLE = "opacity:0.75;filter:grayscale(1);outline:1px dashed #5c636a;outline-offset:2px"
 
 
 def stale_html(content: str) -> str:
@@ -310,6 +327,70 @@ def mark_invalid(widget: W.DOMWidget, invalid: bool) -> None:
     else:
         widget.remove_class("mbe-invalid")
     widget.layout.border = "2px solid #c92a2a" if invalid else None
+
+
+# --- what every panel needs to be usable by everyone ---------------------------------------------------
+#: The panels' classes (each panel's outermost box carries its own).
+PANEL_CLASSES = ("mbe-framebuilder", "mbe-framedecoder", "mbe-crcexplorer", "mbe-testtool",
+                 "mbe-meterdashboard")
+
+
+def _in_panels(selector: str) -> str:
+    return ", ".join(f".{panel} {part.strip()}" for panel in PANEL_CLASSES for part in selector.split(","))
+
+
+#: The stylesheet of the live panels: a focus ring anyone can see on every control reached with the
+#: keyboard (JupyterLab's own is a 1 px light-blue border), and tab titles dark enough to read (WCAG AA).
+PANEL_CSS = (
+    "<style>"
+    + _in_panels(":focus-visible, input:focus, select:focus, textarea:focus")
+    + " {outline: 2px solid #1864ab !important; outline-offset: 1px}"
+    + _in_panels(".lm-TabBar-tab") + " {color: var(--jp-ui-font-color1, #212529) !important}"
+    # ipywidgets' coloured buttons carry white text on light colours: darker ones, the same hues
+    + _in_panels(".jupyter-button.mod-primary, .jupyter-button.mod-info") + " {background-color: #1864ab}"
+    + _in_panels(".jupyter-button.mod-success") + " {background-color: #2b6e35}"
+    + _in_panels(".jupyter-button.mod-warning") + " {background-color: #9c4a00}"
+    + _in_panels(".jupyter-button.mod-danger") + " {background-color: #b02525}"
+    + "</style>"
+)
+
+
+def panel_style() -> W.HTML:
+    """The panels' stylesheet as a hidden child of a panel (hidden: the picture leaves it out)."""
+    style = W.HTML(PANEL_CSS, layout=W.Layout(display="none"))
+    style.add_class("mbe-panel-style")
+    return style
+
+
+def scroll_box(widget: W.DOMWidget, name: str) -> W.DOMWidget:
+    """Make a view that scrolls reachable with the keyboard (Tab to it, then the arrow keys scroll it);
+    ``name`` is its tooltip, what it holds.  An HTML view, not a Box: ipywidgets 8.1 makes no Box
+    tabbable and draws none with a tooltip."""
+    widget.tabbable = True
+    widget.tooltip = name
+    return widget
+
+
+class PlotImage(W.HTML):
+    """A PNG picture with a text alternative (``alt``), which ipywidgets' Image cannot carry (and it
+    draws no Image with a tooltip).  ``show(png, alt)`` puts a new picture in; ``.png`` is its bytes.
+    ``css`` is the class of the <img> itself."""
+
+    def __init__(self, alt: str, css: str, width: str = "900px", **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.png = b""
+        self.alt = alt
+        self.css = css
+        self.width = width
+
+    def show(self, png: bytes, alt: str | None = None) -> None:
+        self.png = png
+        if alt is not None:
+            self.alt = alt
+        data = base64.b64encode(png).decode("ascii")
+        self.value = (f'<img class="{esc(self.css)}" alt="{esc(self.alt)}" '
+                      f'src="data:image/png;base64,{data}" '
+                      f'style="width:{esc(self.width)};max-width:100%;height:auto;object-fit:contain">')
 
 
 # --- small widget factories ----------------------------------------------------------------------

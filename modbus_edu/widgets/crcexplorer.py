@@ -20,7 +20,18 @@ from ..crc import (
 from ..errors import ModbusError
 from ..framing import parse_hex
 from ..plotstyle import figure
-from .common import MONO, MessageLine, Typing, esc, guarded, hex_text, mark_invalid, stale_html
+from .common import (
+    MONO,
+    MessageLine,
+    Typing,
+    esc,
+    guarded,
+    hex_text,
+    mark_invalid,
+    panel_style,
+    scroll_box,
+    stale_html,
+)
 from .picture import StaticView
 
 __all__ = ["CrcExplorer"]
@@ -90,7 +101,8 @@ class CrcExplorer(StaticView, W.VBox):
         self.text = W.Text(value=text, description="bytes (hex)", style={"description_width": "90px"},
                            layout=W.Layout(width="560px"), continuous_update=True)
         self.text.add_class("mbe-crc-input")
-        self.method = W.ToggleButtons(options=METHODS, value=method, tooltips=METHOD_TIPS)
+        self.method = W.ToggleButtons(options=METHODS, value=method, tooltips=METHOD_TIPS,
+                                      description="method", style={"description_width": "90px"})
         self.method.add_class("mbe-crc-method")
 
         def button(label: str, icon: str, tip: str) -> W.Button:
@@ -107,6 +119,7 @@ class CrcExplorer(StaticView, W.VBox):
         self.bytes_view = W.HTML()
         self.bytes_view.add_class("mbe-crc-bytes")
         self.step_view = W.HTML(layout=W.Layout(overflow="auto"))  # long lines scroll, never clip
+        scroll_box(self.step_view, "the current step (scrolls)")
         self.step_view.add_class("mbe-crc-step")
         self.result_view = W.HTML()
         self.result_view.add_class("mbe-crc-result")
@@ -121,6 +134,7 @@ class CrcExplorer(StaticView, W.VBox):
             self.step_view,
             self.result_view,
             self.history_view,
+            panel_style(),
         ]
         self._load = guarded(self.message, self.load)
         self.typing = Typing(self._load)
@@ -242,7 +256,7 @@ class CrcExplorer(StaticView, W.VBox):
             elif i <= last and (current is None or i < current):
                 style = "background:#d3f9d8"
             else:
-                style = "color:#868e96"
+                style = "color:#5c636a"
             parts.append(f'<span style="{style};padding:1px 3px;border-radius:3px">{b:02X}</span>')
         return f'<div style="{MONO}">bytes: {" ".join(parts)}</div>'
 
@@ -314,7 +328,7 @@ class CrcExplorer(StaticView, W.VBox):
         if not self.done or not self.steps:
             if not self.data and not self.steps:
                 return ""
-            return '<div style="color:#868e96">the result appears after the last step</div>'
+            return '<div style="color:#5c636a">the result appears after the last step</div>'
         if self.method.value == "lrc":
             total, value = self.register, lrc(self.data)
             text = (f"LRC = two's complement of 0x{total:02X} = 0x{value:02X}; in the frame it is written "
@@ -324,7 +338,7 @@ class CrcExplorer(StaticView, W.VBox):
             wire = crc_bytes(self.data)
             text = (f"CRC = 0x{value:04X}; on the wire low byte first: {hex_text(wire)}  "
                     f"(frame: {hex_text(self.data + wire)})")
-        return f'<div style="{MONO};color:#2b8a3e;font-weight:bold">{esc(text)}</div>'
+        return f'<div style="{MONO};color:#2b6e35;font-weight:bold">{esc(text)}</div>'
 
     def _history_html(self, last: int = 12) -> str:
         if not self.position or self.method.value == "lrc":

@@ -17,7 +17,7 @@ from ..links.loopback import loopback_serial
 from ..master import Master
 from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
 from ..slave import Slave
-from .common import MONO, MessageLine, esc, guarded
+from .common import MONO, MessageLine, PlotImage, esc, guarded, panel_style, scroll_box
 from .picture import StaticView
 
 __all__ = ["MeterDashboard"]
@@ -109,13 +109,14 @@ class MeterDashboard(StaticView, W.VBox):
                        (self.clear_button, "clear")):
             b.add_class(f"mbe-md-{css}")
         self.status = W.HTML()
-        self.table = W.HTML(layout=W.Layout(flex="0 0 auto"))
+        # the table scrolls in its own view, which Tab reaches (ipywidgets 8.1 makes no Box tabbable)
+        self.table = scroll_box(W.HTML(layout=W.Layout(flex="0 0 auto", max_height="420px", overflow="auto")),
+                                "the last reading, one row per quantity (scrolls)")
         self.table.add_class("mbe-md-table")
-        self.image = W.Image(format="png", layout=W.Layout(width="900px", max_width="100%", height="auto",
-                                                            object_fit="contain"))
-        self.image.add_class("mbe-md-plot")
+        self.image = PlotImage("the trend plot (drawn after the first reading)", css="mbe-md-plot",
+                               layout=W.Layout(max_width="100%"))
         # tabs keep the panel within 700 px: the buttons and the plot are on screen together
-        self.table_box = W.Box([self.table], layout=W.Layout(max_height="420px", overflow="auto"))
+        self.table_box = W.Box([self.table])
         self.tabs = W.Tab(children=[W.Box([self.image]), self.table_box], titles=("trend", "values"))
         self.tabs.add_class("mbe-md-tabs")
         self.children = [
@@ -126,6 +127,7 @@ class MeterDashboard(StaticView, W.VBox):
                     self.clear_button]),
             self.status,
             self.tabs,
+            panel_style(),
         ]
         g = guarded
         self.read_button.on_click(g(self.message, lambda _b: self.read_once()))
@@ -302,7 +304,7 @@ class MeterDashboard(StaticView, W.VBox):
             pad = "padding:1px 8px;white-space:nowrap"
             rows.append(f"<tr><td style=\"{pad}\">{esc(e.label)}</td>"
                         f"<td style=\"text-align:right;{MONO};{pad}\">{esc(shown)}</td>"
-                        f"<td style=\"{MONO};color:#868e96;{pad}\">{raw}</td>"
+                        f"<td style=\"{MONO};color:#5c636a;{pad}\">{raw}</td>"
                         f"<td style=\"{pad}\">{esc(e.reference)}</td>"
                         f"<td style=\"{pad}\">{esc(e.raw_unit)}</td></tr>")
         self.table.value = (
@@ -335,7 +337,8 @@ class MeterDashboard(StaticView, W.VBox):
             buf = io.BytesIO()
             fig.savefig(buf, format="png")
         self.plot_png = buf.getvalue()
-        self.image.value = self.plot_png
+        self.image.show(self.plot_png, f"trend plot of {_group_title(group)} over {len(self.history)} "
+                                       "readings (the values tab lists the last reading)")
 
     def table_rows(self, names: Sequence[str] | None = None) -> list[tuple[str, str]]:
         """``[(label, "403.6 V"), ...]``: the last reading as the power-meter paper's Table 6 prints it."""

@@ -23,6 +23,7 @@ from .common import (
     hex_text,
     legend_html,
     mark_invalid,
+    panel_style,
     parse_bit_list,
     parse_int,
     parse_int_list,
@@ -252,6 +253,7 @@ class FrameBuilder(StaticView, W.VBox):
             self.message,
             self.frame_view,
             self.dissection_view,
+            panel_style(),
         ]
         self._update = guarded(self.message, self.update)
         self.typing = Typing(self._update)
@@ -320,7 +322,7 @@ class FrameBuilder(StaticView, W.VBox):
                 label.value = (f'<span style="color:#c92a2a;font-weight:600;white-space:normal">&#9888; '
                                f"{esc(text)}</span>")
             elif note:
-                label.value = f'<span style="color:#e67700;white-space:normal">&#9888; {esc(note)}</span>'
+                label.value = f'<span style="color:#9c4a00;white-space:normal">&#9888; {esc(note)}</span>'
             else:
                 label.value = ""
             shown(label, bool(text or note))
@@ -513,7 +515,7 @@ class FrameBuilder(StaticView, W.VBox):
             self.frame_view.value = stale_html(self._last_good[0])
             self.dissection_view.value = stale_html(self._last_good[1])
         else:
-            self.frame_view.value = ('<div class="mbe-frame-bytes" style="color:#868e96;font-style:italic">'
+            self.frame_view.value = ('<div class="mbe-frame-bytes" style="color:#5c636a;font-style:italic">'
                                      "no frame yet: fix the field marked in red</div>")
             self.dissection_view.value = ""
 

@@ -20,6 +20,7 @@ from .common import (
     hex_text,
     legend_html,
     mark_invalid,
+    panel_style,
     stale_html,
 )
 from .picture import StaticView
@@ -83,6 +84,7 @@ class FrameDecoder(StaticView, W.VBox):
             W.HBox([self.mode, self.role]),
             self.frame_view,
             self.dissection_view,
+            panel_style(),
         ]
         self._update = guarded(self.message, self.update)
         self.typing = Typing(self._update)

@@ -17,7 +17,7 @@ from typing import Any
 
 import ipywidgets as W
 
-from .common import esc
+from .common import PlotImage, esc
 
 __all__ = ["RUN_TO_USE", "StaticView", "picture", "panel_picture"]
 
@@ -41,10 +41,10 @@ def _hidden(widget: W.Widget) -> bool:
 def _label(widget: W.Widget) -> str:
     """The description in front of a control, as wide as the control's own label."""
     text = getattr(widget, "description", "")
-    if not text:
-        return ""
     style = getattr(widget, "style", None)
     width = getattr(style, "description_width", "") or ""
+    if not text or width == "0px":  # a label that takes no room on screen (for screen readers) neither
+        return ""
     return f'<span style="{_LABEL};{f"width:{esc(width)}" if width else ""}">{esc(text)}</span>'
 
 
@@ -105,7 +105,7 @@ def _tab(widget: W.Tab) -> str:
     titles = []
     for i, title in enumerate(widget.titles):
         mark = ("border-bottom:2px solid #1976d2;font-weight:600" if i == index
-                else "color:#868e96")
+                else "color:#5c636a")
         titles.append(f'<span style="display:inline-block;padding:3px 12px;{mark}">{esc(title)}</span>')
     content = picture(widget.children[index]) if widget.children else ""
     return (f'<div style="border-bottom:1px solid #dee2e6">{"".join(titles)}</div>'
@@ -116,6 +116,9 @@ def picture(widget: W.Widget) -> str:
     """Static, inert HTML of one widget and everything in it (hidden widgets are left out)."""
     if _hidden(widget):
         return ""
+    if isinstance(widget, (W.Image, PlotImage)):
+        return ('<div style="padding:24px;margin:2px;border:1px dashed #adb5bd;color:#5c636a;'
+                'text-align:center">the plot is drawn when the cell runs</div>')
     if isinstance(widget, W.Tab):
         return _tab(widget)
     if isinstance(widget, W.Box):
@@ -138,9 +141,6 @@ def picture(widget: W.Widget) -> str:
         return f'<div style="margin:2px">{"".join(buttons)}</div>'
     if isinstance(widget, (W.Dropdown, W.Select, W.RadioButtons)):
         return _field(widget, f"{widget.label if widget.label is not None else ''}  \u25be")
-    if isinstance(widget, W.Image):
-        return ('<div style="padding:24px;margin:2px;border:1px dashed #adb5bd;color:#868e96;'
-                'text-align:center">the plot is drawn when the cell runs</div>')
     if hasattr(widget, "value") and hasattr(widget, "description"):  # text and number boxes
         return _field(widget, str(widget.value), getattr(widget, "placeholder", ""))
     return ""

@@ -185,16 +185,16 @@ class ConnectionMixin:
         """The status line says how things are now: not connected, connected (and whether the last
         exchange timed out or failed), or a slave that is connected but not answering."""
         on = self.connected
-        colour = "#2f9e44" if on else "#c92a2a"
+        colour = "#2b6e35" if on else "#c92a2a"
         text = "connected" if on else "not connected"
         if on and not self.is_master and not self._answering:
-            colour, text = "#e67700", "connected, not answering"
+            colour, text = "#9c4a00", "connected, not answering"
         if on and self.partner is not None:
             text += f" to {esc(self.partner.label)}"
         if on and self.is_master and self.last_outcome == "timeout":
-            colour, text = "#e67700", text + ", last request timed out (no answer)"
+            colour, text = "#9c4a00", text + ", last request timed out (no answer)"
         elif on and self.is_master and self.last_outcome == "error":
-            colour, text = "#e67700", text + ", last request failed"
+            colour, text = "#9c4a00", text + ", last request failed"
         self.status.value = (f'<span class="mbe-tt-status mbe-tt-status-{"on" if on else "off"}" '
                              f'style="color:{colour};font-size:1.2em">&#9679;</span>'
                              f' <span class="mbe-tt-status-text" style="color:{colour}">{text}</span>')

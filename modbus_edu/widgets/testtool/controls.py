@@ -32,7 +32,7 @@ class Role:
 
 ROLES: dict[str, Role] = {
     "rtu_master": Role("rtu_master", "RTU master", "rtu", "master", "#e7f5ff", "#1c7ed6"),
-    "rtu_slave": Role("rtu_slave", "RTU slave", "rtu", "slave", "#ebfbee", "#2f9e44"),
+    "rtu_slave": Role("rtu_slave", "RTU slave", "rtu", "slave", "#ebfbee", "#2b6e35"),
     "tcp_client": Role("tcp_client", "TCP client", "tcp", "master", "#fff4e6", "#e8590c"),
     "tcp_server": Role("tcp_server", "TCP server", "tcp", "slave", "#f8f0fc", "#ae3ec9"),
 }

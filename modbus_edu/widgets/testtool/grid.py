@@ -60,13 +60,17 @@ class GridMixin:
 
     def _build_grid(self, address: int, n: int) -> None:
         cells = []
-        rows = [W.HBox([W.HTML(f'<div style="width:70px;{MONO};color:#868e96">address</div>')] +
-                       [W.HTML(f'<div style="width:84px;text-align:center;{MONO};color:#868e96">+{c}</div>')
+        rows = [W.HBox([W.HTML(f'<div style="width:70px;{MONO};color:#5c636a">address</div>')] +
+                       [W.HTML(f'<div style="width:84px;text-align:center;{MONO};color:#5c636a">+{c}</div>')
                         for c in range(min(COLUMNS, n))])]
         for start in range(0, n, COLUMNS):
             row = [W.HTML(f'<div style="width:70px;{MONO}">{address + start}</div>')]
             for i in range(start, min(start + COLUMNS, n)):
-                cell = W.Text(continuous_update=False, layout=W.Layout(width="84px"))
+                # no room for a label in the grid: the cell's label (read by a screen reader) takes no
+                # width on screen, and its tooltip says the same
+                name = f"{self.table.kind.replace('_', ' ')[:-1]} at address {address + i}"
+                cell = W.Text(continuous_update=False, layout=W.Layout(width="84px"), description=name,
+                              style={"description_width": "0px"}, tooltip=name)
                 cell.add_class("mbe-tt-cell")
                 cell.observe(guarded(self.message, lambda change, i=i: self._cell_edited(i, change)),
                              names="value")

@@ -24,7 +24,7 @@ from ...errors import ConfigError, ModbusError
 from ...master import Master
 from ...slave import Slave
 from ...traffic import TrafficLog
-from ..common import MessageLine, esc, guarded, shown
+from ..common import MessageLine, esc, guarded, panel_style, scroll_box, shown
 from ..picture import StaticView
 from ..throttle import Throttle
 from .config import ConfigMixin
@@ -293,6 +293,8 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         self.rx_log = W.HTML(layout=W.Layout(width="50%", max_height=LOG_HEIGHT, overflow="auto"))
         self.tx_log.add_class("mbe-tt-tx-log")
         self.rx_log.add_class("mbe-tt-rx-log")
+        scroll_box(self.tx_log, "TX log: the frames sent (scrolls)")
+        scroll_box(self.rx_log, "RX log: the frames received (scrolls)")
 
         # -- config ----------------------------------------------------------------------------------------
         self.config_path = small(W.Text(value="testtool.json", description="config file"), "300px", "75px")
@@ -350,6 +352,7 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
             self.message,
             self.polling_box,
             self.tabs,
+            panel_style(),
         ]
 
         refresh = g(self.message, lambda _c: self.refresh())

@@ -21,7 +21,7 @@ class TrafficMixin:
         return self.slave.log if self.slave is not None else self._empty_log
 
     def _render_counters(self) -> None:
-        chip = ('<span style="display:inline-block;margin-right:14px"><span style="color:#868e96">{k}</span> '
+        chip = ('<span style="display:inline-block;margin-right:14px"><span style="color:#5c636a">{k}</span> '
                 '<b class="mbe-tt-count-{c}">{v}</b></span>')
         if self.is_master:
             n = self.counts
@@ -37,7 +37,7 @@ class TrafficMixin:
                                         f'<b class="mbe-tt-request-count">{d.get("requests", 0)}</b></span>')
         html = self._lamps_html() + "".join(chip.format(k=esc(k), c=c, v=v) for k, c, v in items)
         self.counters.value = (f"<div>{html}</div>" +
-                               (f'<div style="font-size:0.85em;color:#868e96">{extra}</div>'
+                               (f'<div style="font-size:0.85em;color:#5c636a">{extra}</div>'
                                 if extra else ""))
 
     def _update_lamps(self) -> None:
@@ -52,11 +52,13 @@ class TrafficMixin:
 
     def _lamps_html(self) -> str:
         self._update_lamps()
-        colours = {"tx": "#f08c00", "rx": "#2f9e44"}
+        colours = {"tx": "#9c4a00", "rx": "#2b6e35"}
+        # on or off by shape too (a filled or a hollow disc), not by colour alone, and said in the tooltip
         return "".join(
             f'<span class="mbe-tt-lamp-{d}{" mbe-tt-lamp-on" if on else ""}" style="display:inline-block;'
-            f'margin-right:12px"><span style="color:{colours[d] if on else "#ced4da"};font-size:1.2em">'
-            f'&#9679;</span> {d.upper()}</span>' for d, on in self.lamps.items())
+            f'margin-right:12px" title="{d.upper()} lamp {"on" if on else "off"}">'
+            f'<span style="color:{colours[d] if on else "#5c636a"};font-size:1.2em">'
+            f'{"&#9679;" if on else "&#9675;"}</span> {d.upper()}</span>' for d, on in self.lamps.items())
 
     def _render_buttons(self) -> None:
         if self.is_master:

@@ -1,0 +1,188 @@
+"""The panels for everyone, headless (issue 27): every control carries a label a screen reader reads,
+the coloured bytes keep a text label, and the colours the panels write pass WCAG AA contrast (4.5:1 for
+text).  The browser test (tests/test_browser.py) runs axe-core and the keyboard on the same panels.
+"""
+
+from __future__ import annotations
+
+import re
+
+import ipywidgets as W
+import pytest
+
+from modbus_edu.widgets import CrcExplorer, FrameBuilder, FrameDecoder, MeterDashboard, TestTool
+from modbus_edu.widgets.common import (
+    PALETTE,
+    PANEL_CLASSES,
+    PANEL_CSS,
+    frame_html,
+    legend_html,
+    message_html,
+    stale_html,
+)
+from modbus_edu.widgets.testtool.controls import ROLES
+
+#: A widget a person types into or chooses with: it must say what it is.
+INPUTS = (W.Text, W.Textarea, W.Dropdown, W.IntText, W.FloatText, W.BoundedIntText, W.BoundedFloatText,
+          W.Checkbox, W.ToggleButtons, W.Select, W.RadioButtons, W.IntSlider, W.FloatSlider)
+
+
+def _panels():
+    slave = TestTool(role="rtu_slave", unit=1, length=4)
+    master = TestTool(role="rtu_master", partner=slave, unit=1, length=4)
+    from modbus_edu.devices import PowerMeter
+
+    return {
+        "frame builder": FrameBuilder(mode="rtu", unit=1, function=16, address=1, values="10, 0x0102"),
+        "frame decoder": FrameDecoder("01 03 00 00 00 01 84 0B"),
+        "CRC explorer": CrcExplorer("01 03 00 00 00 01"),
+        "test tool (RTU master)": master,
+        "test tool (RTU slave)": slave,
+        "TCP server": TestTool(role="tcp_server", unit=1, length=4),
+        "meter dashboard": MeterDashboard(PowerMeter(unit=1, trial=1)),
+    }
+
+
+def _walk(widget):
+    """The widget and everything in it (boxes and tabs), hidden ones included."""
+    yield widget
+    for child in getattr(widget, "children", ()) or ():
+        yield from _walk(child)
+
+
+# --- contrast (WCAG 2.1, 1.4.3) ------------------------------------------------------------------------
+def _luminance(colour: str) -> float:
+    rgb = [int(colour.lstrip("#")[i:i + 2], 16) / 255 for i in (0, 2, 4)]
+    lin = [c / 12.92 if c <= 0.03928 else ((c + 0.055) / 1.055) ** 2.4 for c in rgb]
+    return 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2]
+
+
+def contrast(a: str, b: str) -> float:
+    hi, lo = sorted((_luminance(a), _luminance(b)), reverse=True)
+    return (hi + 0.05) / (lo + 0.05)
+
+
+def test_the_contrast_formula_is_wcag_s():
+    assert contrast("#000000", "#ffffff") == pytest.approx(21.0)
+    assert contrast("#777777", "#ffffff") == pytest.approx(4.48, abs=0.01)  # the classic just-fails grey
+
+
+#: The backgrounds text sits on: the page, the test tool's role colours, JupyterLab's tab bar.
+BACKGROUNDS = ["#ffffff", "#eeeeee", *(r.background for r in ROLES.values())]
+
+
+@pytest.mark.parametrize("kind", ["info", "ok", "warn", "error"])
+def test_message_colours_pass_aa_on_every_panel_background(kind):
+    colours = re.findall(r"color: (#[0-9a-fA-F]{6})", message_html("x", kind))
+    for colour in colours:
+        for background in BACKGROUNDS:
+            assert contrast(colour, background) >= 4.5, (kind, colour, background)
+
+
+def test_every_text_colour_the_panels_write_passes_aa():
+    """Every ``color:#rrggbb`` in every panel's HTML (messages, counters, grid heads, status lines, the
+    CRC steps, the dashboard's raw column) reads at 4.5:1 or better on the panel's background."""
+    seen = set()
+    for name, panel in _panels().items():
+        background = getattr(getattr(panel, "layout", None), "background", None) or "#ffffff"
+        for widget in _walk(panel):
+            for colour in re.findall(r"(?<![-\w])color:\s*(#[0-9a-fA-F]{6})\b", getattr(widget, "value", "")
+                                     if isinstance(widget, W.HTML) else ""):
+                seen.add(colour)
+                assert contrast(colour, "#ffffff") >= 4.5, (name, colour)
+                if background.startswith("#") and len(background) == 7:
+                    assert contrast(colour, background) >= 4.5, (name, colour, background)
+    assert len(seen) >= 3  # the walk found the panels' coloured text
+
+
+def test_bytes_on_their_field_colours_read_at_aa_contrast():
+    for colour in PALETTE:
+        assert contrast("#212529", colour) >= 4.5, colour  # the body text JupyterLab writes them in
+        assert contrast("#343a40", colour) >= 4.5, colour  # the field numbers
+
+
+# --- labels --------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", list(_panels()))
+def test_every_control_says_what_it_is(name):
+    """Each input carries a description (the <label> a screen reader reads with it, as plain text, not
+    HTML) or at least a tooltip; each button a description or a tooltip; each image a tooltip (its
+    title, which axe-core accepts as its text alternative)."""
+    panel = _panels()[name]
+    inputs = 0
+    for widget in _walk(panel):
+        if isinstance(widget, INPUTS):
+            inputs += 1
+            said = (getattr(widget, "description", "") or "").strip() or (widget.tooltip or "").strip()
+            assert said, f"{name}: a {type(widget).__name__} without a label: {widget!r}"[:300]
+            assert not getattr(widget, "description_allow_html", False), f"{name}: {widget.description}"
+        elif isinstance(widget, W.Button):
+            assert (widget.description or "").strip() or (widget.tooltip or "").strip(), f"{name}: {widget!r}"
+        elif isinstance(widget, W.Image):
+            raise AssertionError(f"{name}: ipywidgets' Image has no text alternative: use PlotImage")
+    assert inputs > 0
+
+
+@pytest.mark.parametrize("name", list(_panels()))
+def test_every_panel_carries_the_focus_ring_stylesheet_hidden_from_its_picture(name):
+    panel = _panels()[name]
+    styles = [w for w in _walk(panel) if isinstance(w, W.HTML) and "mbe-panel-style" in w._dom_classes]
+    assert len(styles) == 1 and styles[0].value == PANEL_CSS and styles[0].layout.display == "none"
+    assert any(c in panel._dom_classes for c in PANEL_CLASSES)
+    assert "outline" not in panel.static_html()  # the picture leaves the stylesheet out
+
+
+def test_the_stylesheet_draws_a_focus_ring_in_every_panel_and_darkens_the_tab_titles():
+    for cls in PANEL_CLASSES:
+        assert f".{cls} :focus-visible" in PANEL_CSS and f".{cls} .lm-TabBar-tab" in PANEL_CSS
+    assert "outline: 2px solid" in PANEL_CSS
+
+
+def test_boxes_that_scroll_can_be_reached_with_the_keyboard_and_say_what_they_hold():
+    panels = _panels()
+    master, dash, crc = panels["test tool (RTU master)"], panels["meter dashboard"], panels["CRC explorer"]
+    for box in (master.tx_log, master.rx_log, crc.step_view, dash.table):
+        assert isinstance(box, W.HTML) and box.tabbable is True and box.tooltip
+        assert box.layout.overflow == "auto"
+
+
+def test_the_plot_has_a_text_alternative_that_says_what_it_shows():
+    from modbus_edu.devices import PowerMeter
+
+    dash = MeterDashboard(PowerMeter(unit=1, trial=1))
+    dash.run(3)
+    alt = re.search(r'<img class="mbe-md-plot" alt="([^"]+)"', dash.image.value).group(1)
+    assert "trend plot of" in alt and "3 readings" in alt
+    assert dash.image.png == dash.plot_png and dash.plot_png.startswith(b"\x89PNG")
+    assert "base64" not in dash.static_html() and "the plot is drawn when the cell runs" in dash.static_html()
+
+
+# --- never colour alone ----------------------------------------------------------------------------------
+def test_each_field_s_bytes_and_its_legend_chip_carry_the_same_number_and_the_legend_names_it():
+    dissection = FrameBuilder(mode="rtu", unit=1, function=16, address=1, values="10, 0x0102").dissection
+    rows = list(dissection.rows)
+    frame, legend = frame_html(dissection), legend_html(dissection)
+    numbers_in_frame = re.findall(r'<sup class="mbe-field-number"[^>]*>(\d+)</sup>', frame)
+    assert numbers_in_frame == [str(i) for i in range(1, len(rows) + 1)]
+    items = re.findall(r'class="mbe-legend-item".*?>(\d+)</span>([^<]+)</span>', legend)
+    assert [int(n) for n, _ in items] == list(range(1, len(rows) + 1))
+    assert [text for _, text in items] == [row.field.replace("'", "&#x27;") for row in rows]
+    for row in rows:  # the tooltip of the bytes names the field too
+        assert f'title="{row.field}' in frame.replace("&#x27;", "'")
+
+
+def test_a_stale_view_stays_readable_and_is_marked_by_more_than_colour():
+    html = stale_html("<b>frame</b>")
+    opacity = float(re.search(r"opacity:([0-9.]+)", html).group(1))
+    # text of JupyterLab's colour at this opacity on white still reads at AA
+    level = round(255 - (255 - 0x21) * opacity)
+    assert contrast(f"#{level:02x}{level:02x}{level:02x}", "#ffffff") >= 4.5
+    assert "dashed" in html and 'title="the last good result' in html
+
+
+def test_the_test_tool_s_lamps_say_on_or_off_by_shape_and_tooltip():
+    slave = TestTool(role="rtu_slave", unit=1, length=4)
+    master = TestTool(role="rtu_master", partner=slave, unit=1, length=4)
+    assert "TX lamp off" in master.counters.value and "&#9675;" in master.counters.value
+    master.poll_once()
+    assert "TX lamp on" in master.counters.value and "RX lamp on" in master.counters.value
+    assert "&#9675;" not in master.counters.value
