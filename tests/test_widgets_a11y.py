@@ -1,4 +1,4 @@
-"""The panels for everyone, headless (issue 27): every control carries a label a screen reader reads,
+"""The panels for everyone, headless: every control carries a label a screen reader reads,
 the coloured bytes keep a text label, and the colours the panels write pass WCAG AA contrast (4.5:1 for
 text).  The browser test (tests/test_browser.py) runs axe-core and the keyboard on the same panels.
 """
