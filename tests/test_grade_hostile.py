@@ -193,8 +193,6 @@ def leftovers() -> set[int]:
 
 SLOW = pytest.mark.slow  # two dozen notebooks in real kernels (minutes)
 SEALED = detect().level == "sealed"
-REPORTS = ("reports and submission discovery are hardened separately (escaping, CSV, columns, checkpoints, "
-           "links)")
 
 
 @pytest.fixture(scope="module")
@@ -270,7 +268,6 @@ def test_learners_are_sealed_off_and_nothing_outlives_the_run(graded):
 
 
 @SLOW
-@pytest.mark.xfail(strict=False, reason=REPORTS)
 def test_reports_cannot_be_turned_against_the_instructor(graded):
     out, rows = graded["out"], graded["rows"]
     for page in [out / "summary.html", *(out / "learners").glob("*.html")]:
@@ -285,7 +282,6 @@ def test_reports_cannot_be_turned_against_the_instructor(graded):
 
 
 @SLOW
-@pytest.mark.xfail(strict=False, reason=REPORTS)
 def test_checkpoints_and_links_are_not_learners(graded):
     rows = graded["rows"]
     assert ".ipynb_checkpoints" not in rows

@@ -127,12 +127,12 @@ def plain(answer: Any) -> Any:
         if issubclass(cls, DataBank):
             return {"$databank": _layout(value)}
         module = _name_of(cls).split(":")[0]
+        if module.startswith("modbus_edu.widgets") and callable(getattr(value, "config", None)):
+            return convert(value.config(), depth)  # a panel is its settings (a test tool also holds a bank)
         if module.startswith("modbus_edu"):
             bank = getattr(value, "bank", None)
             if isinstance(bank, DataBank):
                 return {"$databank": _layout(bank)}
-            if module.startswith("modbus_edu.widgets") and callable(getattr(value, "config", None)):
-                return convert(value.config(), depth)
         return {"$object": type.__dict__["__name__"].__get__(cls)[:60]}
 
     try:
