@@ -18,13 +18,17 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PINS = ROOT / "binder" / "requirements-test.txt"
+PYODIDE_PYTHON = "3.14"  # the Python of Pyodide 314
 
 # What `import modbus_edu` and its panels need in a browser.  scapy and cryptography are left out: the
 # library imports them only where it writes captures with scapy or speaks TLS, which a browser cannot.
 COURSE = ["pymodbus", "pyserial", "tqdm", "ipywidgets", "comm", "traitlets", "widgetsnbextension",
           "jupyterlab-widgets"]
-# What the library's own tests need under Pyodide.
-TESTS = ["pytest", "pluggy", "iniconfig", "packaging", "pygments", "hypothesis", "attrs", "sortedcontainers"]
+# What the library's own tests need under Pyodide: pytest and hypothesis, and IPython, which ipywidgets
+# imports (a JupyterLite kernel carries it; under Node it is installed with the rest).
+TESTS = ["pytest", "pluggy", "iniconfig", "packaging", "pygments", "hypothesis", "attrs", "sortedcontainers",
+         "ipython", "ipython-pygments-lexers", "jedi", "parso", "matplotlib-inline", "prompt-toolkit",
+         "wcwidth", "stack-data", "asttokens", "executing", "pure-eval"]
 # Pinned here instead: hypothesis ships compiled wheels only since 6.156; 6.155.7 is its last pure one.
 PYODIDE_PINS = {"hypothesis": "6.155.7"}
 
@@ -51,8 +55,9 @@ def collect(out: Path, tests: bool = False) -> list[Path]:
     pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
     subprocess.run([*pip, "wheel", "--no-deps", "-w", str(out), str(ROOT)], check=True)
     names = COURSE + (TESTS if tests else [])
-    subprocess.run([*pip, "download", "--no-deps", "--only-binary=:all:", "-d", str(out), *pinned(names)],
-                   check=True)
+    # the pure-Python wheel of each pin, for Pyodide's Python, even where a compiled one exists for this one
+    subprocess.run([*pip, "download", "--no-deps", "--only-binary=:all:", "--platform", "any",
+                    "--python-version", PYODIDE_PYTHON, "-d", str(out), *pinned(names)], check=True)
     return sorted(out.glob("*.whl"))
 
 
