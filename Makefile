@@ -23,7 +23,11 @@ RELEASE ?= release
 SUBMISSIONS ?= submissions
 OUT ?= grades
 
-.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release grade clean
+LITE_VENV := .venv-lite
+LITE_WHEELS := build/lite/wheels
+OFFLINE ?=
+
+.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release grade lite clean
 
 ## help: list these targets
 help:
@@ -136,7 +140,18 @@ grade:
 	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
 	$(BIN)/python -m modbus_edu grade $(SUBMISSIONS) --out $(OUT)
 
+## lite: build the course as a JupyterLite site in _site/ (notebooks on Pyodide, in the browser; any static
+##     host serves it). Published (default): Pyodide and matplotlib from Pyodide's CDN, at the version the
+##     kernel expects. `make lite OFFLINE=1`: Pyodide from the npm package (lite/package.json), every
+##     package bundled, no request leaves the site (a USB stick, a classroom without internet)
+lite:
+	@[ -x $(LITE_VENV)/bin/python ] || $(PYTHON) -m venv $(LITE_VENV)
+	$(LITE_VENV)/bin/python -m pip install --quiet -r lite/requirements.txt
+	$(LITE_VENV)/bin/python lite/wheels.py $(LITE_WHEELS)
+	$(if $(OFFLINE),cd lite && npm ci --no-audit --no-fund --loglevel=error)
+	$(LITE_VENV)/bin/python lite/build_site.py --wheels $(LITE_WHEELS) --out _site $(if $(OFFLINE),--offline)
+
 ## clean: remove the virtual environment, the caches and what the targets above wrote
 clean:
 	rm -rf $(VENV) .venv-* .pytest_cache .hypothesis .ruff_cache .coverage .coverage.* .coverage-notebooks \
-	    build dist $(RELEASE)
+	    build dist $(RELEASE) _site lite/node_modules

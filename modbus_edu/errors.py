@@ -198,7 +198,15 @@ class NumberError(ModbusError):
     """A number that no Modbus setting or field can hold: thousands of digits, or too large for a float."""
 
 
-class MissingDependencyError(ModbusError, ImportError):
+class OneLineError(ModbusError):
+    """An error that says everything in its message: in a notebook (IPython, JupyterLite) it shows as that
+    one line, without a traceback, so a learner reads what to do instead of where the library stopped."""
+
+    def _render_traceback_(self) -> list[str]:
+        return [f"{type(self).__name__}: {self}"]
+
+
+class MissingDependencyError(OneLineError, ImportError):
     """A part of the library needs a package that is not installed: the widgets and plots need the
     ``course`` extra (JupyterLab, ipywidgets, matplotlib); the message says what to install."""
 
@@ -255,7 +263,7 @@ class SecurityError(ModbusError):
     """Modbus/TCP Security cannot go on: a certificate, a key or a role that is missing or not valid."""
 
 
-class BrowserError(ModbusError):
+class BrowserError(OneLineError):
     """Asked for a socket in a browser (JupyterLite, Pyodide), where no socket can be opened.
 
     A web page cannot listen on a port, and it cannot open a TCP or UDP connection to a device: servers,

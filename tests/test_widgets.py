@@ -1230,3 +1230,53 @@ def test_a_panel_made_in_a_kernel_follows_a_real_server_s_thread_on_its_own_loop
         assert _shown(stand_in) == (["3", "0"], 3) and stand_in.follow.runs <= 3
 
     asyncio.run(asyncio.wait_for(scenario(), timeout=10))
+
+
+# Run in a fresh interpreter in which matplotlib cannot be imported, as in a browser that carries none.
+WITHOUT_MATPLOTLIB = r"""
+import sys
+sys.modules["matplotlib"] = None  # import matplotlib now raises ImportError, as where it is not installed
+from modbus_edu.crc import crc16
+from modbus_edu.devices import PowerMeter
+from modbus_edu.errors import MissingDependencyError
+from modbus_edu.widgets import CrcExplorer, FrameBuilder, FrameDecoder, MeterDashboard, TestTool
+
+builder = FrameBuilder(mode="rtu", unit=17, function=3, address=107, count=3)
+assert builder.frame == bytes.fromhex("1103006B00037687"), builder.frame.hex(" ")
+decoder = FrameDecoder(text="11 03 00 6B 00 03 76 87")
+assert decoder.frame == bytes.fromhex("1103006B00037687") and decoder.error is None
+crc = CrcExplorer(data="01 03 00 00 00 01")
+crc.run_to_end.click()
+assert crc.result == crc16(bytes.fromhex("010300000001"))
+slave = TestTool("rtu_slave", unit=1, length=3)
+slave.fill_increment(start=100, step=10)
+master = TestTool("rtu_master", partner=slave, unit=1, address=0, length=3)
+assert master.run_polls(2)[-1] == [100, 110, 120]
+assert master.counts == {"polls": 2, "valid": 2, "timeouts": 0, "errors": 0}, master.counts
+dash = MeterDashboard(PowerMeter(unit=1, trial=2))
+dash.run(3)
+assert dash.counts["valid"] == 3 and dash.plot_png == b"" and "412.6" in dash.table.value
+note = dash.plot_note.value
+assert "matplotlib" in note and "\n" not in note, note
+try:
+    crc.plot()
+except MissingDependencyError as exc:
+    assert exc._render_traceback_() == [f"MissingDependencyError: {exc}"]
+else:
+    raise AssertionError("CrcExplorer.plot drew without matplotlib")
+print("ok")
+"""
+
+
+def test_every_panel_but_the_plots_works_without_matplotlib():
+    """A browser without matplotlib (the offline site): the frame builder, decoder, CRC explorer and test
+    tool import and work; the dashboard reads and tabulates, and its trend tab says in one line that the
+    plot needs matplotlib."""
+    import os
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", WITHOUT_MATPLOTLIB], capture_output=True, text=True,
+                          timeout=120, env=os.environ)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.strip() == "ok"

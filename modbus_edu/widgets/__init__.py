@@ -17,7 +17,8 @@ from __future__ import annotations
 from ..errors import require
 
 require("ipywidgets", "modbus_edu.widgets")  # the course extra: say how to install it, not a bare ImportError
-require("matplotlib", "modbus_edu.widgets")
+# matplotlib is not required here: only the dashboard's trend plot and CrcExplorer.plot draw, and each
+# imports it when it draws (a browser without matplotlib still has every other panel)
 
 from .crcexplorer import CrcExplorer  # noqa: E402
 from .dashboard import MeterDashboard  # noqa: E402

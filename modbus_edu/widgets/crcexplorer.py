@@ -19,7 +19,6 @@ from ..crc import (
 )
 from ..errors import ModbusError
 from ..framing import parse_hex
-from ..plotstyle import figure
 from .common import (
     MONO,
     MessageLine,
@@ -353,6 +352,8 @@ class CrcExplorer(StaticView, W.VBox):
         """Plot the register after every step (matplotlib, the course's :mod:`~modbus_edu.plotstyle`);
         returns the Axes."""
         if ax is None:
+            from ..plotstyle import figure  # deferred: matplotlib, needed only to plot
+
             _fig, ax = figure()
         values = [self.initial] + [s.after for s in self.steps]
         ax.step(range(len(values)), values, where="post")

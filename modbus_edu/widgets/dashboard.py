@@ -12,10 +12,10 @@ import ipywidgets as W
 
 from ..clock import VirtualClock
 from ..devices.meter import METER_MAP, MeterRegister, PowerMeter, read_meter
-from ..errors import ConfigError, ModbusError, ModbusTimeoutError
+from ..errors import ConfigError, MissingDependencyError, ModbusError, ModbusTimeoutError
 from ..links.loopback import loopback_serial
 from ..master import Master
-from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
+from ..platform import require_plotting
 from ..slave import Slave
 from .common import MONO, MessageLine, PlotImage, esc, guarded, panel_style, scroll_box
 from .picture import StaticView
@@ -115,9 +115,12 @@ class MeterDashboard(StaticView, W.VBox):
         self.table.add_class("mbe-md-table")
         self.image = PlotImage("the trend plot (drawn after the first reading)", css="mbe-md-plot",
                                layout=W.Layout(max_width="100%"))
+        self.plot_note = W.HTML()  # where matplotlib is missing: the one line that says so
+        self.plot_note.add_class("mbe-md-plot-note")
         # tabs keep the panel within 700 px: the buttons and the plot are on screen together
         self.table_box = W.Box([self.table])
-        self.tabs = W.Tab(children=[W.Box([self.image]), self.table_box], titles=("trend", "values"))
+        self.tabs = W.Tab(children=[W.VBox([self.plot_note, self.image]), self.table_box],
+                          titles=("trend", "values"))
         self.tabs.add_class("mbe-md-tabs")
         self.children = [
             W.HTML("<b>Power meter dashboard</b> &mdash; the meter's register map, read "
@@ -314,9 +317,18 @@ class MeterDashboard(StaticView, W.VBox):
 
     def _render_plot(self) -> None:
         """Draw the trend of the chosen group of quantities into a PNG (matplotlib, no pyplot state), in
-        the course's plot style (:mod:`modbus_edu.plotstyle`: size, fonts, the legend beside the data)."""
-        import matplotlib as mpl
+        the course's plot style (:mod:`modbus_edu.plotstyle`: size, fonts, the legend beside the data).
+        Without matplotlib (a browser that carries none) the trend tab says so in one line; the values
+        tab works as before."""
+        try:
+            mpl = require_plotting("The dashboard's trend plot")
+        except MissingDependencyError as exc:
+            self.plot_note.value = esc(str(exc))
+            return
+        # deferred: matplotlib, needed only to plot
         from matplotlib.figure import Figure
+
+        from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
 
         group = self.plot_group.value
         members = [e for e in self.entries if e.unit == group]

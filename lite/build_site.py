@@ -1,0 +1,199 @@
+"""Build the course as a JupyterLite site: the notebooks run on Pyodide, in the browser, from any static
+host, with nothing to install.  `make lite` runs this in .venv-lite (lite/requirements.txt).
+
+    python lite/build_site.py --wheels DIR --out _site             # published: Pyodide from its CDN
+    python lite/build_site.py --wheels DIR --out _site --offline   # offline: no request leaves the site
+
+The site holds the course's notebooks and worked solutions and, for piplite, the library's wheel and the
+pure-Python wheels it needs (``lite/wheels.py`` collects them).  The site's copy of each notebook, never
+the source, is changed at build time:
+
+* a first cell installs the library from the site's own wheels (``%pip install``), so a learner installs
+  nothing; a notebook that plots also installs matplotlib (published: from Pyodide's CDN) and calls
+  :func:`modbus_edu.platform.require_plotting`, which stops the offline copy in one line;
+* a cell tagged ``needs-sockets`` (notebooks 11 and 15: servers and links on real sockets) is kept as
+  commented-out code with one line saying that it needs a local Python or Binder, so Run All goes on.
+
+Offline, Pyodide's core comes from the npm package pinned in lite/package.json (``npm ci`` in lite/), and
+the packages the kernel loads from Pyodide's lock (micropip, packaging, IPython and the rest, all pure
+Python) are downloaded once from PyPI at the lock's versions and bundled, the lock rewritten with their
+file names and SHA-256 checksums.  Everything else is removed from the lock: nothing is fetched elsewhere.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+NOTEBOOKS = ROOT / "notebooks"
+NPM_PYODIDE = ROOT / "lite" / "node_modules" / "pyodide"
+PYODIDE_VERSION = "314.0.6"  # what jupyterlite-pyodide-kernel 0.8.6 expects; lite/package.json pins it too
+PYODIDE_PYTHON = "3.14"  # the Python that Pyodide 314 is
+CDN = f"https://cdn.jsdelivr.net/pyodide/v{PYODIDE_VERSION}/full/pyodide.mjs"
+KERNEL_PLUGIN = "@jupyterlite/pyodide-kernel-extension:kernel"
+BINDER = "https://mybinder.org/v2/gh/modbus-edu/modbus_edu/main"
+# What the kernel loads from Pyodide's lock before the first cell runs (with their dependencies).
+KERNEL_PACKAGES = ["micropip", "packaging", "ipython", "jedi", "traitlets", "matplotlib-inline"]
+# What the first cell installs with piplite, without dependencies: the library imports scapy and
+# cryptography only to write captures and speak TLS, which a web page cannot use.
+COURSE_WHEELS = ["modbus_edu", "pymodbus", "pyserial", "tqdm", "ipywidgets", "jupyterlab_widgets"]
+SOCKETS_TAG = "needs-sockets"
+PLOTS = re.compile(r"\bmatplotlib\b|\bplotstyle\b")
+
+
+def _source(cell: dict) -> str:
+    src = cell.get("source", "")
+    return "".join(src) if isinstance(src, list) else src
+
+
+def needs_plotting(nb: dict) -> bool:
+    return any(c["cell_type"] == "code" and PLOTS.search(_source(c)) for c in nb["cells"])
+
+
+def first_cell(offline: bool, plots: bool, sockets: bool) -> dict:
+    lines = ["# In the browser (JupyterLite): install the course's library from this site.",
+             f"%pip install -q --no-deps {' '.join(COURSE_WHEELS)}"]
+    if plots:
+        if not offline:
+            lines.append("%pip install -q matplotlib")
+        lines += ["from modbus_edu.platform import require_plotting", "", "require_plotting()"]
+    if sockets:
+        lines += ["print(\"The cells of this notebook that open sockets need a local Python or Binder "
+                  f"({BINDER}): in the browser they are skipped.\")"]
+    return {"cell_type": "code", "execution_count": None, "id": "lite-setup",
+            "metadata": {"tags": ["lite-setup"]}, "outputs": [], "source": "\n".join(lines)}
+
+
+def skipped(cell: dict) -> dict:
+    code = "\n".join(f"# {line}" if line else "#" for line in _source(cell).splitlines())
+    return {**cell, "execution_count": None, "outputs": [],
+            "source": "# Skipped in the browser: this cell opens sockets (a local Python or Binder runs it)."
+                      "\n" + code}
+
+
+def site_notebook(nb: dict, offline: bool) -> dict:
+    cells = nb["cells"]
+    sockets = any(SOCKETS_TAG in c.get("metadata", {}).get("tags", []) for c in cells)
+    cells = [skipped(c) if SOCKETS_TAG in c.get("metadata", {}).get("tags", []) else c for c in cells]
+    return {**nb, "cells": [first_cell(offline, needs_plotting(nb), sockets), *cells]}
+
+
+def stage_contents(dest: Path, offline: bool) -> None:
+    shutil.rmtree(dest, ignore_errors=True)
+    dest.mkdir(parents=True)
+    for path in sorted(NOTEBOOKS.glob("[0-9][0-9]_*.ipynb")):
+        nb = json.loads(path.read_text(encoding="utf-8"))
+        (dest / path.name).write_text(json.dumps(site_notebook(nb, offline), indent=1, ensure_ascii=False),
+                                      encoding="utf-8")
+    shutil.copytree(NOTEBOOKS / "solutions", dest / "solutions")
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _norm(name: str) -> str:
+    return re.sub(r"[-_.]+", "-", name).lower()
+
+
+def stage_offline_pyodide(static: Path, cache: Path) -> list[str]:
+    """Pyodide's core from the npm package and the kernel's packages from PyPI, with a lock of just them."""
+    if not (NPM_PYODIDE / "pyodide.mjs").exists():
+        raise SystemExit(f"{NPM_PYODIDE} is missing: run `npm ci` in lite/ (make lite does)")
+    npm_version = json.loads((NPM_PYODIDE / "package.json").read_text())["version"]
+    if npm_version != PYODIDE_VERSION:
+        raise SystemExit(f"lite/package.json gives Pyodide {npm_version}, "
+                         f"the kernel expects {PYODIDE_VERSION}")
+    target = static / "pyodide"
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(NPM_PYODIDE, target,
+                    ignore=shutil.ignore_patterns("*.map", "*.d.ts", "*.html", "README.md"))
+    lock = json.loads((NPM_PYODIDE / "pyodide-lock.json").read_text())
+    packages = lock["packages"]
+    wanted: list[str] = []
+    todo = list(KERNEL_PACKAGES)
+    while todo:
+        name = _norm(todo.pop())
+        if name not in wanted:
+            wanted.append(name)
+            todo += packages[name]["depends"]
+    cache.mkdir(parents=True, exist_ok=True)
+    for name in sorted(wanted):
+        entry = packages[name]
+        if not entry["file_name"].endswith("-none-any.whl"):
+            raise SystemExit(f"{name} is not pure Python in Pyodide's lock: it cannot be bundled from PyPI")
+        wheel = cache / entry["file_name"]
+        if not wheel.exists():
+            subprocess.run([sys.executable, "-m", "pip", "--disable-pip-version-check", "-q", "download",
+                            "--no-deps", "--only-binary=:all:", "--python-version", PYODIDE_PYTHON,
+                            "-d", str(cache),
+                            f"{name}=={entry['version']}"], check=True)
+        if not wheel.exists():
+            raise SystemExit(f"PyPI gave no {entry['file_name']} for {name}=={entry['version']}")
+        shutil.copy2(wheel, target / wheel.name)
+        entry["sha256"] = _sha256(wheel)
+    lock["packages"] = {name: packages[name] for name in sorted(wanted)}
+    (target / "pyodide-lock.json").write_text(json.dumps(lock, indent=1))
+    return sorted(wanted)
+
+
+def write_config(lite_dir: Path, wheels: list[Path], offline: bool) -> None:
+    settings: dict = {"disablePyPIFallback": True}
+    if not offline:
+        settings["pyodideUrl"] = CDN
+    (lite_dir / "jupyter-lite.json").write_text(json.dumps({
+        "jupyter-lite-schema-version": 0,
+        "jupyter-config-data": {"appName": "modbus_edu", "litePluginSettings": {KERNEL_PLUGIN: settings}},
+    }, indent=1))
+    # every cell stays in the page (no windowing): the browser's find and a screen reader see the whole
+    # notebook, and a test reads every cell's prompt and output
+    (lite_dir / "overrides.json").write_text(json.dumps({
+        "@jupyterlab/notebook-extension:tracker": {"windowingMode": "none"}}, indent=1))
+    (lite_dir / "jupyter_lite_config.json").write_text(json.dumps({
+        "PipliteAddon": {"piplite_urls": [str(w) for w in wheels]},
+    }, indent=1))
+
+
+def build(wheels_dir: Path, out: Path, offline: bool, work: Path) -> None:
+    wheels = sorted(wheels_dir.resolve().glob("*.whl"))
+    names = {_norm(w.name.split("-")[0]) for w in wheels}
+    missing = [n for n in [*COURSE_WHEELS, "comm"] if _norm(n) not in names]
+    if missing:
+        raise SystemExit(f"{wheels_dir} has no wheel for {', '.join(missing)}: run lite/wheels.py first")
+    lite_dir = work / ("offline" if offline else "published")
+    shutil.rmtree(lite_dir, ignore_errors=True)
+    lite_dir.mkdir(parents=True)
+    stage_contents(lite_dir / "content", offline)
+    if offline:
+        bundled = stage_offline_pyodide(lite_dir / "static", work / "pyodide-wheels")
+        print(f"offline: Pyodide {PYODIDE_VERSION} from npm, "
+              f"bundled {len(bundled)} packages: {' '.join(bundled)}")
+    write_config(lite_dir, wheels, offline)
+    shutil.rmtree(out, ignore_errors=True)
+    subprocess.run([str(Path(sys.executable).parent / "jupyter"), "lite", "build",
+                    "--lite-dir", str(lite_dir), "--contents", str(lite_dir / "content"),
+                    "--output-dir", str(out.resolve()),
+                    "--settings-overrides", str(lite_dir / "overrides.json"), "--no-sourcemaps"],
+                   check=True, cwd=lite_dir)
+    print(f"built {out} ({'offline' if offline else f'published, Pyodide from {CDN}'})")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--wheels", type=Path, required=True, help="the wheels lite/wheels.py collected")
+    parser.add_argument("--out", type=Path, default=ROOT / "_site")
+    parser.add_argument("--offline", action="store_true", help="bundle Pyodide: no request leaves the site")
+    parser.add_argument("--work", type=Path, default=ROOT / "build" / "lite")
+    args = parser.parse_args()
+    build(args.wheels, args.out, args.offline, args.work)
+
+
+if __name__ == "__main__":
+    main()
