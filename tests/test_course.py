@@ -353,3 +353,16 @@ def test_the_integrity_checks_are_part_of_the_course_check(small_course, capsys)
 def test_whole_course_passes_the_integrity_checks():
     problems = course.check_integrity(NOTEBOOKS, ROOT / "README.md")
     assert not problems, f"{len(problems)} problem(s):\n" + "\n".join(map(str, problems))
+
+
+def test_re_execution_stores_what_a_cell_printed_as_one_output_per_stream():
+    from modbus_edu.course.execute import coalesce_streams
+
+    outputs = [{"output_type": "stream", "name": "stdout", "text": "echo:"},
+               {"output_type": "stream", "name": "stdout", "text": [" A5 37\n"]},
+               {"output_type": "stream", "name": "stderr", "text": "warning\n"},
+               {"output_type": "display_data", "data": {"text/plain": "x"}, "metadata": {}},
+               {"output_type": "stream", "name": "stdout", "text": "after\n"}]
+    merged = coalesce_streams(outputs)
+    assert [o.get("name") for o in merged] == ["stdout", "stderr", None, "stdout"]
+    assert merged[0]["text"] == "echo: A5 37\n"

@@ -226,8 +226,9 @@ def test_no_attacker_gets_credit_it_did_not_earn(graded):
     rows = graded["rows"]
     for name in ("forger", "patcher", "jsonpatcher", "anyequal", "library", "editor", "logwriter", "orphan",
                  "forkbomb", "hog", "formula", FOLDER, "escape", "big"):
-        # the formula folder's row may be shown neutralised ('=HYPERLINK...): found by its text
-        row = rows.get(name) or next(row for learner, row in rows.items() if name.lstrip("=") in learner)
+        # the formula folder's row is shown neutralised and in lower case ('=hyperlink...): found by its text
+        row = rows.get(name) or next(row for learner, row in rows.items()
+                                     if name.lstrip("=").casefold() in learner.casefold())
         statuses = {key: row.get(key) for key in KEYS}
         assert "right" not in statuses.values(), (name, statuses)
     assert rows["anyequal"].get("03.4") == "wrong"

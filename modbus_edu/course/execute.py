@@ -32,9 +32,25 @@ def execute(path: Path | str, timeout: int = 120) -> float:
     elapsed = time.perf_counter() - start
     for cell in notebook.cells:
         cell.metadata.pop("execution", None)
+        if cell.cell_type == "code":
+            cell.outputs = coalesce_streams(cell.outputs)
     strip_widget_state(notebook)
     nbformat.write(notebook, path)
     return elapsed
+
+
+def coalesce_streams(outputs: list) -> list:
+    """Consecutive outputs of one stream (stdout, stderr) as one: what a cell printed is stored the same
+    however a loaded machine cut it into messages."""
+    merged: list = []
+    for output in outputs:
+        previous = merged[-1] if merged else None
+        if (output.get("output_type") == "stream" and previous is not None
+                and previous.get("output_type") == "stream" and previous.get("name") == output.get("name")):
+            previous["text"] = "".join(previous["text"]) + "".join(output["text"])
+        else:
+            merged.append(output)
+    return merged
 
 
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
