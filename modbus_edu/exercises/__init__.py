@@ -47,5 +47,5 @@ for _module in sorted(info.name for info in pkgutil.iter_modules(__path__) if in
 from . import inventory  # noqa: E402  (the concept inventory: exercises 00.0 and 17.0)
 from .nb13 import lab  # noqa: E402  (the troubleshooting lab's puzzles, used by notebook 13)
 
-__all__ = ["EXERCISES", "inventory", "PLACEHOLDER", "AnswerError", "Exercise", "Result", "build_exercise", "check",
-           "evaluate", "exercise", "judge", "lab", "verdict"]
+__all__ = ["EXERCISES", "PLACEHOLDER", "AnswerError", "Exercise", "Result", "build_exercise", "check",
+           "evaluate", "exercise", "inventory", "judge", "lab", "verdict"]

@@ -84,7 +84,8 @@ QUESTIONS: tuple[Question, ...] = (
     Question("pause-inside", "Halfway through an RTU frame the sender pauses for 2 character times. What "
              "happens?",
              ("nothing: only a silence of 3.5 character times matters",
-              "the frame is broken: a pause of more than 1.5 character times inside a frame already breaks it",
+              "the frame is broken: a pause of more than 1.5 character times inside a frame already "
+              "breaks it",
               "the slave answers exception 03", "the slave waits for the rest and answers"), "b",
              "t15-forgotten"),
     Question("exception-code", "A slave refuses a function 3 request with an exception. What is the "
@@ -134,7 +135,8 @@ def read(answer: Any, quiz: str) -> dict[str, str | None]:
             if not isinstance(number, int) or isinstance(number, bool) or not 1 <= number <= count:
                 raise InventoryError(f"the questions are numbered 1 to {count}, not {number!r}.")
             if not isinstance(letter, str):
-                raise InventoryError(f"question {number}: give a letter (a to d), not {type(letter).__name__}.")
+                raise InventoryError(f"question {number}: give a letter (a to d), not "
+                                     f"{type(letter).__name__}.")
             by_number[number] = letter.strip().lower()
         missing = [n for n in range(1, count + 1) if n not in by_number]
         if missing:
@@ -205,8 +207,8 @@ def _judge(answer: Any, quiz: str) -> str | None:
     if right == len(marks):
         return None
     if quiz == PRE:
-        return (f"{right} of {len(marks)} right. Which ones are right stays a secret for now: the course answers every "
-                f"question, and notebook 17 asks them again.")
+        return (f"{right} of {len(marks)} right. Which ones are right stays a secret for now: the course "
+                f"answers every question, and notebook 17 asks them again.")
     wrong = [f"{n} ({CATALOGUE[BY_ID[qid].probes].label})" for n, qid in enumerate(ORDERS[quiz], 1)
              if not marks[qid]]
     return f"{right} of {len(marks)} right; look again at question {', '.join(wrong)}."
