@@ -25,10 +25,12 @@ One learner is one row however the files were named (:mod:`.submissions`); of se
 notebook, the one with the most answers counts, then the newest; the columns are the course's exercises
 that the class's notebooks check, and a key the course does not have is a flag (:mod:`.verdicts`).
 
-The grader writes ``gradebook.csv`` (learner x exercise, then totals and flags), ``learners/NAME.html``
+The grader writes ``gradebook.csv`` (learner x exercise, then totals, the concept inventory's scores
+before and after, and flags), ``learners/NAME.html``
 (each exercise's verdict and the checker's feedback) and ``summary.html`` / ``summary.csv`` (each
 exercise's success rate, the slips the checkers named, by the catalogue's names, with the learners who
-made them, the notebooks to look at, and how the submissions were read), all escaped (:mod:`.reports`).
+made them, the class's normalised gain per question of the concept inventory, the notebooks to look at,
+and how the submissions were read), all escaped (:mod:`.reports`).
 """
 
 from __future__ import annotations
@@ -55,6 +57,7 @@ from .verdicts import (
     Verdict,
     concerns,
     course_keys,
+    inventory_marks,
     misconception,
     pick_copies,
     verdicts,
@@ -130,14 +133,15 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
     look_at = {learner: [f"{run.notebook}: {concern}" for run in runs.get(learner, [])
                          for concern in concerns(run)] + found.refused.get(learner, [])
                for learner in learners}
+    marks = {learner: inventory_marks(runs.get(learner, [])) for learner in learners}
     out.mkdir(parents=True, exist_ok=True)
-    _write_csv(out / "gradebook.csv", table, exercises, flags)
+    _write_csv(out / "gradebook.csv", table, exercises, flags, marks)
     (out / "learners").mkdir(exist_ok=True)
     for learner in learners:
         _write_learner(out / "learners" / page_name(learner), learner, table[learner], exercises,
                        flags[learner])
     notes = found.notes + [f"{learner}: {choice}" for learner, made in choices.items() for choice in made]
-    summary = _write_summary(out, table, exercises, flags, look_at, notes)
+    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks)
     summary["seconds"] = time.monotonic() - start
     summary["isolation"] = sandbox.note
     return summary

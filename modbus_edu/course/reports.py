@@ -17,6 +17,7 @@ from collections import Counter
 from pathlib import Path
 
 from ..codes import _printable
+from ..exercises import inventory
 from .verdicts import ERRORED, NOT_ANSWERED, RIGHT, WRONG, Verdict, feedback, slip
 
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
@@ -58,13 +59,22 @@ def _counts(row: dict, exercises: list[str]) -> Counter:
     return Counter(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises)
 
 
-def _write_csv(path: Path, table: dict, exercises: list[str], flags: dict) -> None:
-    rows: list[list] = [["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, "score", "flags"]]
+def inventory_score(marks: dict[str, bool] | None) -> str:
+    """A learner's score on one concept-inventory quiz, "7/12", or "" when not answered."""
+    return "" if marks is None else f"{sum(marks.values())}/{len(marks)}"
+
+
+def _write_csv(path: Path, table: dict, exercises: list[str], flags: dict,
+               marks: dict[str, dict] | None = None) -> None:
+    rows: list[list] = [["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, "score",
+                         "inventory pre", "inventory post", "flags"]]
     for learner, row in table.items():
         counts = _counts(row, exercises)
+        quiz = (marks or {}).get(learner, {})
         rows.append([learner, *(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises),
                      counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[ERRORED],
-                     f"{counts[RIGHT]}/{len(exercises)}", " | ".join(flags[learner])])
+                     f"{counts[RIGHT]}/{len(exercises)}", inventory_score(quiz.get(inventory.PRE)),
+                     inventory_score(quiz.get(inventory.POST)), " | ".join(flags[learner])])
     _csv(path, rows)
 
 
@@ -115,10 +125,32 @@ def _slip_html(entry: dict, where: str = "") -> str:
             f"<br><small>e.g. “{_h(entry['example'])}”</small>")
 
 
+def _gain_html(marks: dict[str, dict]) -> tuple[str, list[inventory.Gain]]:
+    """The concept inventory's section of the summary: per question, what it probes, the class's share
+    right before and after, and the normalised gain g; then the overall g.  Empty when no learner
+    answered both quizzes."""
+    rows, overall = inventory.gains({learner: (quiz.get(inventory.PRE), quiz.get(inventory.POST))
+                                     for learner, quiz in marks.items()})
+    if overall is None:
+        return "", []
+    learners = sum(1 for quiz in marks.values() if quiz.get(inventory.PRE) and quiz.get(inventory.POST))
+    parts = [f"<h2>Concept inventory: what moved</h2><p>{learners} learners answered the twelve questions "
+             f"before (00.0) and after (17.0) the course. g = (post - pre) / (100 % - pre): the share of "
+             f"what was left to learn that was learned; “—” where the class was already all right.</p>"
+             "<table><tr><th>question</th><th>what it probes</th><th>pre</th><th>post</th><th>g</th></tr>"]
+    for row in [*rows, overall]:
+        parts.append(f"<tr><td>{_h(row.question)}</td><td>{_h(row.label)}</td><td>{row.pre:.0%}</td>"
+                     f"<td>{row.post:.0%}</td><td>{_h(row.shown)}</td></tr>")
+    parts.append(f"</table><p>Overall normalised gain: g = {_h(overall.shown)}.</p>")
+    return "".join(parts), [*rows, overall]
+
+
 def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
-                   look_at: dict[str, list[str]] | None = None, notes: list[str] | None = None) -> dict:
+                   look_at: dict[str, list[str]] | None = None, notes: list[str] | None = None,
+                   marks: dict[str, dict] | None = None) -> dict:
     """``summary.csv`` and ``summary.html``: each exercise's success rate and slips, the class's slips by
-    their catalogue names, the notebooks to look at and how the submissions were read."""
+    their catalogue names, the concept inventory's gains, the notebooks to look at and how the
+    submissions were read."""
     look_at = {learner: found for learner, found in (look_at or {}).items() if found}
     rows = []
     for key in exercises:
@@ -155,6 +187,8 @@ def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
         parts.append(f"<tr><td>{_h(row['exercise'])}</td><td>{row['success rate']:.0%}</td><td>{row[RIGHT]} "
                      f"/ {row[WRONG]} / {row[NOT_ANSWERED]} / {row[ERRORED]}</td><td>{slips}</td></tr>")
     parts.append("</table>")
+    gain_section, gain_rows = _gain_html(marks or {})
+    parts.append(gain_section)
     if look_at:
         parts.append("<h2>Notebooks to look at</h2>" + _list([
             f"{_h(learner)}: {_h('; '.join(found))}" for learner, found in look_at.items()]))
@@ -164,4 +198,4 @@ def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
     (out / "summary.html").write_text(page, encoding="utf-8")
     flagged = {learner: found for learner, found in flags.items() if found}
     return {"learners": len(table), "exercises": rows, "flags": flagged, "look_at": look_at,
-            "notes": list(notes or [])}
+            "notes": list(notes or []), "inventory": gain_rows}

@@ -3,8 +3,8 @@
 Also what a class's runs decide together: which copy of a notebook counts when a learner handed in
 several (:func:`pick_copies`), which exercises are the gradebook's columns (:func:`course_keys`: only the
 course's own, in the notebooks the class handed in, so a key a learner makes up is a flag, never a
-column), and the name of each slip (:func:`slip`: the catalogue's label the checker's feedback begins
-with).
+column), the name of each slip (:func:`slip`: the catalogue's label the checker's feedback begins
+with), and each learner's marks on the concept inventory (:func:`inventory_marks`).
 """
 
 from __future__ import annotations
@@ -13,8 +13,9 @@ import dataclasses
 import re
 from dataclasses import dataclass
 
-from ..exercises import EXERCISES
+from ..exercises import EXERCISES, PLACEHOLDER, inventory
 from ..exercises.misconceptions import CATALOGUE
+from ..exercises.plain import PlainError, revive
 from .runner import NotebookRun
 from .submissions import Submission
 
@@ -43,6 +44,25 @@ def verdicts(runs: list[NotebookRun]) -> dict[str, Verdict]:
             if found.get(key, Verdict(ERRORED)).status == ERRORED:
                 found[key] = Verdict(ERRORED, error)
     return found
+
+
+def inventory_marks(runs: list[NotebookRun]) -> dict[str, dict[str, bool] | None]:
+    """A learner's marks on the concept inventory, before (``"00.0"``) and after (``"17.0"``): the last
+    answer each notebook of its own number submitted, question by question (:func:`.inventory.score`);
+    None for a quiz not answered, or answered in a form that cannot be read."""
+    marks: dict[str, dict[str, bool] | None] = {inventory.PRE: None, inventory.POST: None}
+    for run in runs:
+        for submission in run.submissions:
+            key = submission.get("key")
+            if key not in marks or "answer" not in submission or not _belongs(key, run.notebook):
+                continue
+            try:
+                answer = revive(submission["answer"])
+                if answer is not PLACEHOLDER:
+                    marks[key] = inventory.score(inventory.read(answer, key))
+            except (PlainError, inventory.InventoryError):
+                marks[key] = None
+    return marks
 
 
 def answers(run: NotebookRun) -> int:

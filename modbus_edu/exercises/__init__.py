@@ -23,7 +23,8 @@ Layout: :mod:`.core` holds the registry, ``evaluate`` (``verdict``, ``judge``) a
 it); :mod:`.plain` answers as plain data (exact types); :mod:`.submit` ``check`` itself, which under
 ``modbus-edu grade`` only submits; :mod:`.misconceptions` the catalogue of mistakes every checker names
 its verdicts from, so that one mistake reads the same in every notebook; ``nbNN.py`` the exercises
-of notebook NN, found and imported here automatically.  To add an exercise, add it to its notebook's
+of notebook NN, found and imported here automatically; :mod:`.inventory` the concept inventory that
+opens (00.0) and closes (17.0) the course.  To add an exercise, add it to its notebook's
 module (create ``nbNN.py`` for a new notebook) with :func:`exercise` or :func:`build_exercise`, declare
 beside it the answers it accepts (``accepts=``, other spellings of the right answer) and the wrong
 answers it knows (``refuses=[(answer, "misconception-key" or None), ...]``; for a build exercise, wrong
@@ -43,7 +44,8 @@ from .submit import check
 for _module in sorted(info.name for info in pkgutil.iter_modules(__path__) if info.name.startswith("nb")):
     importlib.import_module(f"{__name__}.{_module}")
 
+from . import inventory  # noqa: E402  (the concept inventory: exercises 00.0 and 17.0)
 from .nb13 import lab  # noqa: E402  (the troubleshooting lab's puzzles, used by notebook 13)
 
 __all__ = ["EXERCISES", "PLACEHOLDER", "AnswerError", "Exercise", "Result", "build_exercise", "check",
-           "evaluate", "exercise", "judge", "lab", "verdict"]
+           "evaluate", "exercise", "inventory", "judge", "lab", "verdict"]
