@@ -166,6 +166,7 @@ def test_the_gradebook_reports_each_learners_scores_and_the_class_gain_per_quest
     chosen = {name: [(type("S", (), {"notebook": run.notebook})(), run) for run in found]
               for name, found in runs.items()}
     exercises, kept, _ = course_keys(chosen)
+    assert PRE not in exercises and POST not in exercises  # scored in columns of their own, not as exercises
     table = {name: verdicts(kept[name]) for name in runs}
     flags = {name: [] for name in runs}
     _write_csv(tmp_path / "gradebook.csv", table, exercises, flags, marks)

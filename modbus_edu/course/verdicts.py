@@ -104,7 +104,8 @@ def _belongs(key: str, notebook: str) -> bool:
 
 def course_keys(chosen: dict[str, list[tuple[Submission, NotebookRun]]]
                 ) -> tuple[list[str], dict[str, list[NotebookRun]], dict[str, str]]:
-    """The gradebook's columns (the course's exercises the class's notebooks check), each learner's runs
+    """The gradebook's columns (the course's exercises the class's notebooks check, the concept inventory's
+    quizzes aside: a pre-test is no exercise to score), each learner's runs
     without the checks of any other key, and a flag for each learner who checked other keys."""
     columns: set[str] = set()
     runs: dict[str, list[NotebookRun]] = {}
@@ -116,7 +117,7 @@ def course_keys(chosen: dict[str, list[tuple[Submission, NotebookRun]]]
                     if _belongs(str(key), submission.notebook)}
             foreign += [str(key) for key in [*run.keys, *(r["key"] for r in run.records)]
                         if str(key) not in keep]
-            columns |= keep
+            columns |= keep - {inventory.PRE, inventory.POST}  # the quizzes have columns of their own
             runs.setdefault(learner, []).append(dataclasses.replace(
                 run, keys=[k for k in run.keys if k in keep],
                 records=[r for r in run.records if str(r["key"]) in keep],
