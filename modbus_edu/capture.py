@@ -64,9 +64,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import CaptureError, ModbusError
+from .errors import CaptureError, MissingDependencyError, ModbusError
 from .framing import TcpSplitter, decode_frame
 from .pcapfile import MAGICS, MAX_PACKET, bad_magic, check_blocks, cut_short
+from .platform import BINDER, IN_BROWSER
 from .traffic import Traffic, TrafficLog
 
 __all__ = [
@@ -764,7 +765,12 @@ def _scapy() -> _Scapy:
     if _SCAPY is None:
         try:
             _SCAPY = _Scapy()
-        except ImportError:  # pragma: no cover - scapy is a dependency of the package
+        except ImportError:  # scapy is a dependency of the package, but a browser's copy carries none
+            if IN_BROWSER:
+                raise MissingDependencyError(
+                    "captures are read and written with scapy, which this copy of the course does not "
+                    f"carry (it runs in a web browser): open it on a local Python or on Binder ({BINDER})"
+                ) from None
             raise CaptureError("captures need the scapy package: pip install 'scapy>=2.8,<2.9'") from None
     return _SCAPY
 

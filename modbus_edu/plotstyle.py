@@ -19,6 +19,9 @@ from typing import Any
 from .errors import require
 
 mpl = require("matplotlib", "modbus_edu.plotstyle")
+from matplotlib.figure import Figure  # noqa: E402  (a figure of no pyplot state, for a panel's picture)
+
+__all__ = ["HEIGHT", "STYLE", "WIDTH", "Figure", "figure", "legend_outside", "mpl"]
 
 WIDTH = 9.0
 """Inches: at the notebook's 100 dpi, about 900 px, inside the 968 px output area of a 1400 px screen."""

@@ -40,7 +40,8 @@ from test_browser import _in_ci, _require_browser  # noqa: E402
 SITE = ROOT / "_site"
 ARTIFACTS = HERE / "artifacts"
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
-# a socket opened outside notebooks 11 and 15 (their socket cells are tagged and skipped in the site)
+# 12 opens a socket outside notebooks 11 and 15 (whose socket cells are tagged and skipped in the site); 17
+# writes a capture, with scapy, which the site does not carry
 STOPS_ON_SOCKETS = {"12_test_tool.ipynb", "17_captures_and_security.ipynb"}
 RUN_TIMEOUT_S = 600  # one notebook in Pyodide on two shared cores: generous but absolute
 pytestmark = pytest.mark.slow

@@ -128,3 +128,25 @@ def test_under_emscripten_no_thread_is_tried(monkeypatch):
     monkeypatch.setattr(threading.Thread, "start", lambda self: started.append(self))
     assert run_within(lambda: None, 1.0) is True
     assert started == []
+
+
+def test_in_a_browser_without_scapy_a_capture_stops_in_one_line(monkeypatch):
+    import builtins
+
+    from modbus_edu import capture
+    from modbus_edu.errors import MissingDependencyError
+
+    real_import = builtins.__import__
+
+    def no_scapy(name, *args, **kwargs):
+        if name.startswith("scapy"):
+            raise ImportError(f"no module named {name!r}")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(capture, "IN_BROWSER", True)
+    monkeypatch.setattr(capture, "_SCAPY", None)
+    monkeypatch.setattr(builtins, "__import__", no_scapy)
+    with pytest.raises(MissingDependencyError) as caught:
+        capture._scapy()
+    assert caught.value._render_traceback_() == [f"MissingDependencyError: {caught.value}"]
+    assert "Binder" in str(caught.value) and "scapy" in str(caught.value)

@@ -732,7 +732,7 @@ def test_meter_dashboard_errors_are_counted_and_shown():
     assert dash.counts["timeouts"] == 1 and "ModbusTimeoutError" in dash.message.text
     assert "timed out" in dash.status.value  # the status says so too, not a plain "stopped"
     assert [dash.tabs.get_title(i) for i in range(2)] == ["trend", "values"]
-    assert dash.table_box.layout.overflow == "auto"
+    assert dash.table.layout.overflow == "auto"  # the table scrolls in its own (tabbable) view
     wrong = MeterDashboard("not a meter")
     assert "ConfigError" in wrong.message.text and wrong.read_once() is None
     assert wrong.run(-1) == [] and wrong.message.kind == "error"

@@ -325,10 +325,7 @@ class MeterDashboard(StaticView, W.VBox):
         except MissingDependencyError as exc:
             self.plot_note.value = esc(str(exc))
             return
-        # deferred: matplotlib, needed only to plot
-        from matplotlib.figure import Figure
-
-        from ..plotstyle import HEIGHT, STYLE, WIDTH, legend_outside
+        from ..plotstyle import HEIGHT, STYLE, WIDTH, Figure, legend_outside  # deferred: matplotlib, to plot
 
         group = self.plot_group.value
         members = [e for e in self.entries if e.unit == group]
