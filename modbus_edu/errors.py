@@ -211,15 +211,21 @@ class MissingDependencyError(OneLineError, ImportError):
     ``course`` extra (JupyterLab, ipywidgets, matplotlib); the message says what to install."""
 
 
+REPOSITORY = "git+https://github.com/modbus-edu/modbus_edu"
+"""Where pip installs the library from until a release is published."""
+
+
 def require(module: str, user: str, extra: str = "course") -> Any:
     """Import ``module`` for ``user`` (a part of the library), or raise :class:`MissingDependencyError`
-    saying how to install it: ``pip install "modbus-edu[course]"``."""
+    saying how to install it (from the repository until a release is on PyPI):
+    ``pip install "modbus-edu[course] @ git+https://github.com/modbus-edu/modbus_edu"``."""
     try:
         return importlib.import_module(module)
     except ImportError as exc:
         raise MissingDependencyError(
             f"{user} needs {module.split('.')[0]}, which is not installed here ({exc}); it comes with the "
-            f"course's extra: pip install \"modbus-edu[{extra}]\" (or `make lab` in a clone of the course)"
+            f"course's extra: pip install \"modbus-edu[{extra}] @ {REPOSITORY}\" (or `make lab` in a clone "
+            "of the course)"
         ) from None
 
 

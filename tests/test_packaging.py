@@ -171,7 +171,7 @@ except modbus_edu.MissingDependencyError as exc:
 """
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert done.returncode == 0, done.stderr
-    assert 'pip install "modbus-edu[course]"' in done.stdout
+    assert 'pip install "modbus-edu[course] @ git+https://github.com/modbus-edu/modbus_edu"' in done.stdout
 
 
 def test_the_version_is_written_once():
