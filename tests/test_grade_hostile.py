@@ -17,7 +17,7 @@ import pytest
 from test_grade import SETUP, right, write, wrong
 
 from modbus_edu.cli import main
-from modbus_edu.course.sandbox import CGROUP_V1, UID_BASE, detect, processes_marked
+from modbus_edu.course.sandbox import CGROUP_V1, LIBRARY, UID_BASE, Seal, below_tmp, detect, processes_marked
 from modbus_edu.exercises import EXERCISES
 from modbus_edu.exercises.submit import MIME
 
@@ -354,3 +354,13 @@ def test_the_container_level_needs_an_engine_that_answers(tmp_path):
                    "-q"])
     assert status == 0
     assert "ada,right,right,right" in (tmp_path / "grades" / "gradebook.csv").read_text(encoding="utf-8")
+
+
+def test_a_sealed_kernel_keeps_python_and_the_library_installed_below_tmp():
+    """A clone and its virtual environment under /tmp (where CI may clone) stay reachable once the
+    learner's private folder becomes /tmp: they are bound back, the outermost folder once."""
+    assert below_tmp(["/tmp/ci/.venv", "/tmp/ci", "/usr/lib/python3", "/tmp/other/lib"]) == [
+        "/tmp/ci", "/tmp/other/lib"]
+    assert below_tmp(["/tmpfoo/x", "/opt/venv"]) == []
+    assert (LIBRARY / "modbus_edu" / "course" / "sandbox.py").exists()
+    assert "needed" in Seal.config.__code__.co_names or "LIBRARY" in Seal.config.__code__.co_names

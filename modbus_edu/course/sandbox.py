@@ -34,6 +34,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -51,6 +52,8 @@ UID_BASE = 100_000
 CGROUP_V1 = Path("/sys/fs/cgroup")
 CGROUP_V2 = (Path("/sys/fs/cgroup"), Path("/sys/fs/cgroup/unified"))
 SCRIPT = Path(__file__).resolve()
+LIBRARY = SCRIPT.parents[2]
+"""The folder that holds the ``modbus_edu`` package (site-packages, or a clone for an editable install)."""
 
 
 @dataclass
@@ -188,8 +191,8 @@ class Seal:
                 "memory": self.memory_mb * 1024 * 1024, "cpu": int(timeout) + 10,
                 "procs": [str(group / "cgroup.procs") for group in self.cgroups], "token": self.token,
                 "python": sys.executable, "path": os.environ.get("PYTHONPATH", ""),
-                "needed": sorted({sys.base_prefix, sys.prefix, *filter(None, os.environ.get("PYTHONPATH", "")
-                                                                       .split(os.pathsep))})}
+                "needed": sorted({sys.base_prefix, sys.prefix, str(LIBRARY),
+                                  *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))})}
 
     def kernel_argv(self, timeout: float) -> list[str]:
         """The kernel's command line (``{connection_file}`` where jupyter puts the connection file)."""
@@ -323,7 +326,12 @@ def _init(config: dict, connection: str) -> None:
             subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=4k,mode=0555", "tmpfs", path], check=True)
     subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64m,mode=1777", "tmpfs", "/dev/shm"], check=True)
     _reach(config["needed"])
+    kept = _stage_below_tmp(config["needed"])
     subprocess.run(["mount", "--bind", folder, "/tmp"], check=True)
+    for stage, path in kept:  # Python or the library installed below /tmp: back in place, read-only
+        os.makedirs(path, mode=0o755, exist_ok=True)
+        subprocess.run(["mount", "--move", stage, path], check=True)
+        os.rmdir(stage)
     inside = _inside(config, connection)
     uid = config["uid"]
     os.chown(inside, uid, uid)
@@ -401,6 +409,26 @@ def _reach(needed: list[str]) -> None:
             os.makedirs(path, mode=0o755, exist_ok=True)
             subprocess.run(["mount", "--move", stage, path], check=True)
             os.rmdir(stage)
+
+
+def below_tmp(paths: Iterable[str]) -> list[str]:
+    """Of ``paths``, the outermost folders below ``/tmp`` (which a sealed kernel sees as its own)."""
+    resolved = sorted({str(Path(path).resolve()) for path in paths})
+    below = [path for path in resolved if path.startswith("/tmp/")]
+    return [path for path in below if not any(path.startswith(other + "/") for other in below)]
+
+
+def _stage_below_tmp(needed: list[str]) -> list[tuple[str, str]]:
+    """The needed folders that lie below ``/tmp`` (a clone and its virtual environment there), each bound
+    read-only to a stage in the private ``/dev/shm``, to be moved back once ``/tmp`` is the learner's."""
+    stages = []
+    for number, path in enumerate(below_tmp(path for path in needed if os.path.isdir(path))):
+        stage = f"/dev/shm/.tmp-{number}"
+        os.mkdir(stage)
+        subprocess.run(["mount", "--bind", path, stage], check=True)
+        subprocess.run(["mount", "-o", "remount,bind,ro", stage], check=True)
+        stages.append((stage, path))
+    return stages
 
 
 def _limit(config: dict, connection: str) -> None:
