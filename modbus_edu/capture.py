@@ -769,7 +769,7 @@ def _scapy() -> _Scapy:
             if IN_BROWSER:
                 raise MissingDependencyError(
                     "captures are read and written with scapy, which this copy of the course does not "
-                    f"carry (it runs in a web browser): open it on a local Python or on Binder ({BINDER})"
+                    f"carry (it runs in a web browser): they need a local Python or Binder ({BINDER})"
                 ) from None
             raise CaptureError("captures need the scapy package: pip install 'scapy>=2.8,<2.9'") from None
     return _SCAPY

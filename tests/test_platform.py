@@ -149,4 +149,4 @@ def test_in_a_browser_without_scapy_a_capture_stops_in_one_line(monkeypatch):
     with pytest.raises(MissingDependencyError) as caught:
         capture._scapy()
     assert caught.value._render_traceback_() == [f"MissingDependencyError: {caught.value}"]
-    assert "Binder" in str(caught.value) and "scapy" in str(caught.value)
+    assert "local Python or Binder" in str(caught.value) and "scapy" in str(caught.value)
