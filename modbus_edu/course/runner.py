@@ -351,6 +351,9 @@ def judged(run: NotebookRun) -> NotebookRun:
 
 
 def _worker(argv: list[str]) -> None:
+    # nbformat's validator loads jsonschema's format checkers, and the IRI checker's grammar takes a second
+    # to build in every worker; a notebook's schema has no IRI field, so that checker is left out
+    sys.modules.setdefault("rfc3987_syntax", None)
     path, timeout, memory, seed, result = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3], argv[4]
     kernel = json.loads(argv[5])
     if resource is not None:  # no resource module (Windows): no limits on the worker
