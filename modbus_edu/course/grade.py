@@ -82,10 +82,9 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
     seed = secrets.token_hex(8)
     runs = []
     try:
-        for original, copy in zip(notebooks, seal.notebooks):
-            run = run_isolated(copy, timeout, memory_mb, seal.kernel_argv(timeout), seed, scratch)
+        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), seed, scratch)
+        for original, run in zip(notebooks, runs):
             run.notebook = original.name
-            runs.append(run)
     finally:
         if seal.out_of_memory() and runs:
             note = f"ran out of memory (the limit is {memory_mb} MB for the learner)"

@@ -22,9 +22,11 @@ refused with a flag that says so.
 from __future__ import annotations
 
 import ast
+import itertools
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -59,6 +61,9 @@ WORKER_MEMORY = 2048
 """MB of address space the worker that drives a kernel may use."""
 TRACE_TIMEOUT = 30
 """Seconds the kernel gets to trace one build exercise's function."""
+
+_KERNELS = itertools.count(1)
+"""Numbers the kernels one worker starts (each its own connection file)."""
 
 SETUP = f"from modbus_edu.exercises.submit import record as {RECORDER}\n"
 
@@ -257,7 +262,7 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
         class Client(NotebookClient):
             def create_kernel_manager(self):  # the connection file where the sealed kernel can read it
                 manager = super().create_kernel_manager()
-                manager.connection_file = str(runtime / f"kernel-{os.getpid()}.json")
+                manager.connection_file = str(runtime / f"kernel-{os.getpid()}-{next(_KERNELS)}.json")
                 return manager
 
             def output(self, outs, msg, display_id, cell_index):  # keep nothing, count what is printed
@@ -351,48 +356,93 @@ def judged(run: NotebookRun) -> NotebookRun:
 
 
 def _worker(argv: list[str]) -> None:
+    """Run a learner's notebooks one after the other; each one's run goes to ``RESULTS/N.json`` as soon as
+    it is done (written whole, then renamed, so the grader never reads half a result)."""
     # nbformat's validator loads jsonschema's format checkers, and the IRI checker's grammar takes a second
     # to build in every worker; a notebook's schema has no IRI field, so that checker is left out
     sys.modules.setdefault("rfc3987_syntax", None)
-    path, timeout, memory, seed, result = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3], argv[4]
-    kernel = json.loads(argv[5])
+    results, timeout, memory, seed = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3]
+    kernel, paths = json.loads(argv[4]), [Path(path) for path in argv[5:]]
     if resource is not None:  # no resource module (Windows): no limits on the worker
         limit = WORKER_MEMORY * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-        cpu = int(2 * timeout + 2 * STARTUP_TIMEOUT)
+        cpu = int(len(paths) * (2 * timeout + 2 * STARTUP_TIMEOUT))
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
         resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024 * 1024, 64 * 1024 * 1024))
-    run = run_notebook(path, timeout, kernel, seed, memory)
-    Path(result).write_text(json.dumps(run.__dict__), encoding="utf-8")
+    for number, path in enumerate(paths):
+        run = run_notebook(path, timeout, kernel, seed, memory)
+        partial = results / f"{number}.part"
+        partial.write_text(json.dumps(run.__dict__), encoding="utf-8")
+        os.replace(partial, results / f"{number}.json")
 
 
-def run_isolated(path: Path, timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
-                 folder: Path) -> NotebookRun:
-    """:func:`run_notebook` in a worker process with a backstop deadline; the run, judged here.
+def backstop(timeout: float) -> float:
+    """Seconds the grader waits for one notebook's run before it stops the worker running it."""
+    return 2 * timeout + 2 * STARTUP_TIMEOUT + TRACE_TIMEOUT * 20
 
-    ``folder`` is the grader's own (no kernel reaches it): the worker writes its result there."""
-    backstop = 2 * timeout + 2 * STARTUP_TIMEOUT + TRACE_TIMEOUT * 20
-    handle, result = tempfile.mkstemp(prefix="run-", suffix=".json", dir=folder)
-    os.close(handle)
-    errors = Path(result).with_suffix(".err")
+
+def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
+                 folder: Path) -> list[NotebookRun]:
+    """:func:`run_notebook` for each of one learner's notebooks, in order, in a worker process; the runs,
+    judged here.
+
+    One worker runs the notebooks one after the other (its start, a second of imports, is paid once per
+    learner, not per notebook).  Each notebook has a backstop deadline (:func:`backstop`) counted from the
+    end of the one before; a worker that dies or passes it costs only the notebook it was running, which is
+    reported, and a fresh worker takes the rest.  ``folder`` is the grader's own (no kernel reaches it):
+    the worker writes its results there."""
+    runs: list[NotebookRun] = []
+    while len(runs) < len(paths):
+        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, seed, folder))
+    return runs
+
+
+def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
+                folder: Path) -> list[NotebookRun]:
+    """The runs of ``paths`` by one worker, up to and including the first it could not finish."""
+    results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
+    errors = results / "worker.err"
+    runs: list[NotebookRun] = []
     try:
         with errors.open("wb") as stream:
-            subprocess.run([sys.executable, "-m", "modbus_edu.course.runner", str(path), str(timeout),
-                            str(memory_mb), seed, result, json.dumps(kernel_argv)],
-                           stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
-                           timeout=backstop)
-        text = Path(result).read_text(encoding="utf-8")
-        return judged(NotebookRun(**json.loads(text)))
-    except subprocess.TimeoutExpired:
-        problem = f"did not finish within {backstop:g} s (its grader was stopped)"
-    except (OSError, ValueError, TypeError):
-        with errors.open("rb") as stream:
-            stream.seek(max(0, errors.stat().st_size - 2000))
-            problem = "its grader failed: " + (stream.read().decode("utf-8", "replace").strip()[-300:] or "?")
+            worker = subprocess.Popen([sys.executable, "-m", "modbus_edu.course.runner", str(results),
+                                       str(timeout), str(memory_mb), seed, json.dumps(kernel_argv),
+                                       *map(str, paths)],
+                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream)
+        try:
+            for number, path in enumerate(paths):
+                run = _await(worker, results / f"{number}.json", backstop(timeout), errors)
+                if isinstance(run, str):
+                    runs.append(NotebookRun(path.name, keys=_keys_of(path), problems=[run]))
+                    break
+                runs.append(judged(run))
+        finally:
+            worker.kill()
+            worker.wait()
     finally:
-        Path(result).unlink(missing_ok=True)
-        errors.unlink(missing_ok=True)
-    return NotebookRun(path.name, keys=_keys_of(path), problems=[problem])
+        shutil.rmtree(results, ignore_errors=True)
+    return runs
+
+
+def _await(worker: subprocess.Popen, result: Path, seconds: float, errors: Path) -> NotebookRun | str:
+    """The run the worker writes to ``result`` within ``seconds``, or why there is none."""
+    deadline = time.monotonic() + seconds
+    while not result.exists():
+        if worker.poll() is not None and not result.exists():
+            with errors.open("rb") as stream:
+                stream.seek(max(0, errors.stat().st_size - 2000))
+                said = stream.read().decode("utf-8", "replace").strip()[-300:]
+            return "its grader failed: " + (said or f"the worker ended with status {worker.returncode}")
+        if time.monotonic() > deadline:
+            return f"did not finish within {seconds:g} s (its grader was stopped)"
+        try:
+            worker.wait(0.05)
+        except subprocess.TimeoutExpired:
+            pass
+    try:
+        return NotebookRun(**json.loads(result.read_text(encoding="utf-8")))
+    except (OSError, ValueError, TypeError) as exc:
+        return f"its grader failed: its result could not be read ({type(exc).__name__})"
 
 
 def _keys_of(path: Path) -> list[str]:
