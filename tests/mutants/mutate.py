@@ -4,9 +4,9 @@ A build exercise's checker must refuse a function that is almost right: one comp
 for ``<=``, ``==`` for ``!=``), one operator for another (``+`` for ``-``, ``&`` for ``|``, ``>>`` for
 ``<<``), a constant one off or replaced (``0xA001`` by ``0x8005``, ``0xFFFF`` by 0), a slice bound moved by
 one, a byte order swapped (``"big"`` for ``"little"``, ``">f"`` for ``"<f"``), ``and`` for ``or``, a
-``not``, a minus sign or a ``~`` lost, or one statement dropped.  :func:`mutants` makes every such version
-of a solution file's function; each is named by the line it changes and the change, so that the few
-which behave exactly like the solution can be listed by name (``equivalent.py``).
+``not``, a minus sign or a ``~`` lost, ``min`` for ``max``, or one statement dropped.  :func:`mutants`
+makes every such version of a solution file's function; each is named by the line it changes and the
+change, so that the few which behave exactly like the solution can be listed by name (``equivalent.py``).
 
 Only the solution's own code is changed: its function and the module-level constants it reads.  The
 lines that show and check the answer (``print(...)``, ``answer = ...``, ``check(...)``) are dropped before
@@ -199,6 +199,12 @@ def _changes(node: ast.AST, parents: dict, text: str) -> Iterator[tuple[str, Edi
         def swap_operator(tree, path, new=new_op):
             _follow(tree, path).op = new()
         yield f"`{_op(node.op)}` -> `{_op(new_op())}`", swap_operator
+    elif isinstance(node, ast.Name) and node.id in ("min", "max") and isinstance(parents.get(node), ast.Call):
+        other_name = "max" if node.id == "min" else "min"
+
+        def rename(tree, path, new=other_name):
+            _follow(tree, path).id = new
+        yield f"`{node.id}` -> `{other_name}`", rename
     elif isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.Not, ast.USub, ast.Invert)):
         def lose(tree, path):
             _put(tree, path, _follow(tree, path).operand)
