@@ -172,7 +172,10 @@ build_exercise(
     reference=_slave_answer, inputs=_handler_inputs,
     edge_cases=[([1234], bytes.fromhex("03 00 00 00 01")), ([1, 2, 3], bytes.fromhex("03 00 01 00 03")),
                 ([1, 2, 3], bytes.fromhex("06 00 02 00 2A")), ([1, 2, 3], bytes.fromhex("06 00 03 00 2A")),
-                ([0] * 5, bytes.fromhex("03 00 00 00 00"))],
+                ([0] * 5, bytes.fromhex("03 00 00 00 00")),
+                # the boundaries: the largest read, and an address and a count whose high byte counts
+                ([7] * 125, bytes.fromhex("03 00 00 00 7D")), ([1, 2, 3], bytes.fromhex("03 01 00 00 01")),
+                ([1, 2, 3], bytes.fromhex("03 00 00 01 01"))],
     hint="read the function code; FC3: address and count (2 bytes each, high first), answer 03, byte count, "
          "the registers; FC6: store the value, answer with the request itself. An address outside the list "
          "gets the exception response bytes([function | 0x80, 2]); a count outside 1..125, code 3.",

@@ -117,7 +117,9 @@ def _diagnose_answered(args, expected, got) -> str | None:
 build_exercise(
     "09.4", "how many requests a slow loop answers",
     reference=_answered, inputs=_answered_inputs,
-    edge_cases=[(1.65, 1.0, 0.0), (0.01, 1.0, 0.0), (2.0, 1.0, 0.02), (1.0, 0.01, 0.02)],
+    edge_cases=[(1.65, 1.0, 0.0), (0.01, 1.0, 0.0), (2.0, 1.0, 0.02), (1.0, 0.01, 0.02),
+                # a loop that takes no time sees a request at once: all answered if the reply fits, else none
+                (0.0, 1.0, 0.0), (0.0, 0.02, 0.02), (0.0, 0.01, 0.02)],
     hint="a request arrives at a random moment of the loop; it is answered in time if the loop reaches it "
          "within timeout - reply seconds: the fraction is (timeout - reply) / loop_time, kept between 0 "
          "and 1.",

@@ -125,7 +125,12 @@ build_exercise(
     reference=_split_mbap, inputs=_mbap_frames,
     edge_cases=[(bytes.fromhex("01 18 00 00 00 06 01 03 00 00 00 01"),),
                 (bytes.fromhex("00 01 00 00 00 06 FF 03 00 6B 00 03"),),
-                (bytes.fromhex("00 01 00 00 00 09 01 03 00 00 00 01"),)],
+                (bytes.fromhex("00 01 00 00 00 09 01 03 00 00 00 01"),),
+                # a protocol id or a length wrong in one byte of two, the shortest frame, one byte short of it
+                (bytes.fromhex("01 18 00 01 00 06 01 03 00 00 00 01"),),
+                (bytes.fromhex("01 18 01 00 00 06 01 03 00 00 00 01"),),
+                (bytes.fromhex("01 18 00 00 01 06 01 03 00 00 00 01"),),
+                (bytes.fromhex("00 05 00 00 00 02 01 07"),), (bytes.fromhex("00 05 00 00 00 01 01"),)],
     hint="int.from_bytes(frame[0:2], 'big') is the transaction id; then protocol (2 bytes), length "
          "(2 bytes), unit (1 byte), and the PDU is frame[7:]. Raise an exception when the length does not "
          "equal len(frame) - 6.",

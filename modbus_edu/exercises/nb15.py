@@ -122,7 +122,9 @@ build_exercise(
     reference=rtu_to_tcp,
     inputs=_rtu_request,
     edge_cases=[(_EXAMPLE, 1), (_EXAMPLE, 0x1234), (_EXAMPLE, 0), (_EXAMPLE[:-1] + b"\x0A", 1),
-                (bytes.fromhex("11 06 00 01 00 03 9A 9B"), 0xFFFF)],
+                (bytes.fromhex("11 06 00 01 00 03 9A 9B"), 0xFFFF),
+                # the shortest request (unit, function 7, CRC), and a unit and its CRC with no function
+                (bytes.fromhex("01 07 41 E2"), 7), (bytes.fromhex("01 7E 80"), 7)],
     diagnose=_diagnose_15_2,
     hint="check the CRC over all bytes but the last two (raise if it is wrong), then build transaction id "
          "(2 bytes), 00 00, length = 1 + len(PDU) (2 bytes), the unit, the PDU: all big-endian.",

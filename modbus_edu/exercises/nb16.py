@@ -249,6 +249,13 @@ def _echo_case(rng: random.Random) -> tuple[bytes, bytes]:
     return request_bytes, received
 
 
+def _echo_anywhere(sent: bytes, received: bytes) -> bytes:
+    """A plausible wrong answer: the echo looked for anywhere in the bytes read back, not at their start."""
+    if bytes(sent) not in bytes(received):
+        raise ValueError("no echo")
+    return received[len(sent):]
+
+
 _REQUEST = bytes.fromhex("01 04 00 00 00 02 71 CB")
 _ANSWER = bytes.fromhex("01 04 04 99 9A 43 65 04 2C")
 
@@ -257,9 +264,11 @@ build_exercise(
     reference=strip_echo,
     inputs=_echo_case,
     edge_cases=[(_REQUEST, _REQUEST + _ANSWER), (_REQUEST, _REQUEST), (_REQUEST, _ANSWER),
-                (_REQUEST, _REQUEST[:5]), (_REQUEST, b""), (_REQUEST, _REQUEST[:-1] + b"\xCA" + _ANSWER)],
+                (_REQUEST, _REQUEST[:5]), (_REQUEST, b""), (_REQUEST, _REQUEST[:-1] + b"\xCA" + _ANSWER),
+                # a stray byte before the echo: the echo is there, but it does not come first
+                (_REQUEST, b"\x00" + _REQUEST + _ANSWER)],
     hint="the first len(sent) bytes must be exactly sent (else raise an error: no echo, or a damaged one); "
          "return what follows them.",
     refuses=[(lambda sent, received: received[len(sent):], "echo-unchecked"),
-             (lambda sent, received: received, None)],
+             (lambda sent, received: received, None), (_echo_anywhere, "echo-unchecked")],
     diagnose=lambda args, expected, got: diagnose("echo-unchecked", *args, got))

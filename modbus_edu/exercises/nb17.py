@@ -124,7 +124,9 @@ build_exercise(
                 (_request(6, 99, 1), "operator"), (_request(6, 100, 1), "operator"),
                 (_request(16, 98, 2), "operator"), (_request(16, 98, 3), "operator"),
                 (_request(15, 0, 100), "operator"), (_request(16, 60000, 10), "engineer"),
-                (_request(4, 0, 1), "guest")],
+                (_request(4, 0, 1), "guest"),
+                # multiple coils past 99, and a quantity whose high byte counts (256 coils from 0)
+                (_request(15, 98, 3), "operator"), (_request(15, 0, 256), "operator")],
     hint="pdu[0] is the function code; the address is pdu[1:3] and, for 15 and 16, the quantity is "
          "pdu[3:5], both big-endian (int.from_bytes(..., 'big')). A viewer reads (1-4); an operator reads, "
          "and writes (5, 6, 15, 16) within 0..99; an engineer does everything; anyone else nothing. "
