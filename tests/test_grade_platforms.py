@@ -14,6 +14,7 @@ import os
 import re
 import stat
 import subprocess
+import tempfile
 import zipfile
 from datetime import datetime
 from pathlib import Path
@@ -28,7 +29,7 @@ from modbus_edu.course.runner import NOTEBOOK_LIMIT, NotebookRun
 from modbus_edu.course.submissions import collect
 from modbus_edu.course.verdicts import RIGHT, WRONG, course_keys, pick_copies, verdicts
 from modbus_edu.errors import ModbusError
-from modbus_edu.exercises import EXERCISES, inventory
+from modbus_edu.exercises import inventory
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOK_KEYS = {"01_data_model": ["01.1", "01.2"], "03_rtu_and_crc": ["03.1", "03.2"],
@@ -241,7 +242,9 @@ def test_a_zip_of_each_layout_reads_as_the_folder_it_holds(tmp_path, layout, exp
         dropped = tmp_path / "submissions"
         dropped.mkdir()
         (dropped / archive.name).write_bytes(archive.read_bytes())
-        assert rows(collect([dropped])) == rows(plain)
+        again = collect([dropped])
+        assert rows(again) == rows(plain)
+        again.cleanup()
     finally:
         scratch = packed.scratch
         packed.cleanup()
@@ -249,13 +252,22 @@ def test_a_zip_of_each_layout_reads_as_the_folder_it_holds(tmp_path, layout, exp
 
 
 def test_a_learners_own_zip_inside_a_download_is_theirs(tmp_path):
-    moodle = moodle_flat(tmp_path / "moodle")
     inner = tmp_path / "work"
     touch(inner / "notebooks" / "05_tcp_and_mbap.ipynb")
+    moodle = moodle_flat(tmp_path / "moodle")
     zipped(inner, moodle / "Ada Lovelace_12_assignsubmission_file_work.zip")
-    found = collect([moodle])
-    assert rows(found)["Ada Lovelace"] == ["01_data_model", "03_rtu_and_crc", "05_tcp_and_mbap"]
-    found.cleanup()
+    folders = moodle_folders(tmp_path / "folders")
+    zipped(inner, folders / "Grace Hopper_1234567_assignsubmission_file_" / "work.zip")
+    only = tmp_path / "only"
+    only.mkdir()
+    zipped(inner, only / "Ada Lovelace_12_assignsubmission_file_work.zip")
+    for given, learner, notebooks in [
+            (moodle, "Ada Lovelace", ["01_data_model", "03_rtu_and_crc", "05_tcp_and_mbap"]),
+            (folders, "Grace Hopper", ["03_rtu_and_crc", "05_tcp_and_mbap"]),
+            (only, "Ada Lovelace", ["05_tcp_and_mbap"])]:
+        found = collect([given])
+        assert rows(found)[learner] == notebooks, given
+        found.cleanup()
 
 
 def test_a_hostile_zip_writes_nothing_outside_its_folder(tmp_path):
@@ -286,8 +298,10 @@ def test_a_hostile_zip_writes_nothing_outside_its_folder(tmp_path):
         found.cleanup()
     broken = tmp_path / "broken.zip"
     broken.write_bytes(b"PK\x03\x04 not really a zip")
+    unpacked = set(Path(tempfile.gettempdir()).glob("modbus-edu-unpacked-*"))
     with pytest.raises(ModbusError, match="cannot be read as a zip"):
         collect([broken])
+    assert set(Path(tempfile.gettempdir()).glob("modbus-edu-unpacked-*")) == unpacked  # nothing left behind
 
 
 # --- a scratch notebook never overrides ----------------------------------------------------------------
@@ -453,6 +467,7 @@ def test_a_canvas_zip_graded_in_real_kernels_and_exported(tmp_path, capsys):
     write(room, "hoppergrace_23456_678904_Untitled", [setup, test_grade.wrong("03.1")])
     archive = zipped(room, tmp_path / "submissions.zip")
     out = tmp_path / "grades"
+    unpacked = set(Path(tempfile.gettempdir()).glob("modbus-edu-unpacked-*"))
     assert main(["grade", str(archive), "--out", str(out), "--timeout", "60", "-q", "--jobs", "2",
                  "--export", "canvas"]) == 0
     printed = capsys.readouterr().out
@@ -464,5 +479,4 @@ def test_a_canvas_zip_graded_in_real_kernels_and_exported(tmp_path, capsys):
     assert "never overrides" in lines["hoppergrace"]["flags"]
     assert {line["ID"]: line["Modbus notebooks"] for line in read(out / "canvas-import.csv")} == {
         "12345": "100.0", "23456": "100.0"}
-    assert not list(Path(os.environ.get("TMPDIR", "/tmp")).glob("modbus-edu-unpacked-*/0/submissions"))
-    assert EXERCISES["03.1"]  # the exercise the notebooks answer
+    assert set(Path(tempfile.gettempdir()).glob("modbus-edu-unpacked-*")) == unpacked  # removed when done

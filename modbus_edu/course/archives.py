@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import stat
 import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
@@ -43,6 +44,7 @@ class Unpacked:
     folder: Path
     note: str = ""
     refused: list[tuple[str, str]] = field(default_factory=list)
+    size: int = 0  # bytes written
 
 
 def _refusal(info: zipfile.ZipInfo, parts: tuple[str, ...]) -> str | None:
@@ -71,15 +73,15 @@ def _copy(source, target: Path, limit: int) -> bool:
     return True
 
 
-def unpack(archive: Path, into: Path, depth: int = 0) -> Unpacked:
+def unpack(archive: Path, into: Path, depth: int = 0, budget: int = MAX_BYTES) -> Unpacked:
     """Write the notebooks of ``archive`` into a new folder ``into/NAME`` (NAME: the zip's name without
-    ``.zip``); zips inside it become folders of their own name, up to :data:`MAX_DEPTH` down."""
+    ``.zip``); zips inside it become folders of their own name, up to :data:`MAX_DEPTH` down, all of them
+    together within ``budget`` bytes."""
     stem = archive.name[:-len(".zip")] if archive.name.lower().endswith(".zip") else archive.name
     folder = into / stem
     folder.mkdir(parents=True, exist_ok=False)
     found = Unpacked(folder)
     notebooks = others = 0
-    budget = MAX_BYTES
     try:
         with zipfile.ZipFile(archive) as zipped:
             entries = zipped.infolist()
@@ -98,7 +100,7 @@ def unpack(archive: Path, into: Path, depth: int = 0) -> Unpacked:
                 if not wanted:
                     others += 1
                     continue
-                limit = min(budget, MAX_BYTES if is_zip else NOTEBOOK_LIMIT)
+                limit = budget if is_zip else min(budget, NOTEBOOK_LIMIT)
                 if reason is None and info.file_size > limit:
                     reason = f"{info.file_size / 1e6:.1f} MB, more than the grader unpacks (not unpacked)"
                 target = folder.joinpath(*parts)
@@ -112,10 +114,12 @@ def unpack(archive: Path, into: Path, depth: int = 0) -> Unpacked:
                 if reason:
                     found.refused.append((name, reason))
                     continue
-                budget -= target.stat().st_size
-                if is_zip:
+                if not is_zip:
+                    budget -= target.stat().st_size
+                    found.size += target.stat().st_size
+                else:
                     try:
-                        inner = unpack(target, target.parent, depth + 1)
+                        inner = unpack(target, target.parent, depth + 1, budget)
                     except (ArchiveError, FileExistsError) as exc:
                         found.refused.append((name, f"a zip inside the zip that cannot be unpacked ({exc})"))
                         continue
@@ -123,9 +127,12 @@ def unpack(archive: Path, into: Path, depth: int = 0) -> Unpacked:
                         target.unlink()
                     found.refused += [(f"{name}/{entry}", why) for entry, why in inner.refused]
                     notebooks += sum(1 for _ in inner.folder.rglob("*.ipynb"))
-                else:
-                    notebooks += 1
-    except (zipfile.BadZipFile, zipfile.LargeZipFile, NotImplementedError, EOFError, OSError) as exc:
+                    budget -= inner.size
+                    found.size += inner.size
+                    continue
+                notebooks += 1
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, NotImplementedError, EOFError, OSError,
+            zlib.error) as exc:
         raise ArchiveError(f"{archive.name} cannot be read as a zip ({type(exc).__name__}: {exc}); download "
                            f"it again from the platform") from exc
     skipped = f", {others} other file(s) left in it" if others else ""

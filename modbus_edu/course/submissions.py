@@ -207,6 +207,7 @@ def _visible(folder: Path) -> list[Path]:
 
 
 def _is_zip(path: Path) -> bool:
+    """A zip file, never a link to one (a link is refused like any other)."""
     return path.suffix.lower() == ".zip" and not path.is_symlink() and path.is_file()
 
 
@@ -245,12 +246,25 @@ class _Walk:
                                and p.suffix != ".ipynb" and not p.is_symlink())
 
     def learner_folder(self, folder: Path, name: str, deep: bool = False) -> None:
+        """One learner's files: those in ``folder`` (all below it when ``deep``: an unpacked zip), and the
+        notebooks of their own zips."""
         entries = sorted(p for p in folder.rglob("*") if not any(
             part.startswith(".") for part in p.relative_to(folder).parts)) if deep else _visible(folder)
         for entry in entries:
-            if not (deep and entry.is_dir()):
+            if _is_zip(entry) and not deep:
+                self.learner_zip(entry, name)
+            elif not (deep and entry.is_dir()):
                 self.consider(entry, name)
         self.count_onlinetext(entries)
+
+    def learner_zip(self, archive: Path, name: str | None) -> None:
+        """A learner's own zip: its notebooks are the learner's (``name``, else the zip's own name)."""
+        try:
+            folder = self.unpacked(archive)
+        except ArchiveError as exc:
+            self.refused.append((name, archive, str(exc)))
+            return
+        self.learner_folder(folder, name if name is not None else folder.name, deep=True)
 
     def nbgrader(self, root: Path) -> None:
         trees = [root] if root.name in NBGRADER_TREES else [root / "submitted"]
@@ -275,9 +289,10 @@ class _Walk:
                                 f"{len(students)} student(s), each named by their student id")
 
     def path(self, path: Path) -> None:
-        if _is_zip(path):
+        """A path the instructor gave (a link to a class's folder or zip is followed: theirs to choose)."""
+        if path.suffix.lower() == ".zip" and path.is_file():
             self.path(self.unpacked(path))
-        elif path.is_file() or path.is_symlink():
+        elif path.is_file():
             self.consider(path, None)
         elif path.is_dir():
             self.folder(path)
@@ -292,9 +307,9 @@ class _Walk:
         zips = [p for p in entries if _is_zip(p)]
         notebooks = [p for p in entries if p.suffix == ".ipynb"]
         folders = [p for p in entries if p.is_dir() and not p.is_symlink()
-                   and any(q.suffix == ".ipynb" for q in _visible(p))]
-        if zips and not notebooks and not folders:  # a folder the platform's downloads were put in
-            for archive in zips:
+                   and any(q.suffix == ".ipynb" or _is_zip(q) for q in _visible(p))]
+        if zips and not notebooks and not folders and not any(platform_name(p.stem) for p in zips):
+            for archive in zips:  # a folder the platform's downloads were put in
                 self.path(self.unpacked(archive))
             return
         linked = [p for p in entries if p.is_symlink() and p.suffix != ".ipynb"]
@@ -302,12 +317,7 @@ class _Walk:
             for folder in folders:
                 self.learner_folder(folder, folder.name)
             for archive in zips:  # a learner's own zip: a folder of its name
-                try:
-                    folder = self.unpacked(archive)
-                except ArchiveError as exc:
-                    self.refused.append((None, archive, str(exc)))
-                    continue
-                self.learner_folder(folder, folder.name, deep=True)
+                self.learner_zip(archive, None)
             for entry in linked:
                 self.refused.append((entry.name, entry, _refusal(entry) or ""))
             for entry in notebooks:
@@ -362,8 +372,12 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
     temporary folder when None: :meth:`Found.cleanup` removes it)."""
     found = Found()
     walk = _Walk(found, scratch)
-    for path in paths:
-        walk.path(path)
+    try:
+        for path in paths:
+            walk.path(path)
+    except BaseException:
+        found.cleanup()
+        raise
 
     raw, refused = walk.raw, walk.refused
     if walk.onlinetext:
