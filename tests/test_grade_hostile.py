@@ -171,8 +171,9 @@ def run_grade(root: Path, out: Path) -> tuple[dict, str, float]:
                        "--jobs", "2", "-q"])
     seconds = time.monotonic() - start
     assert status == 0, printed.getvalue()
-    with (out / "gradebook.csv").open(encoding="utf-8") as stream:
-        rows = {row["learner"]: row for row in csv.DictReader(stream)}
+    with (out / "gradebook.csv").open(encoding="utf-8") as stream:  # '03.1: text, never the number 3.1
+        rows = {row["learner"]: {k.removeprefix("'"): v for k, v in row.items()}
+                for row in csv.DictReader(stream)}
     return rows, printed.getvalue(), seconds
 
 

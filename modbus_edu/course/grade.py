@@ -1,8 +1,9 @@
 """The instructor's gradebook: ``modbus-edu grade SUBMISSIONS... --out DIR``.
 
-A class's notebooks come as one folder per learner (``class/ada/03_rtu_and_crc.ipynb``) or as files named
-by learner (``ada_03_rtu_and_crc.ipynb``, or ``ada.ipynb``).  Every notebook runs from the top in a fresh
-kernel, with a time limit per notebook.
+A class's notebooks come as Moodle, Canvas or nbgrader hand them over (their downloads, zipped or not),
+as one folder per learner (``class/ada/03_rtu_and_crc.ipynb``) or as files named by learner
+(``ada_03_rtu_and_crc.ipynb``, or ``ada.ipynb``): :mod:`.submissions`.  Every notebook runs from the top
+in a fresh kernel, with a time limit per notebook.
 
 **The kernel submits, the grader judges.**  Inside the kernel ``check`` judges nothing: it sends the
 answer as plain data over the kernel's own message channel, and the grader computes every verdict in its
@@ -22,15 +23,18 @@ A notebook that hangs, kills its kernel, floods memory or prints megabytes is re
 exercises that did not run are "errored", and the other notebooks and learners go on.
 
 One learner is one row however the files were named (:mod:`.submissions`); of several copies of one
-notebook, the one with the most answers counts, then the newest; the columns are the course's exercises
+notebook, the platform's newest resubmission counts, else the one with the most answers, then the newest;
+a notebook not named after a course notebook (``Untitled.ipynb``) counts only for notebooks the learner did
+not hand in; the columns are the course's exercises
 that the class's notebooks check, and a key the course does not have is a flag (:mod:`.verdicts`).
 
 The grader writes ``gradebook.csv`` (learner x exercise, then totals, the concept inventory's scores
 before and after, and flags), ``learners/NAME.html``
 (each exercise's verdict and the checker's feedback) and ``summary.html`` / ``summary.csv`` (each
-exercise's success rate, the slips the checkers named, by the catalogue's names, with the learners who
-made them, the class's normalised gain per question of the concept inventory, the notebooks to look at,
-and how the submissions were read), all escaped (:mod:`.reports`).
+exercise's success rate among the learners who handed its notebook in, the slips the checkers named, by
+the catalogue's names, with the learners who made them, the class's normalised gain per question of the
+concept inventory, the notebooks to look at, and how the submissions were read), all escaped
+(:mod:`.reports`); ``--export moodle|canvas`` adds the platform's grade import (:mod:`.export`).
 """
 
 from __future__ import annotations
@@ -45,10 +49,10 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
-from .reports import _write_csv, _write_learner, _write_summary, page_name
+from .reports import _counts, _write_csv, _write_learner, _write_summary, page_name
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .sandbox import MARKER, Sandbox, Seal, detect
-from .submissions import Submission, collect, find_submissions
+from .submissions import Found, Submission, collect, find_submissions
 from .verdicts import (
     ERRORED,
     NOT_ANSWERED,
@@ -57,6 +61,7 @@ from .verdicts import (
     Verdict,
     concerns,
     course_keys,
+    handed_in,
     inventory_marks,
     misconception,
     pick_copies,
@@ -95,10 +100,19 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
 
 def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int = 1024,
           jobs: int | None = None, progress: bool = True, container: str | None = None) -> dict:
-    """Grade a class; write the gradebook, the learners' pages and the summary into ``out``."""
-    tqdm = load_tqdm()
-
+    """Grade a class; write the gradebook, the learners' pages and the summary into ``out``; the summary
+    also holds each learner's (right, out of) exercises and identity on the platform (for an export)."""
     found = collect(paths)
+    try:
+        return _grade(found, paths, out, timeout=timeout, memory_mb=memory_mb, jobs=jobs, progress=progress,
+                      container=container)
+    finally:
+        found.cleanup()
+
+
+def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory_mb: int, jobs: int | None,
+           progress: bool, container: str | None) -> dict:
+    tqdm = load_tqdm()
     by_learner: dict[str, list[Submission]] = {}
     for task in found.submissions:
         by_learner.setdefault(task.learner, []).append(task)
@@ -108,7 +122,7 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
     start = time.monotonic()
     token = f"{os.getpid()}-{secrets.token_hex(4)}"
     scratch = Path(tempfile.mkdtemp(prefix="modbus-edu-grade-"))
-    hide = _hidden(paths, out)
+    hide = _hidden(paths + ([found.scratch] if found.scratch else []), out)
     graded: list[tuple[Submission, NotebookRun]] = []
     try:
         with ThreadPoolExecutor(jobs) as pool, tqdm(total=len(by_learner), unit="learner",
@@ -128,6 +142,7 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
     flags = {learner: sorted({f"{run.notebook}: {problem}" for run in runs.get(learner, [])
                               for problem in run.problems}) + found.refused.get(learner, [])
              + ([foreign[learner]] if learner in foreign else []) + choices.get(learner, [])
+             + found.flags.get(learner, [])
              for learner in learners}
     look_at = {learner: [f"{run.notebook}: {concern}" for run in runs.get(learner, [])
                          for concern in concerns(run)] + found.refused.get(learner, [])
@@ -140,7 +155,10 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
         _write_learner(out / "learners" / page_name(learner), learner, table[learner], exercises,
                        flags[learner])
     notes = found.notes + [f"{learner}: {choice}" for learner, made in choices.items() for choice in made]
-    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks)
+    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks, handed_in(chosen))
+    summary["scores"] = {learner: (_counts(table[learner], exercises)[RIGHT], len(exercises))
+                         for learner in learners}
+    summary["identities"] = dict(found.identities)
     summary["seconds"] = time.monotonic() - start
     summary["isolation"] = sandbox.note
     return summary
