@@ -29,8 +29,8 @@ that the class's notebooks check, and a key the course does not have is a flag (
 
 **Time.** A notebook's cells get ``--timeout`` seconds in all, then each of its own build exercises
 :data:`~.runner.TRACE_TIMEOUT` seconds to be traced, besides the kernel's start; so a learner takes at
-most :data:`MAX_COPIES` x ``--timeout`` (plus those) per notebook of the course handed in, however many
-copies, answers or made-up keys the notebooks hold, and judging a notebook's answers stops after
+most :data:`MAX_COPIES` x ``--timeout`` (plus those) per notebook handed in (its copies counted once),
+however many copies, answers or made-up keys the notebooks hold; judging a notebook's answers stops after
 :data:`~.runner.JUDGE_SECONDS` seconds.
 
 The grader writes ``gradebook.csv`` (learner x exercise, then totals, the concept inventory's scores

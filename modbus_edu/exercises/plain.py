@@ -8,8 +8,8 @@ of exact built-in types, and :func:`revive` turns that data back into the value 
   ``__eq__`` is always true arrives as the plain number it holds, and is compared as that;
 * lists, tuples, dicts, sets and frozensets keep their kind, their items converted the same way;
 * a class (``type(error)``) and an exception travel by name; Python's built-in ones and the library's
-  public ones (:func:`known_classes`: a table of classes already imported, looked up, never imported by
-  name) come back as themselves, any other as a new class of the same name that is nothing of the
+  errors, PDUs, frames and banks (:func:`known_classes`: a table of classes already imported, looked up,
+  never imported by name) come back as themselves, any other as a new class of the same name that is nothing of the
   library's;
 * a :class:`~modbus_edu.DataBank` travels as its layout (which addresses exist in which table, as runs
   of consecutive addresses); a device or slave as its bank; a widget of the course as its ``config()``;
@@ -26,11 +26,13 @@ the kernel only sends ``plain(answer)`` and the grader revives and judges it in 
 
 from __future__ import annotations
 
+import builtins
 import functools
 import json
 import math
 from typing import Any
 
+from .. import datamodel, errors, framing, pdu
 from ..datamodel import ADDRESS_SPACE, DataBank
 from ..errors import ModbusError
 
@@ -172,18 +174,12 @@ def to_json(data: Any) -> str:
 @functools.cache
 def known_classes() -> dict[str, type]:
     """The classes an answer's name (``module:qualname``) brings back as themselves: Python's built-in ones
-    and every class ``import modbus_edu`` offers (its errors, PDUs, frames, banks, devices), by name.
+    and the library's errors, PDUs, frames and banks, by name.
 
-    Built once from modules the library has already imported; a name in an answer is only looked up
-    here, so reviving an answer never imports a module nor runs its code."""
-    import builtins
-
-    import modbus_edu
-
-    from .. import errors, framing, pdu
-
+    Built once from modules imported at the top of this one; a name in an answer is only looked up here,
+    so reviving an answer never imports a module nor runs its code."""
     table: dict[str, type] = {}
-    for module in (builtins, modbus_edu, errors, framing, pdu):
+    for module in (builtins, errors, pdu, framing, datamodel):
         for value in vars(module).values():
             if isinstance(value, type):
                 name = _name_of(value)
