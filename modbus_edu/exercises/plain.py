@@ -9,8 +9,8 @@ of exact built-in types, and :func:`revive` turns that data back into the value 
 * lists, tuples, dicts, sets and frozensets keep their kind, their items converted the same way;
 * a class (``type(error)``) and an exception travel by name; Python's built-in ones and the library's
   errors, PDUs, frames and banks (:func:`known_classes`: a table of classes already imported, looked up,
-  never imported by name) come back as themselves, any other as a new class of the same name that is nothing of the
-  library's;
+  never imported by name) come back as themselves, any other as a new class of the same name that is
+  nothing of the library's;
 * a :class:`~modbus_edu.DataBank` travels as its layout (which addresses exist in which table, as runs
   of consecutive addresses); a device or slave as its bank; a widget of the course as its ``config()``;
 * anything else arrives as an opaque object that only says its type's name (``<an object>``).
