@@ -20,13 +20,21 @@ every process killed when the learner is done.  Without root or namespaces: a pr
 per-process limits; with ``--container IMAGE``: a docker or podman container per kernel.
 
 A notebook that hangs, kills its kernel, floods memory or prints megabytes is reported as such; its
-exercises that did not run are "errored", and the other notebooks and learners go on.
+exercises that did not run are "errored", and the other notebooks and learners go on.  So is an answer
+the grader's checker fails on: that exercise is errored, with a flag, and the grading goes on.
 
 One learner is one row however the files were named (:mod:`.submissions`); of several copies of one
-notebook, the platform's newest resubmission counts, else the one with the most answers, then the newest;
+notebook (copies, resubmissions), only the newest :data:`MAX_COPIES` run (a flag names the others), and
+of those the platform's newest resubmission counts, else the one with the most answers, then the newest;
 a notebook not named after a course notebook (``Untitled.ipynb``) counts only for notebooks the learner did
 not hand in; the columns are the course's exercises
 that the class's notebooks check, and a key the course does not have is a flag (:mod:`.verdicts`).
+
+**Time.** A notebook's cells get ``--timeout`` seconds in all, then each of its own build exercises
+:data:`~.runner.TRACE_TIMEOUT` seconds to be traced, besides the kernel's start; so a learner takes at
+most :data:`MAX_COPIES` x ``--timeout`` (plus those) per notebook handed in (its copies counted once),
+however many copies, answers or made-up keys the notebooks hold; judging a notebook's answers stops after
+:data:`~.runner.JUDGE_SECONDS` seconds.
 
 The grader writes ``gradebook.csv`` (learner x exercise, then totals, the concept inventory's scores
 before and after, and flags), ``learners/NAME.html``
@@ -68,6 +76,9 @@ from .verdicts import (
     verdicts,
 )
 
+MAX_COPIES = 2
+"""The most copies of one notebook run for one learner: the newest ones."""
+
 __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_keys",
            "find_submissions", "grade", "instrument", "misconception", "rebinds_check", "verdicts"]
 
@@ -78,6 +89,27 @@ def _hidden(paths: list[Path], out: Path) -> list[Path]:
     needed = [Path(sys.prefix).resolve(), Path(__file__).resolve().parents[2]]
     folders = {(p if p.is_dir() else p.parent).resolve() for p in [*paths, out]}
     return sorted(f for f in folders if not any(n == f or f in n.parents for n in needed))
+
+
+def newest_copies(tasks: list[Submission]) -> tuple[list[Submission], list[str]]:
+    """A learner's submissions with at most :data:`MAX_COPIES` of each notebook (the newest: the platform's
+    latest resubmission first, then by time; the others not run), and one line per notebook whose copies
+    were cut."""
+    groups: dict[str, list[Submission]] = {}
+    for task in tasks:
+        groups.setdefault(task.notebook, []).append(task)
+    kept: list[Submission] = []
+    lines = []
+    for notebook, copies in groups.items():
+        copies.sort(key=lambda task: (task.version, task.mtime, task.path.name), reverse=True)
+        kept += copies[:MAX_COPIES]
+        if len(copies) > MAX_COPIES:
+            left = ", ".join(repr(task.path.name) for task in copies[MAX_COPIES:MAX_COPIES + 3])
+            more = f" and {len(copies) - MAX_COPIES - 3} more" if len(copies) > MAX_COPIES + 3 else ""
+            lines.append(f"{notebook}: {len(copies)} copies handed in, the newest {MAX_COPIES} graded; not "
+                         f"run: {left}{more}")
+    chosen = set(kept)
+    return [task for task in tasks if task in chosen], lines
 
 
 def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch: Path, hide: list[Path],
@@ -116,6 +148,11 @@ def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory
     by_learner: dict[str, list[Submission]] = {}
     for task in found.submissions:
         by_learner.setdefault(task.learner, []).append(task)
+    capped: dict[str, list[str]] = {}
+    for learner, tasks in by_learner.items():
+        by_learner[learner], lines = newest_copies(tasks)
+        if lines:
+            capped[learner] = lines
     sandbox = detect(container)
     print(sandbox.note, file=sys.stderr)
     jobs = jobs or max(1, min(len(by_learner), os.cpu_count() or 1))
@@ -142,7 +179,7 @@ def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory
     flags = {learner: sorted({f"{run.notebook}: {problem}" for run in runs.get(learner, [])
                               for problem in run.problems}) + found.refused.get(learner, [])
              + ([foreign[learner]] if learner in foreign else []) + choices.get(learner, [])
-             + found.flags.get(learner, [])
+             + found.flags.get(learner, []) + capped.get(learner, [])
              for learner in learners}
     look_at = {learner: [f"{run.notebook}: {concern}" for run in runs.get(learner, [])
                          for concern in concerns(run)] + found.refused.get(learner, [])

@@ -40,9 +40,10 @@ except ImportError:  # Windows
     resource = None
 
 from .._optional import load_nbclient, load_nbformat, load_transformer_manager
-from ..exercises import judge, verdict
+from ..exercises import EXERCISES, judge, verdict
 from ..exercises.plain import MAX_WIRE, PlainError, from_json
 from ..exercises.submit import MIME
+from .submissions import TITLE, without_marks
 
 RECORDER = "__modbus_edu_record__"
 STARTUP_TIMEOUT = 120
@@ -61,6 +62,8 @@ WORKER_MEMORY = 2048
 """MB of address space the worker that drives a kernel may use."""
 TRACE_TIMEOUT = 30
 """Seconds the kernel gets to trace one build exercise's function."""
+JUDGE_SECONDS = 30
+"""Seconds the grader spends judging one notebook's submissions; the ones left are errored, with a flag."""
 
 _KERNELS = itertools.count(1)
 """Numbers the kernels one worker starts (each its own connection file)."""
@@ -301,7 +304,7 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
                 for index, cell in enumerate(list(client.nb.cells)):
                     started[0] = index
                     await client.async_execute_cell(cell, index, execution_count=index + 1)
-                built = list(dict.fromkeys(s["key"] for s in run.submissions if s.get("build")))
+                built = own_build_keys(path.name, [s["key"] for s in run.submissions if s.get("build")])
                 for key in built:
                     index = len(client.nb.cells)
                     traces[index] = (key, f"{key} {seed}")
@@ -332,27 +335,63 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
     return run
 
 
+def own_build_keys(notebook_title: str, keys: list) -> list[str]:
+    """The build exercises among ``keys`` whose function the grader traces in this notebook, each once:
+    the course's build exercises only, and of those the notebook's own (its number, ``03`` in
+    ``03_rtu_and_crc``) when its title or file name has one; a key a learner makes up is never traced."""
+    match = TITLE.search(without_marks(str(notebook_title)))
+    number = match.group()[:2] if match else None
+    return [key for key in dict.fromkeys(keys) if isinstance(key, str) and key in EXERCISES
+            and EXERCISES[key].kind == "build" and (number is None or key.split(".")[0] == number)]
+
+
 def judged(run: NotebookRun) -> NotebookRun:
     """``run`` with its records: each submission judged here, in the grader's process, by its checkers.
 
     A build exercise is judged from the trace the grader asked for (its answer in the notebook only
-    named the function); one whose trace never came back is errored."""
+    named the function); one whose trace never came back is errored.  A submission the checker fails on
+    (it raises) is that exercise errored, with a flag naming the failure; a notebook's submissions not
+    judged within :data:`JUDGE_SECONDS` are errored too: one learner's answers never stop the grading."""
     run.records = []
     traced = {s["key"] for s in run.submissions if "trace" in s}
-    for submission in run.submissions:
+    failed: set[str] = set()
+    deadline = time.monotonic() + JUDGE_SECONDS
+    for position, submission in enumerate(run.submissions):
         key = submission.get("key")
         if submission.get("build"):
             continue
-        if "trace" in submission:
-            result = judge(key, submission["trace"], submission.get("seed"))
-        else:
-            result = verdict(key, submission.get("answer"))
+        if time.monotonic() > deadline:
+            _not_judged(run, run.submissions[position:])
+            break
+        try:
+            if "trace" in submission:
+                result = judge(key, submission["trace"], submission.get("seed"), raising=True)
+            else:
+                result = verdict(key, submission.get("answer"), raising=True)
+        except Exception as exc:  # the checker failed on this answer: this exercise errors, the rest goes on
+            run.records = [record for record in run.records if record["key"] != key]
+            run.errored_cells[key] = "the grader could not judge this answer (your instructor is told why)"
+            if key not in failed:
+                failed.add(key)
+                reason = " ".join(f"{type(exc).__name__}: {exc}".split())[:200]
+                run.problems.append(f"{key}: the grader could not judge the answer ({reason})")
+            continue
         run.records.append({"key": result.key, "ok": result.ok, "message": result.message})
-    for key in dict.fromkeys(s["key"] for s in run.submissions if s.get("build")):
+    for key in own_build_keys(run.notebook, [s["key"] for s in run.submissions if s.get("build")]):
         if key not in traced:
             run.errored_cells.setdefault(key, "its function could not be traced: " + (
                 "; ".join(run.problems) or "the kernel did not answer"))
     return run
+
+
+def _not_judged(run: NotebookRun, left: list[dict]) -> None:
+    """Error the exercises of the submissions ``left`` unjudged once the judging time is spent."""
+    keys = [s["key"] for s in left if not s.get("build")]
+    for key in keys:
+        run.errored_cells.setdefault(key, f"not judged: the notebook's answers took more than "
+                                          f"{JUDGE_SECONDS} s to judge")
+    run.problems.append(f"its answers took more than {JUDGE_SECONDS} s to judge: {len(keys):,} of them not "
+                        "judged")
 
 
 def _worker(argv: list[str]) -> None:

@@ -154,8 +154,9 @@ def _find(key: Any) -> Exercise | Result:
     return EXERCISES[key]
 
 
-def _result(item: Exercise, decide: Callable[[], str | None]) -> Result:
-    """The verdict ``decide()`` gives (None: right, else what is wrong), as a Result; never raises."""
+def _result(item: Exercise, decide: Callable[[], str | None], raising: bool = False) -> Result:
+    """The verdict ``decide()`` gives (None: right, else what is wrong), as a Result; never raises, unless
+    ``raising``: then an exception that is no verdict on the answer (the checker itself failed) is raised."""
     try:
         problem = decide()
     except PlainError as exc:
@@ -167,6 +168,8 @@ def _result(item: Exercise, decide: Callable[[], str | None]) -> Result:
     except MemoryError:
         problem = "your answer is far too large to check."
     except Exception as exc:  # the learner's object may fail in any way: answer, never raise
+        if raising:
+            raise
         problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
     if problem is None:
         return Result(item.key, True, f"Right! Exercise {item.key} ({item.title}) is solved.")
@@ -214,24 +217,30 @@ def evaluate(key: Any, answer: Any) -> Result:
     return verdict(key, data)
 
 
-def verdict(key: Any, data: Any) -> Result:
-    """The verdict on a value exercise's answer given as plain data (:func:`.plain.plain`); never raises."""
+def verdict(key: Any, data: Any, *, raising: bool = False) -> Result:
+    """The verdict on a value exercise's answer given as plain data (:func:`.plain.plain`); never raises.
+
+    With ``raising`` (the grader's way), a checker that fails on the answer (an exception other than the
+    library's errors, which are verdicts) raises it: the grader reports that exercise as errored rather
+    than telling a learner their answer has the wrong shape."""
     item = _find(key)
     if isinstance(item, Result):
         return item
     if item.kind == "build":
         return Result(item.key, False, f"Exercise {item.key} asks for a function, which the grader traces.")
     try:
-        if revive(data) is PLACEHOLDER:
-            return _unanswered(item)
-    except PlainError:
-        pass
-    return _result(item, lambda: item.checker(revive(data)))
+        answer = revive(data)
+    except PlainError as exc:
+        problem = str(exc)
+        return _result(item, lambda: problem)
+    if answer is PLACEHOLDER:
+        return _unanswered(item)
+    return _result(item, lambda: item.checker(answer), raising)
 
 
-def judge(key: Any, trace: Any, seed: str | None = None) -> Result:
+def judge(key: Any, trace: Any, seed: str | None = None, *, raising: bool = False) -> Result:
     """The verdict on a build exercise from the trace of the learner's function (inputs drawn from
-    ``seed``; by default the exercise's own); never raises."""
+    ``seed``; by default the exercise's own); never raises, unless ``raising`` (as :func:`verdict`)."""
     item = _find(key)
     if isinstance(item, Result):
         return item
@@ -239,7 +248,7 @@ def judge(key: Any, trace: Any, seed: str | None = None) -> Result:
         return Result(item.key, False, f"Exercise {item.key}: this is no trace of a function.")
     if trace.get("unwritten"):
         return _unanswered(item, build=True)
-    return _result(item, lambda: item.checker.judge(trace, seed))
+    return _result(item, lambda: item.checker.judge(trace, seed), raising)
 
 
 def is_unwritten(function: Callable) -> bool:

@@ -130,8 +130,9 @@ def read(answer: Any, quiz: str) -> dict[str, str | None]:
     elif isinstance(answer, dict):
         by_number = {}
         for number, letter in answer.items():
-            if isinstance(number, str) and number.strip().isdigit():
-                number = int(number)
+            text = number.strip() if isinstance(number, str) else ""
+            if text.isascii() and text.isdigit() and len(text) <= 4:  # not "²", "٣" nor 5,000 digits
+                number = int(text)
             if not isinstance(number, int) or isinstance(number, bool) or not 1 <= number <= count:
                 raise InventoryError(f"the questions are numbered 1 to {count}, not {number!r}.")
             if not isinstance(letter, str):
