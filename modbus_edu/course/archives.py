@@ -19,8 +19,9 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from ..errors import ModbusError
-from .runner import NOTEBOOK_LIMIT
 
+NOTEBOOK_LIMIT = 5_000_000
+"""The largest notebook file the grader reads, in bytes (from a zip here, from a folder in :mod:`.runner`)."""
 MAX_ENTRIES = 10_000
 """The most entries a zip may list."""
 MAX_BYTES = 1_000_000_000

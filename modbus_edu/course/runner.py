@@ -43,6 +43,7 @@ from .._optional import load_nbclient, load_nbformat, load_transformer_manager
 from ..exercises import EXERCISES, judge, verdict
 from ..exercises.plain import MAX_WIRE, PlainError, from_json
 from ..exercises.submit import MIME
+from .archives import NOTEBOOK_LIMIT
 from .submissions import TITLE, without_marks
 
 RECORDER = "__modbus_edu_record__"
@@ -50,8 +51,6 @@ STARTUP_TIMEOUT = 120
 """Seconds a kernel may take to start (not counted in a notebook's time limit)."""
 OUTPUT_LIMIT = 1_000_000
 """Characters of output a notebook may print before the grader reports an output flood (and keeps none)."""
-NOTEBOOK_LIMIT = 5_000_000
-"""The largest notebook file the grader reads, in bytes."""
 CELL_LIMIT = 50_000
 """The longest code cell the grader runs, in characters."""
 MAX_CHECKS = 300
