@@ -91,6 +91,16 @@ class Result:
 
 EXERCISES: dict[str, Exercise] = {}
 
+AFTER_CHECK: dict[str, Callable[[Any, Result], Result]] = {}
+"""What :func:`~.submit.check` does after judging an exercise in the learner's own kernel, by key (never
+under the grader, never in :func:`evaluate`): the concept inventory keeps the pre-test's answers and
+sets the post-test's beside them."""
+
+
+class Recorded(str):
+    """A checker's words for an answer it keeps without judging it yet (the pre-test's): :func:`check`
+    prints them as they are, and the exercise counts as done."""
+
 LINES: dict[str, str] = {}
 """Build exercises' line of code, by key.  The hint gives the idea; :func:`check` adds the line only
 after :data:`TRIES_BEFORE_LINE` wrong tries (:func:`line_after_tries` sets it)."""
@@ -170,6 +180,8 @@ def _result(item: Exercise, decide: Callable[[], str | None]) -> Result:
         problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
     if problem is None:
         return Result(item.key, True, f"Right! Exercise {item.key} ({item.title}) is solved.")
+    if isinstance(problem, Recorded):
+        return Result(item.key, True, str(problem))
     return Result(item.key, False, clip(f"Not yet: {problem}", MAX_MESSAGE - len(item.hint) - 8)
                   + f"\nHint: {item.hint}")
 

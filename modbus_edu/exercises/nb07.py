@@ -108,7 +108,9 @@ def _outcome_of(situation: str) -> str:
           accepts=[dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception", "mismatch"))),
                    dict(zip(_SITUATIONS, ("Timeout", " timeout", "Checksum error", "EXCEPTION",
                                           "mismatch")))],
-          refuses=[(dict.fromkeys(_SITUATIONS, "checksum error"), "answer-to-damaged-request"),
+          refuses=[(dict.fromkeys(_SITUATIONS, "checksum error"), "answer-to-another-unit"),
+                   (dict(zip(_SITUATIONS, ("timeout", "exception", "checksum error", "exception",
+                                           "mismatch"))), "answer-to-damaged-request"),
                    (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception",
                                            "timeout"))), None),
                    (dict.fromkeys(_SITUATIONS, "valid"), None)])
@@ -124,7 +126,8 @@ def _check_07_3(answer: Any) -> str | None:
             return f"{answer[situation]!r} is not one of {', '.join(_OUTCOMES)}."
         expected = _outcome_of(situation)
         if got != expected:
-            named = diagnose("answer-to-damaged-request", got, expected)
+            named = diagnose("answer-to-another-unit" if situation == _SITUATIONS[0]
+                             else "answer-to-damaged-request", got, expected)
             if named:
                 return f"{situation}: {named}"
             return f"{situation}: the master does not see {got!r}."
