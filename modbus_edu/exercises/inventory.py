@@ -285,19 +285,21 @@ def _set_beside_pre(answer: Any, result: Result) -> Result:
     return Result(result.key, result.ok, f"{result.message}\n{before(POST)}")
 
 
-def _wrong_at(quiz: str, qid: str) -> str:
-    """The right letters of ``quiz`` with question ``qid`` answered by its first wrong choice."""
+def _wrong_at(quiz: str, qid: str, letter: str | None = None) -> str:
+    """The right letters of ``quiz`` with question ``qid`` answered by ``letter`` (by default its first
+    wrong choice)."""
     letters = list(key_letters(quiz))
     index = ORDERS[quiz].index(qid)
-    letters[index] = next(letter for letter in LETTERS if letter != BY_ID[qid].right).upper()
+    letters[index] = (letter or next(c for c in LETTERS if c != BY_ID[qid].right)).upper()
     return "".join(letters)
 
 
 @exercise(PRE, "before you start: 12 questions",
           hint="answer what you think now, or ? when you have no idea; the course teaches all twelve.",
           accepts=[key_letters(PRE), key_letters(PRE).lower(),
-                   {n: letter for n, letter in enumerate(key_letters(PRE), 1)}],
-          refuses=[("?" * len(QUESTIONS), None), (_wrong_at(PRE, "crc-order"), None), ("ABC", None)])
+                   {n: letter for n, letter in enumerate(key_letters(PRE), 1)},
+                   "?" * len(QUESTIONS), _wrong_at(PRE, "crc-order")],  # recorded, right or wrong
+          refuses=[("ABC", None), ("E" * len(QUESTIONS), None)])
 def _check_pre(answer: Any) -> str | None:
     return _judge(answer, PRE)
 
@@ -308,7 +310,10 @@ def _check_pre(answer: Any) -> str | None:
                    {str(n): letter for n, letter in enumerate(key_letters(POST), 1)}],
           refuses=[(_wrong_at(POST, "crc-order"), "crc-swapped"),
                    (_wrong_at(POST, "mbap-length"), "mbap-length"),
-                   (_wrong_at(POST, "reference"), "reference-number"), ("ABCDE", None)])
+                   (_wrong_at(POST, "reference"), "reference-number"),
+                   (_wrong_at(POST, "frame-end", "d"), "t15-for-t35"),
+                   (_wrong_at(POST, "tcp-crc", "c"), "crlf-for-frame-end"),
+                   (_wrong_at(POST, "missing-address", "c"), "refusal-unanswered"), ("ABCDE", None)])
 def _check_post(answer: Any) -> str | None:
     return _judge(answer, POST)
 

@@ -137,9 +137,12 @@ def _frame_slip(got: bytes, expected: bytes) -> str:
 
 
 @exercise("16.2", "the request frames that read the bench meter's map",
-          hint="the planner puts neighbouring values of one table in one request (30071 and 30073 follow "
-               "each other); each request is unit, 04, start address, count (2 bytes each), then the CRC low "
-               "byte first: mb.RtuFrame(unit=..., pdu=mb.ReadInputRegistersRequest(...)).encode().",
+          hint=("the planner puts neighbouring values of one table in one request (30071 and 30073 follow "
+                "each other); each request is unit, 04, start address, count (2 bytes each), then the CRC "
+                "low byte first.",
+                "a float32 takes two registers; 30001 is address 0. mb.RtuFrame(unit=..., "
+                "pdu=mb.ReadInputRegistersRequest(address=..., count=...)).encode() builds one frame.",
+                "four registers from address 10 of unit 2: 02 04 00 0A 00 04 D1 F8."),
           accepts=[expected_frames(), [frame.hex(" ").upper() for frame in expected_frames()]],
           refuses=[(_wrong_frames(), None),
                    ([frame[:-2] + frame[:-3:-1] for frame in expected_frames()], "crc-swapped"),
