@@ -75,9 +75,13 @@ def counters_scenario() -> dict[str, int]:
 
 
 @exercise("14.3", "a bus message count, predicted",
-          hint="count every message on the line that unit 1 received with a good CRC since the clear: "
-               "requests for it, requests for the other unit, the other unit's responses, and the 0x0B "
-               "request itself; a frame with a bad CRC goes to 0x0C instead.",
+          hint=("apply the rule of the exercise frame by frame: which frames does unit 1 receive after the "
+                "clear, and which of them have a good CRC?",
+                "write the line's frames after the clear in order, each request and each response; unit 1 "
+                "receives all of them but its own responses (it sends those); a frame with a bad CRC goes "
+                "to 0x0C, not here.",
+                "after a clear, one read of unit 3 and one of unit 4, then 0x0B to unit 3: unit 3 counts "
+                "the request for it, the request for unit 4, unit 4's response and the 0x0B request: 4."),
           accepts=[5, 0x05], refuses=[(6, None), (4, None), (3, None)])
 def _check_14_3(answer: Any) -> str | None:
     got = int_answer(answer, "a number of messages")
