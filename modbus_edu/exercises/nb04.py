@@ -110,8 +110,11 @@ def _check_04_3(answer: Any) -> str | None:
 
 
 @exercise("04.4", "the PDU inside an ASCII frame",
-          hint="decode the frame (mb.AsciiFrame.decode(frame, role='response')) and encode its .pdu; "
-               "the PDU starts with the function code, after the address.",
+          hint=("an ASCII frame is ':', then the address, the PDU and the LRC written as hex characters, "
+                "then CR LF: the PDU is what lies between the address and the LRC.",
+                "turn the characters into bytes, two characters a byte, then leave out the first byte (the "
+                "address) and the last (the LRC); mb.AsciiFrame.decode(..., role='response') does the same.",
+                "in :010600010003F5 the bytes are 01 06 00 01 00 03 F5: the PDU is 06 00 01 00 03."),
           accepts=["03 04 FF 06 00 64", "0304ff060064", bytes.fromhex("0304FF060064")],
           refuses=[("05 03 04 FF 06 00 64", "unit-in-pdu"), ("03 04 FF 06 00 64 8B", "frame-for-pdu"),
                    ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None)])

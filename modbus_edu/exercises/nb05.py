@@ -88,8 +88,13 @@ def _check_05_3(answer: Any) -> str | None:
 
 
 @exercise("05.4", "spot the wrong MBAP field",
-          hint="decode the frame with mb.explain(frame, mode='tcp'): the row marked as a problem is the one. "
-               "Answer with the field's name, e.g. 'protocol identifier'.",
+          hint=("each MBAP field holds a fixed value or one the rest of the frame fixes: check each field "
+                "against the bytes of the frame.",
+                "transaction id: any value; protocol identifier: 0; length: the number of bytes after the "
+                "length field (the unit and the PDU), high byte first; unit: the server's. "
+                "mb.explain(frame, mode='tcp') checks a frame for you.",
+                "in 00 01 00 01 00 06 01 03 00 00 00 01 the protocol identifier is 00 01, where it must be "
+                "00 00."),
           accepts=["length", "Length field", "the length", "the length field", "LENGTH", "MBAP length",
                    "length field (bytes 4-5)", "Length"],
           refuses=[("transaction identifier", None), ("protocol id", None), ("unit identifier", None),

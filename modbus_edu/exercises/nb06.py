@@ -69,8 +69,12 @@ def _check_06_2(answer: Any) -> str | None:
 
 
 @exercise("06.3", "the most transactions per second",
-          hint="one transaction (FC3, 1 register) takes (8 + 3.5 + 7 + 3.5) characters; a character is "
-               "10 bits at 8N1; at 19200 baud one bit takes 1/19200 s.",
+          hint=("one transaction is request + 3.5 characters of silence + response + 3.5 characters; "
+                "transactions follow each other, so the most per second is 1 / the time of one.",
+                "FC3 for one register: a request of 8 bytes, a response of 7; 8N1 is 10 bits a character, "
+                "and at 19200 baud a bit lasts 1/19200 s.",
+                "two registers at 9600 baud: 8 + 3.5 + 9 + 3.5 = 24 characters = 240 bits = 25 ms: 40 "
+                "transactions per second."),
           accepts=[87.3, 87.27],
           refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (43.6, None), (80.0, None)])
 def _check_06_3(answer: Any) -> str | None:
