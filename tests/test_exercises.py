@@ -447,3 +447,19 @@ def test_counterexamples_are_written_the_way_the_exercise_writes_its_inputs():
 def test_a_list_of_one_frame_is_one_frame():
     message = exercises.evaluate("16.2", ["01 04 00 00 00 02 71 CB"]).message
     assert "you give 1 frame;" in message
+
+
+def test_the_catalogue_states_each_silence_with_its_limit_and_each_reason_for_silence_apart():
+    timers = ("one-character-for-t35", "t15-forgotten", "silences-forgotten", "fixed-silence-ignored",
+              "t15-for-t35")
+    for key in timers:  # character times hold at 19200 baud or below; fixed times above
+        assert "19200 baud" in CATALOGUE[key].sentence and "ms" in CATALOGUE[key].sentence, key
+    assert "processing time" in CATALOGUE["silences-forgotten"].sentence
+    refusal = CATALOGUE["illegal-function-for-address"].sentence
+    assert "state" in refusal and "role" in refusal  # exception 01 is more than "not implemented"
+    damaged, other = CATALOGUE["answer-to-damaged-request"], CATALOGUE["answer-to-another-unit"]
+    assert "another unit" not in damaged.sentence and "CRC" not in other.sentence
+    assert "another unit" in exercises.evaluate("07.3", dict.fromkeys(
+        ("request for a unit nobody has", "one bit flipped in the request", "one bit flipped in the response",
+         "read of an address the slave does not have", "response carries another unit id"),
+        "exception")).message
