@@ -345,7 +345,8 @@ def library_name(function: Any) -> str | None:
 
 
 def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callable[[random.Random], Sequence],
-                   hint: str, wrong: Callable | None = None, edge_cases: Iterable[Sequence] = (),
+                   hint: str | tuple[str, ...], wrong: Callable | None = None,
+                   edge_cases: Iterable[Sequence] = (),
                    count: int = 100, diagnose: Callable[[Sequence, Any, Any], str | None] | None = None,
                    compare: Callable[[Any, Any], bool] | None = None, time_limit: float = TIME_LIMIT,
                    refuses: Iterable[tuple[Callable, str | None]] = (),

@@ -15,6 +15,7 @@ never raises.
 
 from __future__ import annotations
 
+import dataclasses
 import dis
 import math
 import reprlib
@@ -91,23 +92,44 @@ class Result:
 
 EXERCISES: dict[str, Exercise] = {}
 
-LINES: dict[str, str] = {}
-"""Build exercises' line of code, by key.  The hint gives the idea; :func:`check` adds the line only
-after :data:`TRIES_BEFORE_LINE` wrong tries (:func:`line_after_tries` sets it)."""
+AFTER_CHECK: dict[str, Callable[[Any, Result], Result]] = {}
+"""What :func:`~.submit.check` does after judging an exercise in the learner's own kernel, by key (never
+under the grader, never in :func:`evaluate`): the concept inventory keeps the pre-test's answers and
+sets the post-test's beside them."""
+
+
+class Recorded(str):
+    """A checker's words for an answer it keeps without judging it yet (the pre-test's): :func:`check`
+    prints them as they are, and the exercise counts as done."""
+
+LINES: dict[str, tuple[str, ...]] = {}
+"""The hints after the first, by key.  Hints escalate: the exercise's ``hint`` gives the idea from the
+first wrong try; from :data:`TRIES_BEFORE_LINE` wrong tries on, :func:`check` adds the next level, one
+more per try: the step, then a worked example of the same idea on other numbers (never the exercise's
+own line).  An exercise gives them as ``hint=(idea, step, example)``, or :func:`line_after_tries`."""
 
 TRIES_BEFORE_LINE = 2
+
+LEVELS = ("the next step", "the same idea on other numbers")
+"""How :func:`check` introduces each level of :data:`LINES`."""
 
 wrong_tries: dict[str, int] = {}
 """How many wrong answers :func:`check` has seen per exercise since its last right one (this kernel)."""
 
 
-def line_after_tries(key: str, line: str) -> None:
-    """Give exercise ``key``'s line of code, shown only after two wrong tries."""
-    LINES[key] = line
+def line_after_tries(key: str, *levels: str) -> None:
+    """Give exercise ``key``'s hints after the idea: the step, then a worked example on other numbers,
+    shown from the second wrong try on, one more per try."""
+    LINES[key] = levels
 
 
 def register(item: Exercise) -> Exercise:
-    """Add ``item`` to :data:`EXERCISES`; a key is registered once."""
+    """Add ``item`` to :data:`EXERCISES`; a key is registered once.  A ``hint`` given as a tuple is the
+    idea followed by the levels of :data:`LINES`."""
+    if not isinstance(item.hint, str):
+        idea, *more = item.hint
+        item = dataclasses.replace(item, hint=idea)
+        LINES[item.key] = tuple(more)
     if item.key in EXERCISES:
         raise ValueError(f"exercise {item.key} is registered twice")
     if item.kind not in ("value", "build"):
@@ -122,7 +144,7 @@ def register(item: Exercise) -> Exercise:
 _NO_ANSWER = object()
 
 
-def exercise(key: str, title: str, *, hint: str, wrong: Any = _NO_ANSWER, accepts: Any = (),
+def exercise(key: str, title: str, *, hint: str | tuple[str, ...], wrong: Any = _NO_ANSWER, accepts: Any = (),
              refuses: Any = ()) -> Callable:
     """Register a value exercise's checker under ``key`` (decorator).
 
@@ -173,20 +195,24 @@ def _result(item: Exercise, decide: Callable[[], str | None], raising: bool = Fa
         problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
     if problem is None:
         return Result(item.key, True, f"Right! Exercise {item.key} ({item.title}) is solved.")
+    if isinstance(problem, Recorded):
+        return Result(item.key, True, str(problem))
     return Result(item.key, False, clip(f"Not yet: {problem}", MAX_MESSAGE - len(item.hint) - 8)
                   + f"\nHint: {item.hint}")
 
 
 def count_try(result: Result) -> Result:
     """``result`` as :func:`check` prints it: counts the wrong tries per exercise and, from the second
-    on, adds an exercise's line of code (:data:`LINES`) under the hint; a right answer starts again."""
+    on, adds the next level of its hints (:data:`LINES`) under the idea; a right answer starts again."""
     key = result.key
     if key in EXERCISES:
         if result.ok is False:
             tries = wrong_tries[key] = wrong_tries.get(key, 0) + 1
-            if tries >= TRIES_BEFORE_LINE and key in LINES:
-                return Result(key, False, f"{result.message}\nAfter {tries} tries, the line itself: "
-                                          f"{LINES[key]}")
+            levels = LINES.get(key, ())[:tries - TRIES_BEFORE_LINE + 1]
+            if levels:
+                more = "\n".join(f"After {TRIES_BEFORE_LINE + n} tries, {LEVELS[min(n, len(LEVELS) - 1)]}: "
+                                  f"{level}" for n, level in enumerate(levels))
+                return Result(key, False, f"{result.message}\n{more}")
         elif result.ok:
             wrong_tries.pop(key, None)
     return result

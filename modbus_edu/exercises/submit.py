@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 from typing import Any
 
-from .core import EXERCISES, Result, clip, count_try, evaluate, show
+from .core import AFTER_CHECK, EXERCISES, Result, clip, count_try, evaluate, show
 from .plain import PlainError, plain, to_json
 
 MIME = "application/vnd.modbus-edu.submission+json"
@@ -41,6 +41,8 @@ def check(key: str, answer: Any) -> Result:
     if grading():
         return submit(key, answer)
     result = count_try(evaluate(key, answer))
+    if isinstance(key, str) and key in AFTER_CHECK:
+        result = AFTER_CHECK[key](answer, result)
     print(result.message)
     return result
 
