@@ -4,11 +4,12 @@ The grader never trusts the kernel to judge.  Inside the kernel ``check`` only *
 leaves as plain data, a display output of the MIME type :data:`~modbus_edu.exercises.submit.MIME` on the
 kernel's own message channel (:mod:`modbus_edu.exercises.submit`).  The worker that drives the kernel
 (``python -m modbus_edu.course.runner``, started by :func:`run_isolated`, memory- and time-limited itself)
-collects those messages; once the notebook has run, it has the kernel trace each build exercise's
-function on inputs drawn from a seed the grader chose for this learner.  The worker hands the
-submissions and traces back through a file in the grader's own folder (never through its stdout, which a
-learner's output could reach), and :func:`judged` computes every verdict in the grader's process, with
-the grader's own checkers.
+collects those messages and hands them back through a file in the grader's own folder (never through its
+stdout, which a learner's output could reach).  A build exercise's function does not leave the kernel:
+once the notebook has run, the grader takes the function from the handed-in notebook file and runs it in
+a clean room (:mod:`.cleanroom`), on inputs drawn from a seed the kernel never sees, once for each of the
+notebook's own build exercises the learner checked (:func:`own_build_keys`).  :func:`judged` computes
+every verdict in the grader's process, with the grader's own checkers.
 
 Before a cell runs, every call of the library's own ``check`` in it (``check(KEY, ANSWER)`` or
 ``exercises.check(...)``, found by parsing the cell; any other ``x.check(...)`` is left alone) becomes a
@@ -29,6 +30,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -38,7 +40,7 @@ except ImportError:  # Windows
     resource = None
 
 from .._optional import load_nbclient, load_nbformat, load_transformer_manager
-from ..exercises import judge, verdict
+from ..exercises import EXERCISES, judge, verdict
 from ..exercises.plain import MAX_WIRE, PlainError, from_json
 from ..exercises.submit import MIME
 
@@ -57,8 +59,6 @@ MAX_SUBMISSIONS = 1_000
 """The most submissions one notebook's run may send (a check in a loop counts each time)."""
 WORKER_MEMORY = 2048
 """MB of address space the worker that drives a kernel may use."""
-TRACE_TIMEOUT = 30
-"""Seconds the kernel gets to trace one build exercise's function."""
 
 SETUP = f"from modbus_edu.exercises.submit import record as {RECORDER}\n"
 
@@ -148,7 +148,7 @@ def instrument(source: str) -> str:
 
 @dataclass
 class NotebookRun:
-    """What running one notebook found: its submissions and traces, each exercise's verdicts in order
+    """What running one notebook found: its submissions, each exercise's verdicts in order
     (filled in by :func:`judged`, in the grader), and what went wrong."""
 
     notebook: str
@@ -197,12 +197,12 @@ def _read(path: Path, run: NotebookRun, cell_keys: dict[int, list[str]]):
     return notebook
 
 
-def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_mb: int) -> NotebookRun:
-    """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions and traces.
+def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) -> NotebookRun:
+    """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions.
 
     The kernel's connection file goes beside the notebook's private copy (``../run``), where the
     kernel, sealed in that private folder, can read it."""
-    nbformat, nbclient = load_nbformat(), load_nbclient()
+    nbclient = load_nbclient()
     NotebookClient, run_sync = nbclient.NotebookClient, nbclient.util.run_sync
     CellTimeoutError = nbclient.exceptions.CellTimeoutError
     DeadKernelError = nbclient.exceptions.DeadKernelError
@@ -214,14 +214,12 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
     notebook = _read(path, run, cell_keys)
     if notebook is None:
         return run
-    first_trace = len(notebook.cells)
     first_lines = [(cell.source.strip().splitlines() or [""])[0][:80] for cell in notebook.cells]
     started = [0]  # the index of the cell running (0: the grader's set-up)
 
     def stopped_in() -> str:  # the learner's code cell that was running, and its first line
         index = started[0]
-        return f"code cell {index} ({first_lines[index]!r})" if 0 < index < first_trace else ""
-    traces: dict[int, tuple[str, str]] = {}  # trace cell index -> (key, seed)
+        return f"code cell {index} ({first_lines[index]!r})" if index > 0 else ""
     counted = {"printed": 0, "submitted": 0}
 
     with tempfile.TemporaryDirectory(prefix="modbus-edu-kernelspec-") as spec_folder:
@@ -240,11 +238,6 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
             except PlainError:
                 return
             if not isinstance(payload, dict) or not isinstance(payload.get("key"), str):
-                return
-            if cell_index >= first_trace:  # a trace cell: only the trace it was asked for counts
-                key, wanted = traces.get(cell_index, ("", ""))
-                if payload.get("key") == key and payload.get("seed") == wanted and "trace" in payload:
-                    run.submissions.append({"key": key, "trace": payload["trace"], "seed": wanted})
                 return
             counted["submitted"] += 1
             if counted["submitted"] > MAX_SUBMISSIONS:
@@ -296,16 +289,6 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
                 for index, cell in enumerate(list(client.nb.cells)):
                     started[0] = index
                     await client.async_execute_cell(cell, index, execution_count=index + 1)
-                built = list(dict.fromkeys(s["key"] for s in run.submissions if s.get("build")))
-                for key in built:
-                    index = len(client.nb.cells)
-                    traces[index] = (key, f"{key} {seed}")
-                    cell = nbformat.v4.new_code_cell(
-                        f"from modbus_edu.exercises.submit import send_trace\n"
-                        f"send_trace({key!r}, {traces[index][1]!r})")
-                    client.nb.cells.append(cell)
-                    deadline[:] = [time.monotonic() + TRACE_TIMEOUT]
-                    await client.async_execute_cell(cell, index, execution_count=index + 1)
 
         try:
             run_sync(execute)()
@@ -327,59 +310,97 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
     return run
 
 
-def judged(run: NotebookRun) -> NotebookRun:
+def own_build_keys(notebook_title: str, keys: Iterable[str]) -> list[str]:
+    """Of ``keys`` (in order, once each), the course's build exercises of the notebook ``notebook_title``:
+    those whose number ``NN`` is the title's ``NN_`` (any, for a notebook whose title has no number)."""
+    number = notebook_title[:2] if re.match(r"\d\d_", notebook_title) else None
+    return [key for key in dict.fromkeys(str(key) for key in keys)
+            if key in EXERCISES and EXERCISES[key].kind == "build"
+            and (number is None or key.split(".")[0] == number)]
+
+
+def built(run: NotebookRun) -> list[str]:
+    """The notebook's own build exercises that its run checked, once each, in order."""
+    return own_build_keys(run.notebook, [s["key"] for s in run.submissions if s.get("build")])
+
+
+def judged(run: NotebookRun, traces: dict[str, tuple[dict, list]] | None = None) -> NotebookRun:
     """``run`` with its records: each submission judged here, in the grader's process, by its checkers.
 
-    A build exercise is judged from the trace the grader asked for (its answer in the notebook only
-    named the function); one whose trace never came back is errored."""
+    A build exercise is judged from ``traces`` (key -> the trace of the function taken from the notebook
+    and run in the clean room, and the cases it is judged against: :func:`.cleanroom.room_trace`); its
+    submission in the kernel only said that it was checked.  One checked but never traced is errored."""
     run.records = []
-    traced = {s["key"] for s in run.submissions if "trace" in s}
     for submission in run.submissions:
-        key = submission.get("key")
         if submission.get("build"):
             continue
-        if "trace" in submission:
-            result = judge(key, submission["trace"], submission.get("seed"))
-        else:
-            result = verdict(key, submission.get("answer"))
+        result = verdict(submission.get("key"), submission.get("answer"))
         run.records.append({"key": result.key, "ok": result.ok, "message": result.message})
-    for key in dict.fromkeys(s["key"] for s in run.submissions if s.get("build")):
-        if key not in traced:
+    traces = traces or {}
+    for key, (trace, cases) in traces.items():
+        result = judge(key, trace, cases=cases)
+        run.records.append({"key": result.key, "ok": result.ok, "message": result.message})
+    for key in built(run):
+        if key not in traces:
             run.errored_cells.setdefault(key, "its function could not be traced: " + (
-                "; ".join(run.problems) or "the kernel did not answer"))
+                "; ".join(run.problems) or "the grader found no check of it in the notebook"))
     return run
 
 
+def trace_built(run: NotebookRun, source: Path, seed: str, rooms: Path,
+                seal: Callable[[list[str]], list[str]] | None) -> dict[str, tuple[dict, list]]:
+    """Each of the run's build exercises traced in its clean room: the function taken from ``source``
+    (the handed-in notebook file), the inputs drawn from ``seed``, the room's copy of the library made in
+    ``rooms``; key -> (trace, cases)."""
+    from .cleanroom import extract, notebook_cells, room_trace
+
+    keys = built(run)
+    if not keys:
+        return {}
+    cells = notebook_cells(source)
+    traces = {}
+    for key in keys:
+        taken = extract(cells, key)
+        if taken is not None:
+            traces[key] = room_trace(key, taken, f"{key} {seed}", folder=rooms, seal=seal)
+    return traces
+
+
 def _worker(argv: list[str]) -> None:
-    path, timeout, memory, seed, result = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3], argv[4]
-    kernel = json.loads(argv[5])
+    path, timeout, memory, result = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3]
+    kernel = json.loads(argv[4])
     if resource is not None:  # no resource module (Windows): no limits on the worker
         limit = WORKER_MEMORY * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
         cpu = int(2 * timeout + 2 * STARTUP_TIMEOUT)
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
         resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024 * 1024, 64 * 1024 * 1024))
-    run = run_notebook(path, timeout, kernel, seed, memory)
+    run = run_notebook(path, timeout, kernel, memory)
     Path(result).write_text(json.dumps(run.__dict__), encoding="utf-8")
 
 
 def run_isolated(path: Path, timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
-                 folder: Path) -> NotebookRun:
-    """:func:`run_notebook` in a worker process with a backstop deadline; the run, judged here.
+                 folder: Path, *, source: Path | None = None, rooms: Path | None = None,
+                 seal: Callable[[list[str]], list[str]] | None = None) -> NotebookRun:
+    """:func:`run_notebook` in a worker process with a backstop deadline, then each build exercise in
+    its clean room (:func:`trace_built`); the run, judged here.
 
-    ``folder`` is the grader's own (no kernel reaches it): the worker writes its result there."""
-    backstop = 2 * timeout + 2 * STARTUP_TIMEOUT + TRACE_TIMEOUT * 20
+    ``folder`` is the grader's own (no kernel reaches it): the worker writes its result there.  ``source``
+    is the notebook as handed in (by default ``path``), from which build exercises' functions are taken;
+    ``rooms`` the folder where the clean rooms' copies of the library are made (by default ``folder``);
+    ``seal`` runs a clean room as the learner (:meth:`.sandbox.Seal.command_argv`)."""
+    backstop = 2 * timeout + 2 * STARTUP_TIMEOUT
     handle, result = tempfile.mkstemp(prefix="run-", suffix=".json", dir=folder)
     os.close(handle)
     errors = Path(result).with_suffix(".err")
     try:
         with errors.open("wb") as stream:
             subprocess.run([sys.executable, "-m", "modbus_edu.course.runner", str(path), str(timeout),
-                            str(memory_mb), seed, result, json.dumps(kernel_argv)],
+                            str(memory_mb), result, json.dumps(kernel_argv)],
                            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
                            timeout=backstop)
-        text = Path(result).read_text(encoding="utf-8")
-        return judged(NotebookRun(**json.loads(text)))
+        run = NotebookRun(**json.loads(Path(result).read_text(encoding="utf-8")))
+        return judged(run, trace_built(run, source or path, seed, rooms or folder, seal))
     except subprocess.TimeoutExpired:
         problem = f"did not finish within {backstop:g} s (its grader was stopped)"
     except (OSError, ValueError, TypeError):
