@@ -53,11 +53,12 @@ from pathlib import Path
 
 import modbus_edu
 
+from .._optional import load_nbformat
 from ..errors import ModbusError, ReferenceUnavailable
 from ..exercises import EXERCISES
 from ..exercises.build import library_name
 from ..exercises.plain import MAX_WIRE, PlainError, from_json, plain, to_json
-from .runner import CELL_LIMIT, _is_check, _python_source
+from .runner import CELL_LIMIT, NotebookRun, _is_check, _python_source, built
 
 SOURCE_LIMIT = 200_000
 """The most characters of source taken for one exercise; a larger closure is not run."""
@@ -366,8 +367,6 @@ def extract(cells: Sequence[str], key: str) -> Taken | None:
 
 def notebook_cells(path: Path) -> list[str]:
     """The code cells' sources of a notebook file (empty when it cannot be read)."""
-    from .._optional import load_nbformat
-
     try:
         notebook = load_nbformat().read(path, as_version=4)
     except Exception:
@@ -495,6 +494,23 @@ def room_trace(key: str, taken: Taken, seed: str, *, folder: Path,
     return trace, cases
 
 
+def trace_built(run: NotebookRun, *, source: Path, seed: str, rooms: Path,
+                seal: Callable[[list[str]], list[str]] | None = None) -> dict[str, tuple[dict, list]]:
+    """Each of the run's build exercises traced in its clean room: the function taken from ``source``
+    (the handed-in notebook file), the inputs drawn from ``seed``, the room's copy of the library made in
+    ``rooms``; key -> (trace, cases)."""
+    keys = built(run)
+    if not keys:
+        return {}
+    cells = notebook_cells(source)
+    traces = {}
+    for key in keys:
+        taken = extract(cells, key)
+        if taken is not None:
+            traces[key] = room_trace(key, taken, f"{key} {seed}", folder=rooms, seal=seal)
+    return traces
+
+
 __all__ = ["ANSWER", "BLOCKED", "Blocked", "CleanRoomError", "ReferenceUnavailable", "Taken", "extract",
-           "notebook_cells", "room_argv", "room_trace", "run_room", "stripped_copy"]
+           "notebook_cells", "room_argv", "room_trace", "run_room", "stripped_copy", "trace_built"]
 

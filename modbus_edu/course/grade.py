@@ -47,6 +47,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
+from .cleanroom import trace_built
 from .reports import _write_csv, _write_learner, _write_summary, page_name
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .sandbox import MARKER, Sandbox, Seal, detect
@@ -91,8 +92,8 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
     runs = []
     try:
         for original, copy in zip(notebooks, seal.notebooks):
-            run = run_isolated(copy, timeout, memory_mb, seal.kernel_argv(timeout), seed, scratch,
-                               source=original, rooms=rooms, seal=room_seal)
+            builds = functools.partial(trace_built, source=original, seed=seed, rooms=rooms, seal=room_seal)
+            run = run_isolated(copy, timeout, memory_mb, seal.kernel_argv(timeout), scratch, builds=builds)
             run.notebook = original.name
             runs.append(run)
     finally:

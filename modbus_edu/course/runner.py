@@ -347,25 +347,6 @@ def judged(run: NotebookRun, traces: dict[str, tuple[dict, list]] | None = None)
     return run
 
 
-def trace_built(run: NotebookRun, source: Path, seed: str, rooms: Path,
-                seal: Callable[[list[str]], list[str]] | None) -> dict[str, tuple[dict, list]]:
-    """Each of the run's build exercises traced in its clean room: the function taken from ``source``
-    (the handed-in notebook file), the inputs drawn from ``seed``, the room's copy of the library made in
-    ``rooms``; key -> (trace, cases)."""
-    from .cleanroom import extract, notebook_cells, room_trace
-
-    keys = built(run)
-    if not keys:
-        return {}
-    cells = notebook_cells(source)
-    traces = {}
-    for key in keys:
-        taken = extract(cells, key)
-        if taken is not None:
-            traces[key] = room_trace(key, taken, f"{key} {seed}", folder=rooms, seal=seal)
-    return traces
-
-
 def _worker(argv: list[str]) -> None:
     path, timeout, memory, result = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3]
     kernel = json.loads(argv[4])
@@ -379,16 +360,13 @@ def _worker(argv: list[str]) -> None:
     Path(result).write_text(json.dumps(run.__dict__), encoding="utf-8")
 
 
-def run_isolated(path: Path, timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
-                 folder: Path, *, source: Path | None = None, rooms: Path | None = None,
-                 seal: Callable[[list[str]], list[str]] | None = None) -> NotebookRun:
-    """:func:`run_notebook` in a worker process with a backstop deadline, then each build exercise in
-    its clean room (:func:`trace_built`); the run, judged here.
+def run_isolated(path: Path, timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path, *,
+                 builds: Callable[[NotebookRun], dict[str, tuple[dict, list]]] | None = None) -> NotebookRun:
+    """:func:`run_notebook` in a worker process with a backstop deadline; the run, judged here.
 
-    ``folder`` is the grader's own (no kernel reaches it): the worker writes its result there.  ``source``
-    is the notebook as handed in (by default ``path``), from which build exercises' functions are taken;
-    ``rooms`` the folder where the clean rooms' copies of the library are made (by default ``folder``);
-    ``seal`` runs a clean room as the learner (:meth:`.sandbox.Seal.command_argv`)."""
+    ``folder`` is the grader's own (no kernel reaches it): the worker writes its result there.
+    ``builds(run)`` gives the traces of the run's build exercises, each run in its clean room
+    (:func:`.cleanroom.trace_built`), once the kernel is done."""
     backstop = 2 * timeout + 2 * STARTUP_TIMEOUT
     handle, result = tempfile.mkstemp(prefix="run-", suffix=".json", dir=folder)
     os.close(handle)
@@ -400,7 +378,7 @@ def run_isolated(path: Path, timeout: float, memory_mb: int, kernel_argv: list[s
                            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
                            timeout=backstop)
         run = NotebookRun(**json.loads(Path(result).read_text(encoding="utf-8")))
-        return judged(run, trace_built(run, source or path, seed, rooms or folder, seal))
+        return judged(run, builds(run) if builds is not None else None)
     except subprocess.TimeoutExpired:
         problem = f"did not finish within {backstop:g} s (its grader was stopped)"
     except (OSError, ValueError, TypeError):

@@ -21,6 +21,8 @@ import copy
 import ctypes
 import dis
 import json
+import os
+import reprlib
 import sys
 import threading
 import time
@@ -28,7 +30,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import ModbusError
-from .plain import PlainError, plain, revive
+from .plain import PlainError, plain, revive, to_json
 
 Follow = Callable[[int, tuple, tuple], "tuple | None"]
 """``follow(index, args, state)``: the arguments of the read-back call after call ``index``, or None."""
@@ -223,11 +225,6 @@ def room_main() -> None:
     learner's module, trace its function on the job's arguments, write the trace to stdout.
 
     What the learner's code prints goes to stderr: stdout is kept for the trace alone."""
-    import os
-    import reprlib
-
-    from .plain import to_json
-
     out = os.dup(1)
     os.dup2(2, 1)
     job = json.loads(sys.stdin.read())
