@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import ast
 import builtins
+import functools
 import importlib
 import shutil
 import subprocess
@@ -48,7 +49,7 @@ import sys
 import tempfile
 import threading
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import modbus_edu
@@ -58,7 +59,7 @@ from ..errors import ModbusError, ReferenceUnavailable
 from ..exercises import EXERCISES
 from ..exercises.build import library_name
 from ..exercises.plain import MAX_WIRE, PlainError, from_json, plain, to_json
-from .runner import CELL_LIMIT, NotebookRun, _is_check, _python_source, built
+from .runner import CELL_LIMIT, NOTEBOOK_LIMIT, NotebookRun, _is_check, _python_source, built
 
 SOURCE_LIMIT = 200_000
 """The most characters of source taken for one exercise; a larger closure is not run."""
@@ -168,7 +169,12 @@ class Taken:
 @dataclass
 class _Statement:
     node: ast.stmt
-    source: str
+    binds: set[str] = field(default_factory=set)
+    changes: set[str] = field(default_factory=set)
+
+    @functools.cached_property
+    def source(self) -> str:
+        return ast.unparse(self.node)
 
 
 def _scope_nodes(node: ast.AST):
@@ -205,18 +211,19 @@ def _binds(statement: ast.stmt) -> set[str]:
     return names
 
 
-def _changes(statement: ast.stmt, name: str) -> bool:
-    """True if a top-level statement changes what ``name`` holds without rebinding it."""
+def _changes(statement: ast.stmt) -> set[str]:
+    """The names whose value a top-level statement changes without rebinding them (``T[i] = x``,
+    ``T.append(x)``, ``T += x``)."""
+    names: set[str | None] = set()
     for node in _scope_nodes(statement):
         targets = (node.targets if isinstance(node, (ast.Assign, ast.Delete))
                    else [node.target] if isinstance(node, (ast.AugAssign, ast.AnnAssign)) else [])
-        if any(isinstance(t, (ast.Attribute, ast.Subscript)) and _root(t) == name for t in targets):
-            return True
-        if isinstance(node, ast.AugAssign) and isinstance(node.target, ast.Name) and node.target.id == name:
-            return True
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and _root(node.func) == name:
-            return True
-    return False
+        names.update(_root(t) for t in targets if isinstance(t, (ast.Attribute, ast.Subscript)))
+        if isinstance(node, ast.AugAssign) and isinstance(node.target, ast.Name):
+            names.add(node.target.id)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            names.add(_root(node.func))
+    return {name for name in names if name}
 
 
 def _uses(source: str, statement: ast.stmt) -> set[str]:
@@ -253,7 +260,7 @@ def _statements(cells: Sequence[str]) -> list[_Statement]:
         if python is None:
             continue
         for node in ast.parse(python).body:
-            found.append(_Statement(node, ast.unparse(node)))
+            found.append(_Statement(node, _binds(node), _changes(node)))
     return found
 
 
@@ -278,7 +285,7 @@ def _dotted(node: ast.expr, statements: list[_Statement], before: int) -> str | 
     if not isinstance(node, ast.Name):
         return None
     for statement in reversed(statements[:before]):
-        if node.id not in _binds(statement.node):
+        if node.id not in statement.binds:
             continue
         if isinstance(statement.node, ast.Import):
             for alias in statement.node.names:
@@ -330,27 +337,29 @@ def extract(cells: Sequence[str], key: str) -> Taken | None:
     else:
         name = ANSWER
         line = f"{ANSWER} = {ast.unparse(answer)}"
-        extra = [_Statement(ast.parse(line).body[0], line)]
+        extra = [_Statement(ast.parse(line).body[0])]
         wanted = sorted(_uses(line, extra[0].node))
+    binders: dict[str, list[int]] = {}
+    changers: dict[str, list[int]] = {}
+    for index, statement in enumerate(statements[:position]):
+        for bound in statement.binds:
+            binders.setdefault(bound, []).append(index)
+        for changed in statement.changes:
+            changers.setdefault(changed, []).append(index)
     seen: set[str] = set()
     while wanted:
         needed = wanted.pop()
         if needed in seen:
             continue
         seen.add(needed)
-        binding = next((index for index in range(position - 1, -1, -1)
-                        if needed in _binds(statements[index].node)), None)
-        if binding is None:
-            binding = next((index for index in range(position - 1, -1, -1)
-                            if "*" in _binds(statements[index].node)), None)
-            if binding is None:
-                if needed == name and not hasattr(builtins, needed):
-                    return Taken(key, name=name, problem=(
-                        f"{name} is not defined at the top level of the notebook before check({key!r}, "
-                        f"{name}) (define it with def in a cell of its own, above the check)"))
-                continue
-        for index in [binding, *(i for i in range(binding + 1, position) if _changes(statements[i].node,
-                                                                                   needed))]:
+        binding = (binders.get(needed) or binders.get("*") or [None])[-1]
+        if binding is None:  # a builtin, or a name the room will say is not defined
+            if needed == name and not hasattr(builtins, needed):
+                return Taken(key, name=name, problem=(
+                    f"{name} is not defined at the top level of the notebook before check({key!r}, "
+                    f"{name}) (define it with def in a cell of its own, above the check)"))
+            continue
+        for index in [binding, *(i for i in changers.get(needed, []) if i > binding)]:
             if index not in chosen:
                 chosen.add(index)
                 wanted.extend(_uses(statements[index].source, statements[index].node) - seen)
@@ -366,8 +375,11 @@ def extract(cells: Sequence[str], key: str) -> Taken | None:
 
 
 def notebook_cells(path: Path) -> list[str]:
-    """The code cells' sources of a notebook file (empty when it cannot be read)."""
+    """The code cells' sources of a notebook file (empty when it cannot be read, or is larger than the
+    grader reads)."""
     try:
+        if path.stat().st_size > NOTEBOOK_LIMIT:
+            return []
         notebook = load_nbformat().read(path, as_version=4)
     except Exception:
         return []
