@@ -95,6 +95,8 @@ def test_answers_that_are_no_plain_name():
                           "check('03.5', lambda data: helper(data))"], "03.5")
     assert taken.name == room.ANSWER and "def helper" in taken.source and "lambda" in taken.source
     assert room.extract([SETUP, "check('03.5', mb.crc16)"], "03.5").library == "mb.crc16"
+    assert room.extract([SETUP, "import functools as f\ncheck('03.5', f.partial(mb.crc16))"], "03.5"
+                        ).library == "mb.crc16"
     assert room.extract(["from modbus_edu import crc16 as c\nfrom modbus_edu.exercises import check",
                          "check('03.5', c)"], "03.5").library == "mb.crc16"
     block = "if True:\n    " + OWN.replace("\n", "\n    ") + "\n    " + CHECK

@@ -327,7 +327,11 @@ def extract(cells: Sequence[str], key: str) -> Taken | None:
     if found is None:
         return None
     position, answer = found
-    library = _librarys_own(_dotted(answer, statements, position))
+    named = answer
+    while isinstance(named, ast.Call) and named.args and \
+            _dotted(named.func, statements, position) == "functools.partial":  # a partial is its function
+        named = named.args[0]
+    library = _librarys_own(_dotted(named, statements, position))
     if library:
         return Taken(key, library=library)
     chosen: set[int] = set()
