@@ -303,16 +303,17 @@ def test_the_grader_judges_plain_submissions_with_its_own_checkers():
 
     checker = EXERCISES["03.5"].checker
     honest = checker.trace(lambda data: mb.crc16(bytes(data)) ^ 0, "03.5 theirs")
-    run = judged(NotebookRun("03_rtu_and_crc.ipynb", submissions=[
-        {"key": "03.1", "answer": plain(bytes.fromhex("B2 98"))},
-        {"key": "03.2", "ok": True, "message": "Right!"},  # a forged verdict is no answer
-        {"key": "03.5", "build": True},
-        {"key": "03.5", "trace": honest, "seed": "03.5 mine"},  # outputs for other inputs than the grader's
-    ]))
+    submissions = [{"key": "03.1", "answer": plain(bytes.fromhex("B2 98"))},
+                   {"key": "03.2", "ok": True, "message": "Right!"},  # a forged verdict is no answer
+                   {"key": "03.5", "build": True}]
+    # a build exercise is judged from its clean room's trace, against the inputs the grader drew
+    run = judged(NotebookRun("03_rtu_and_crc.ipynb", submissions=list(submissions)),
+                 {"03.5": (honest, checker.cases("03.5 mine"))})  # outputs for other inputs than the grader's
     assert [(record["key"], record["ok"]) for record in run.records] == [
         ("03.1", True), ("03.2", False), ("03.5", False)]
-    assert judged(NotebookRun("x", submissions=[{"key": "03.5", "trace": honest, "seed": "03.5 theirs"}])
-                  ).records[0]["ok"] is True
+    right = judged(NotebookRun("x", submissions=[{"key": "03.5", "build": True}]),
+                   {"03.5": (honest, checker.cases("03.5 theirs"))})
+    assert right.records[0]["ok"] is True
     unanswered = judged(NotebookRun("x", submissions=[{"key": "03.5", "build": True}]))
     assert unanswered.records == [] and "could not be traced" in unanswered.errored_cells["03.5"]
 

@@ -7,11 +7,12 @@ in a fresh kernel, with a time limit per notebook.
 
 **The kernel submits, the grader judges.**  Inside the kernel ``check`` judges nothing: it sends the
 answer as plain data over the kernel's own message channel, and the grader computes every verdict in its
-own process, with its own checkers (:mod:`.runner`).  For a build exercise the grader draws inputs from a
-seed of its own for each learner, has the kernel call the learner's function on them, and compares the
-outputs itself.  Verdicts never come from the outputs stored in the file, nor from anything the learner's
-code could reach: patching the checkers, ``json`` or ``check`` in the kernel changes nothing, and an
-always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
+own process, with its own checkers (:mod:`.runner`).  For a build exercise the grader takes the learner's
+function, with what it uses, from the handed-in notebook, runs it in a clean room where the library's own
+answer is not available (:mod:`.cleanroom`), on inputs drawn from a seed of its own for each learner, and
+compares the outputs itself.  Verdicts never come from the outputs stored in the file, nor from anything
+the learner's code could reach: patching the checkers, ``json`` or ``check`` in the kernel changes nothing,
+and an always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
 
 **Each learner sealed off** (:mod:`.sandbox`, its level said in one line at the start): under a user id of
 its own, in PID and mount namespaces, with a private copy of only its own notebooks, the class and the
@@ -47,6 +48,7 @@ concept inventory, the notebooks to look at, and how the submissions were read),
 
 from __future__ import annotations
 
+import functools
 import os
 import secrets
 import shutil
@@ -57,6 +59,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
+from .cleanroom import trace_built
 from .reports import _counts, _write_csv, _write_learner, _write_summary, page_name
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .sandbox import MARKER, Sandbox, Seal, detect
@@ -114,12 +117,21 @@ def newest_copies(tasks: list[Submission]) -> tuple[list[Submission], list[str]]
 
 def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch: Path, hide: list[Path],
                    timeout: float, memory_mb: int, token: str) -> list[NotebookRun]:
-    """Run one learner's notebooks in a seal of its own; every process of the learner ends with it."""
+    """Run one learner's notebooks in a seal of its own; every process of the learner ends with it.
+
+    Its build exercises run in clean rooms sealed the same way, on copies of the library made once per
+    grading run in ``scratch/rooms`` (which a room reads, and nothing else of the grader's folder)."""
     seal = Seal.open(sandbox, index, scratch, notebooks, hide, memory_mb, f"{token}-{index}")
+    rooms = scratch / "rooms"
+    rooms.mkdir(exist_ok=True)
+    room_seal = functools.partial(seal.command_argv, read_only=[str(rooms)])
     seed = secrets.token_hex(8)
     runs = []
     try:
-        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), seed, scratch)
+        builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms, seal=room_seal)
+                  for original in notebooks]
+        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), scratch,
+                            builds=builds)
         for original, run in zip(notebooks, runs):
             run.notebook = original.name
     finally:

@@ -200,6 +200,20 @@ class Seal:
         stage = {"sealed": "enter", "limited": "limit", "container": "container"}[self.sandbox.level]
         return [sys.executable, "-s", str(SCRIPT), stage, config, "-f", "{connection_file}"]
 
+    # --- a command run as the learner (the clean room); minimal: the limited level at every level -------
+
+    def command_argv(self, argv: list[str], *, read_only: Iterable[str] = (),
+                     timeout: float = 30) -> list[str]:
+        """A command line that runs ``argv`` as the learner, its stdin and stdout passed through.
+
+        ``read_only``: folders ``argv`` reads (the clean room's copy of the library), to be reachable,
+        read-only, at the same path.  This version runs ``argv`` at the limited level whatever the
+        sandbox's: the learner's environment and per-process limits (the caller starts it in a process
+        group of its own); nothing is hidden, so ``read_only`` is reachable as it is.  ``timeout``: the
+        seconds it may run (its CPU time is limited a little above)."""
+        config = dict(self.config(timeout), argv=list(argv), read_only=[str(path) for path in read_only])
+        return [sys.executable, "-s", str(SCRIPT), "command", json.dumps(config), "-f", ""]
+
     def out_of_memory(self) -> bool:
         """True if the kernel's out-of-memory killer struck in the learner's cgroup."""
         for group in self.cgroups:
@@ -442,6 +456,17 @@ def _limit(config: dict, connection: str) -> None:
     _kernel(config, connection)
 
 
+def _command(config: dict, connection: str) -> None:
+    """A command as the learner (:meth:`Seal.command_argv`): per-process limits, its stdout kept."""
+    mine = sum(1 for entry in Path("/proc").iterdir()
+               if entry.name.isdigit() and _owner(entry) == os.getuid())
+    config["nproc"] = mine + MAX_PROCESSES
+    config["env"] = _environment(config, str(Path(config["folder"]) / "home"))
+    _limits(config)
+    argv = config["argv"]
+    os.execve(argv[0], argv, config["env"])
+
+
 def _owner(entry: Path) -> int:
     try:
         return entry.stat().st_uid
@@ -451,5 +476,5 @@ def _owner(entry: Path) -> int:
 
 if __name__ == "__main__":
     stage, settings, _, connection_file = sys.argv[1:5]
-    stages = {"enter": _enter, "init": _init, "limit": _limit, "container": _container}
+    stages = {"enter": _enter, "init": _init, "limit": _limit, "container": _container, "command": _command}
     stages[stage](json.loads(settings), connection_file)

@@ -16,7 +16,6 @@ never raises.
 from __future__ import annotations
 
 import dataclasses
-import dis
 import math
 import reprlib
 from collections.abc import Callable
@@ -27,6 +26,7 @@ from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
 from ..framing import RtuFrame, parse_hex
+from .calls import safe_str
 from .misconceptions import CATALOGUE, diagnose
 from .plain import PlainError, plain, revive
 
@@ -264,9 +264,11 @@ def verdict(key: Any, data: Any, *, raising: bool = False) -> Result:
     return _result(item, lambda: item.checker(answer), raising)
 
 
-def judge(key: Any, trace: Any, seed: str | None = None, *, raising: bool = False) -> Result:
+def judge(key: Any, trace: Any, seed: str | None = None, *, cases: list | None = None,
+          raising: bool = False) -> Result:
     """The verdict on a build exercise from the trace of the learner's function (inputs drawn from
-    ``seed``; by default the exercise's own); never raises, unless ``raising`` (as :func:`verdict`)."""
+    ``seed``, by default the exercise's own; or the (arguments, expected) ``cases`` the grader drew with
+    :meth:`~.build.BuildChecker.expected`); never raises, unless ``raising`` (as :func:`verdict`)."""
     item = _find(key)
     if isinstance(item, Result):
         return item
@@ -274,21 +276,7 @@ def judge(key: Any, trace: Any, seed: str | None = None, *, raising: bool = Fals
         return Result(item.key, False, f"Exercise {item.key}: this is no trace of a function.")
     if trace.get("unwritten"):
         return _unanswered(item, build=True)
-    return _result(item, lambda: item.checker.judge(trace, seed), raising)
-
-
-def is_unwritten(function: Callable) -> bool:
-    """True if ``function``'s body is only ``...`` or ``pass`` (and maybe a docstring): a template."""
-    code = getattr(function, "__code__", None)
-    if code is None:
-        return False
-    for instruction in dis.get_instructions(code):
-        if instruction.opname in ("RESUME", "NOP", "RETURN_VALUE", "CACHE"):
-            continue
-        if instruction.opname in ("LOAD_CONST", "RETURN_CONST") and instruction.argval is None:
-            continue
-        return False
-    return True
+    return _result(item, lambda: item.checker.judge(trace, seed, cases=cases), raising)
 
 
 # --- showing a learner's values safely ---------------------------------------------------------------
@@ -305,14 +293,6 @@ def clip(text: str, limit: int) -> str:
     """``text`` cut to ``limit`` characters, with an ellipsis when cut."""
     limit = max(limit, 20)
     return text if len(text) <= limit else text[:limit - 1] + "…"
-
-
-def safe_str(value: Any) -> str:
-    """``str(value)``, or a description of it when its ``__str__`` fails."""
-    try:
-        return str(value)
-    except Exception:
-        return f"<a {type(value).__name__} that cannot be printed>"
 
 
 def kind(value: Any) -> str:
