@@ -13,9 +13,11 @@ code could reach: patching the checkers, ``json`` or ``check`` in the kernel cha
 always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
 
 **Each learner sealed off** (:mod:`.sandbox`, its level said in one line at the start): under a user id of
-its own, in PID and mount namespaces, with a private copy of only its own notebooks, the class and the
-output folder out of reach, memory (``--memory``) and processes limited for the learner as a whole, and
-every process killed when the learner is done.  Without root or namespaces: a process group and
+its own, in PID, mount, network, IPC and UTS namespaces, reached by the grader only through Unix sockets
+in its own room (a private tmpfs holding a copy of only its own notebooks), the class, the output folder
+and the checkout around the library out of reach, everything but its room read-only, memory
+(``--memory``) and processes limited for the learner as a whole, and every process killed and every file
+it wrote gone when the learner is done.  Without root or namespaces: a process group and
 per-process limits; with ``--container IMAGE``: a docker or podman container per kernel.
 
 A notebook that hangs, kills its kernel, floods memory or prints megabytes is reported as such; its
@@ -68,11 +70,13 @@ __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "ex
 
 
 def _hidden(paths: list[Path], out: Path) -> list[Path]:
-    """The folders a learner's kernel must not see: the class's and the output (not one holding the
-    library or Python itself, which the kernel needs)."""
-    needed = [Path(sys.prefix).resolve(), Path(__file__).resolve().parents[2]]
-    folders = {(p if p.is_dir() else p.parent).resolve() for p in [*paths, out]}
-    return sorted(f for f in folders if not any(n == f or f in n.parents for n in needed))
+    """The folders a learner's kernel must not see: the class's and the output (when it exists), wherever
+    they lie, inside the checkout that holds the library too: the seal covers each of them and binds back
+    only the folders a kernel needs (:func:`.sandbox.covered_paths`).  Never the root itself."""
+    folders = {(p if p.is_dir() else p.parent).resolve() for p in paths}
+    if out.is_dir():
+        folders.add(out.resolve())
+    return sorted(folder for folder in folders if folder != Path(folder.anchor))
 
 
 def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch: Path, hide: list[Path],
