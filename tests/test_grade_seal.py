@@ -354,7 +354,8 @@ def _seal(tmp_path: Path, index: int = 0) -> Seal:
 PROBE = """import json, os, socket, sys
 print(json.dumps({'stdin': sys.stdin.read(), 'uid': os.getuid(), 'cwd': os.getcwd(), 'work': os.listdir('.'),
                   'interfaces': [name for _, name in socket.if_nameindex()],
-                  'pid1': open('/proc/1/cmdline').read().replace('\\0', ' ')}))
+                  'pid1': open('/proc/1/cmdline').read().replace('\\0', ' '),
+                  'rooms': [line.split()[4] for line in open('/proc/self/mountinfo') if 'learner-' in line]}))
 open('/var/tmp/' + sys.argv[1], 'w').write('x')
 print('to stderr', file=sys.stderr)
 sys.exit(3)"""
@@ -362,7 +363,7 @@ sys.exit(3)"""
 
 @ONLY_SEALED
 def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
-    seal = _seal(tmp_path)
+    classmate, seal = _seal(tmp_path, 1), _seal(tmp_path)
     try:
         done = subprocess.run(seal.command_argv([sys.executable, "-c", PROBE, LEFT]), input=b"hello",
                               capture_output=True, timeout=60)
@@ -372,10 +373,13 @@ def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
         assert seen["stdin"] == "hello" and seen["uid"] == seal.uid and seen["cwd"] == "/tmp/work"
         assert seen["work"] == [f"{NOTEBOOK}.ipynb"] and seen["interfaces"] == ["lo"]
         assert str(tmp_path) not in seen["pid1"]
+        assert str(classmate.folder) not in seen["rooms"]  # let go of (its own room: covered by /tmp)
+        assert str(seal.folder) in seen["rooms"]
         assert seal.inside(seal.notebooks[0]) == f"/tmp/work/{NOTEBOOK}.ipynb"
         assert not (Path("/var/tmp") / LEFT).exists()
     finally:
         seal.close()
+        classmate.close()
     assert not seal.folder.exists() and not seal.settings.exists()
 
 

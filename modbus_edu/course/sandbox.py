@@ -78,6 +78,8 @@ LIBRARY = SCRIPT.parents[2]
 """The folder that holds the ``modbus_edu`` package (site-packages, or a clone for an editable install)."""
 CHECKOUT_MARKS = (".git", ".hg", "pyproject.toml", "setup.py")
 """A folder holding one of these is a checkout: a sealed kernel never sees it, only what it needs inside."""
+ROOM = "modbus-edu-room"
+"""The source name of every learner's room (a tmpfs), by which a sealed namespace finds the others' rooms."""
 SETTINGS = "MODBUS_EDU_SEAL"
 """The environment variable that hands the launcher's settings to PID 1 of the sealed namespaces."""
 
@@ -181,7 +183,7 @@ class Seal:
         folder.mkdir(parents=True, exist_ok=True)
         if sandbox.level in ("sealed", "container"):
             seal.uid = UID_BASE + 1000 * (os.getpid() % 50_000) + index
-            _mount("tmpfs", str(folder), "tmpfs", MS["nosuid"] | MS["nodev"],
+            _mount(ROOM, str(folder), "tmpfs", MS["nosuid"] | MS["nodev"],
                    f"size={DISK_MB}m,nr_inodes={FILES},mode=0700,uid={seal.uid},gid={seal.uid}")
             seal.mounted = True
         for name in ("work", "home", "run"):
@@ -439,21 +441,22 @@ def _unmount(target: str) -> None:
     _libc().umount2(target.encode(), 2)  # MNT_DETACH: gone for good once no process holds it
 
 
-def _mount_points() -> list[tuple[str, set[str]]]:
-    """Each mount of this namespace: its mount point (octal escapes decoded) and its options."""
+def _mount_points() -> list[tuple[str, set[str], str]]:
+    """Each mount of this namespace: its mount point (octal escapes decoded), its options, its source."""
     points = []
     with open("/proc/self/mountinfo", encoding="utf-8", errors="surrogateescape") as stream:
         for line in stream:
-            fields = line.split()
+            fields, _, described = line.partition(" - ")
+            fields = fields.split()
             point = re.sub(r"\\([0-7]{3})", lambda match: chr(int(match.group(1), 8)), fields[4])
-            points.append((point, set(fields[5].split(","))))
+            points.append((point, set(fields[5].split(",")), (described.split() + ["", ""])[1]))
     return points
 
 
 def _read_only() -> None:
     """Every mount read-only, keeping its other flags, but :data:`WRITABLE` and :data:`KERNEL_FILESYSTEMS`
     (``/dev/mqueue`` included in the read-only ones: it would be shared between learners)."""
-    for point, options in _mount_points():
+    for point, options, _ in _mount_points():
         kernel = any(_within(point, top) for top in KERNEL_FILESYSTEMS) and point != "/dev/mqueue"
         if point in WRITABLE or kernel or "ro" in options:
             continue
@@ -470,8 +473,12 @@ def _seal_files(config: dict) -> None:
     """Sealed (root, in the learner's new mount namespace): cover, outer folders first, each folder of
     ``covers`` with an empty tmpfs, ``/tmp`` with the room, ``/var/tmp`` and ``/dev/shm`` with fresh tmpfs,
     binding back the needed folders below each; a fresh read-only ``/sys``; then every other mount
-    read-only.  Needed folders are held open first and bound back from their handles."""
+    read-only.  Needed folders are held open first and bound back from their handles; the other learners'
+    rooms (mounted on the host before this namespace was made) are unmounted here first."""
     folder = config["folder"]
+    for point, _, source in _mount_points():  # the other learners' rooms (of any grading run), copied into
+        if source == ROOM and point != folder:  # this namespace: let go of them, so each dies with its own
+            _unmount(point)
     held = {path: os.open(path, os.O_PATH | os.O_DIRECTORY) for path in [folder, *config["needed"]]
             if os.path.isdir(path)}
     needed = [path for path in config["needed"] if path in held]
