@@ -25,7 +25,7 @@ import pytest
 from test_grade import SETUP, right, write
 
 from modbus_edu.course import grade as grading
-from modbus_edu.course.sandbox import FORCE, LIBRARY, UID_BASE, Seal, detect
+from modbus_edu.course.sandbox import DISK_MB, FORCE, LIBRARY, UID_BASE, Seal, detect
 
 NOTEBOOK = "03_rtu_and_crc"
 KEYS = ["03.1", "03.2", "03.5"]
@@ -357,6 +357,15 @@ print(json.dumps({'stdin': sys.stdin.read(), 'uid': os.getuid(), 'cwd': os.getcw
                   'pid1': open('/proc/1/cmdline').read().replace('\\0', ' '),
                   'rooms': [line.split()[4] for line in open('/proc/self/mountinfo') if 'learner-' in line]}))
 open('/var/tmp/' + sys.argv[1], 'w').write('x')
+written = 0
+try:
+    with open('/var/tmp/full', 'wb') as stream:
+        for _ in range(int(sys.argv[2]) + 1):
+            stream.write(bytes(2 ** 20))
+            stream.flush()
+            written += 1
+except OSError as exc:
+    print(json.dumps({'full': written, 'error': exc.strerror}))
 print('to stderr', file=sys.stderr)
 sys.exit(3)"""
 
@@ -365,11 +374,12 @@ sys.exit(3)"""
 def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
     classmate, seal = _seal(tmp_path, 1), _seal(tmp_path)
     try:
-        done = subprocess.run(seal.command_argv([sys.executable, "-c", PROBE, LEFT]), input=b"hello",
-                              capture_output=True, timeout=60)
+        done = subprocess.run(seal.command_argv([sys.executable, "-c", PROBE, LEFT, str(DISK_MB)]),
+                              input=b"hello", capture_output=True, timeout=60)
         assert done.returncode == 3, done.stderr
         assert done.stderr.decode().strip().endswith("to stderr")
-        seen = json.loads(done.stdout)
+        seen, full = map(json.loads, done.stdout.splitlines())
+        assert DISK_MB - 8 < full["full"] < DISK_MB and full["error"] == "No space left on device"  # a budget
         assert seen["stdin"] == "hello" and seen["uid"] == seal.uid and seen["cwd"] == "/tmp/work"
         assert seen["work"] == [f"{NOTEBOOK}.ipynb"] and seen["interfaces"] == ["lo"]
         assert str(tmp_path) not in seen["pid1"]

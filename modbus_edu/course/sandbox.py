@@ -180,12 +180,22 @@ class Seal:
              memory_mb: int, token: str) -> Seal:
         folder = scratch / f"learner-{index}"
         seal = cls(sandbox, index, folder, [], hide, memory_mb, token)
+        try:
+            seal._furnish(notebooks)
+        except BaseException:
+            seal.close()
+            raise
+        return seal
+
+    def _furnish(self, notebooks: list[Path]) -> None:
+        """The room (a tmpfs of its own where root), a copy of the notebooks, the cgroup, the settings."""
+        folder = self.folder
         folder.mkdir(parents=True, exist_ok=True)
-        if sandbox.level in ("sealed", "container"):
-            seal.uid = UID_BASE + 1000 * (os.getpid() % 50_000) + index
+        if self.sandbox.level in ("sealed", "container"):
+            self.uid = UID_BASE + 1000 * (os.getpid() % 50_000) + self.index
             _mount(ROOM, str(folder), "tmpfs", MS["nosuid"] | MS["nodev"],
-                   f"size={DISK_MB}m,nr_inodes={FILES},mode=0700,uid={seal.uid},gid={seal.uid}")
-            seal.mounted = True
+                   f"size={DISK_MB}m,nr_inodes={FILES},mode=0700,uid={self.uid},gid={self.uid}")
+            self.mounted = True
         for name in ("work", "home", "run"):
             (folder / name).mkdir(exist_ok=True)
         for position, source in enumerate(notebooks):
@@ -193,16 +203,15 @@ class Seal:
             if copy.exists():  # two notebooks of one name (from two folders): keep both
                 copy = folder / "work" / f"{source.stem}-{position}{source.suffix}"
             shutil.copyfile(source, copy)
-            seal.notebooks.append(copy)
-        if seal.uid:
+            self.notebooks.append(copy)
+        if self.uid:
             for path in [folder, *folder.rglob("*")]:
-                os.chown(path, seal.uid, seal.uid)
-        if sandbox.level == "sealed":
-            seal._make_cgroups()
-        handle = os.open(seal.settings, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)  # only root reads it
+                os.chown(path, self.uid, self.uid)
+        if self.sandbox.level == "sealed":
+            self._make_cgroups()
+        handle = os.open(self.settings, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)  # only root reads it
         with os.fdopen(handle, "w") as stream:
-            json.dump(seal.config(), stream)
-        return seal
+            json.dump(self.config(), stream)
 
     @property
     def settings(self) -> Path:
@@ -265,9 +274,9 @@ class Seal:
     def inside(self, path: Path | str) -> str:
         """Where a file of the room is seen from inside the seal (``/tmp/...``; the same when limited)."""
         path = Path(path)
-        if self.sandbox.level == "limited" or self.folder not in path.parents:
+        if self.sandbox.level == "limited" or not (path == self.folder or self.folder in path.parents):
             return str(path)
-        return "/tmp/" + str(path.relative_to(self.folder))
+        return str(Path("/tmp") / path.relative_to(self.folder))
 
     def out_of_memory(self) -> bool:
         """True if the kernel's out-of-memory killer struck in the learner's cgroup."""
