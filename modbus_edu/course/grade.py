@@ -72,11 +72,11 @@ __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "ex
 def _hidden(paths: list[Path], out: Path) -> list[Path]:
     """The folders a learner's kernel must not see: the class's and the output (when it exists), wherever
     they lie, inside the checkout that holds the library too: the seal covers each of them and binds back
-    only the folders a kernel needs (:func:`.sandbox.covered_paths`).  Never the root itself."""
+    only the folders a kernel needs (:func:`.sandbox.covered_paths`)."""
     folders = {(p if p.is_dir() else p.parent).resolve() for p in paths}
     if out.is_dir():
         folders.add(out.resolve())
-    return sorted(folder for folder in folders if folder != Path(folder.anchor))
+    return sorted(folders)
 
 
 def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch: Path, hide: list[Path],
