@@ -355,7 +355,8 @@ PROBE = """import json, os, socket, sys
 print(json.dumps({'stdin': sys.stdin.read(), 'uid': os.getuid(), 'cwd': os.getcwd(), 'work': os.listdir('.'),
                   'interfaces': [name for _, name in socket.if_nameindex()],
                   'pid1': open('/proc/1/cmdline').read().replace('\\0', ' '),
-                  'rooms': [line.split()[4] for line in open('/proc/self/mountinfo') if 'learner-' in line]}))
+                  'rooms': [line.split()[4] for line in open('/proc/self/mountinfo') if 'learner-' in line],
+                  'status': [line.split() for line in open('/proc/self/status') if 'NoNewPrivs' in line]}))
 open('/var/tmp/' + sys.argv[1], 'w').write('x')
 written = 0
 try:
@@ -382,6 +383,7 @@ def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
         assert DISK_MB - 8 < full["full"] < DISK_MB and full["error"] == "No space left on device"  # a budget
         assert seen["stdin"] == "hello" and seen["uid"] == seal.uid and seen["cwd"] == "/tmp/work"
         assert seen["work"] == [f"{NOTEBOOK}.ipynb"] and seen["interfaces"] == ["lo"]
+        assert seen["status"] == [["NoNewPrivs:", "1"]]  # no setuid program raises its rights
         assert str(tmp_path) not in seen["pid1"]
         assert str(classmate.folder) not in seen["rooms"]  # let go of (its own room: covered by /tmp)
         assert str(seal.folder) in seen["rooms"]

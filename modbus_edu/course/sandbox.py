@@ -12,9 +12,10 @@
   every other mount is read-only.  The class's folders, the output, the grader's scratch folder and any
   checkout around Python or the library (a clone with ``.git`` or ``pyproject.toml``) are covered by
   empty read-only mounts, and only what a kernel needs (Python's prefixes, the ``modbus_edu`` package
-  folder) is bound back, read-only.  *Processes*: ``/proc`` shows only the learner's own, and PID 1 (the
-  launcher) carries no path of the grader's in its command line (its settings come from a file only root
-  reads, then from its environment, which only root reads).  A cgroup (v2 when its memory and pids
+  folder) is bound back, read-only.  *Processes*: ``/proc`` shows only the learner's own, no setuid
+  program raises its rights, and PID 1 (the launcher) carries no path of the grader's in its command
+  line (its settings come from a file only root reads, then from its environment, which only root
+  reads).  A cgroup (v2 when its memory and pids
   controllers are usable, else v1) limits memory and the number of processes of the learner as a whole.
   When the learner is done every process of the cgroup is killed and its room unmounted: nothing it wrote
   outlives its grade;
@@ -603,6 +604,7 @@ def _init(config: dict) -> None:
             os.setgroups([])
             os.setgid(uid)
             os.setuid(uid)
+            _libc().prctl(38, 1, 0, 0, 0)  # PR_SET_NO_NEW_PRIVS: no setuid program raises its rights
             os.chdir("/tmp/work")
             _limits(config)
             if kernel:
