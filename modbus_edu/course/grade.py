@@ -15,9 +15,11 @@ the learner's code could reach: patching the checkers, ``json`` or ``check`` in 
 and an always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
 
 **Each learner sealed off** (:mod:`.sandbox`, its level said in one line at the start): under a user id of
-its own, in PID and mount namespaces, with a private copy of only its own notebooks, the class and the
-output folder out of reach, memory (``--memory``) and processes limited for the learner as a whole, and
-every process killed when the learner is done.  Without root or namespaces: a process group and
+its own, in PID, mount, network, IPC and UTS namespaces, reached by the grader only through Unix sockets
+in its own room (a private tmpfs holding a copy of only its own notebooks), the class, the output folder
+and the checkout around the library out of reach, everything but its room read-only, memory
+(``--memory``) and processes limited for the learner as a whole, and every process killed and every file
+it wrote gone when the learner is done.  Without root or namespaces: a process group and
 per-process limits; with ``--container IMAGE``: a docker or podman container per kernel.
 
 A notebook that hangs, kills its kernel, floods memory or prints megabytes is reported as such; its
@@ -87,11 +89,13 @@ __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "ex
 
 
 def _hidden(paths: list[Path], out: Path) -> list[Path]:
-    """The folders a learner's kernel must not see: the class's and the output (not one holding the
-    library or Python itself, which the kernel needs)."""
-    needed = [Path(sys.prefix).resolve(), Path(__file__).resolve().parents[2]]
-    folders = {(p if p.is_dir() else p.parent).resolve() for p in [*paths, out]}
-    return sorted(f for f in folders if not any(n == f or f in n.parents for n in needed))
+    """The folders a learner's kernel must not see: the class's and the output (when it exists), wherever
+    they lie, inside the checkout that holds the library too: the seal covers each of them and binds back
+    only the folders a kernel needs (:func:`.sandbox.covered_paths`)."""
+    folders = {(p if p.is_dir() else p.parent).resolve() for p in paths}
+    if out.is_dir():
+        folders.add(out.resolve())
+    return sorted(folders)
 
 
 def newest_copies(tasks: list[Submission]) -> tuple[list[Submission], list[str]]:
@@ -121,15 +125,14 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
 
     Its build exercises run in clean rooms sealed the same way, on copies of the library made once per
     grading run in ``scratch/rooms`` (which a room reads, and nothing else of the grader's folder)."""
-    seal = Seal.open(sandbox, index, scratch, notebooks, hide, memory_mb, f"{token}-{index}")
     rooms = scratch / "rooms"
     rooms.mkdir(exist_ok=True)
-    room_seal = functools.partial(seal.command_argv, read_only=[str(rooms)])
+    seal = Seal.open(sandbox, index, scratch, notebooks, hide, memory_mb, f"{token}-{index}", reads=[rooms])
     seed = secrets.token_hex(8)
     runs = []
     try:
-        builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms, seal=room_seal)
-                  for original in notebooks]
+        builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms,
+                                    seal=seal.command_argv) for original in notebooks]
         runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), scratch,
                             builds=builds)
         for original, run in zip(notebooks, runs):

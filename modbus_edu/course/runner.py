@@ -208,11 +208,33 @@ def _read(path: Path, run: NotebookRun, cell_keys: dict[int, list[str]]):
     return notebook
 
 
+SOCKET_PATH = 100
+"""The longest path a Unix socket may have here (the systems' own limits are 104 and 108 bytes)."""
+
+
+def connect_in(manager, runtime: Path, number: int = 1):
+    """``manager`` set to reach its kernel through ``runtime``, the learner's room's ``run`` folder: the
+    connection file there, and (where Unix sockets exist) the kernel's five ZeroMQ sockets too, as
+    ``ipc://`` sockets ``runtime/kN-1`` ... (N: ``number``, the worker's Nth kernel) instead of TCP ports.
+    A sealed kernel has no network but its own loopback and no other learner sees its room, so only the
+    grader can reach it."""
+    manager.connection_file = str(runtime / f"kernel-{os.getpid()}-{number}.json")
+    if os.name == "posix":
+        sockets = str(runtime / f"k{number}")
+        if len(sockets) + 6 > SOCKET_PATH:
+            raise OSError(f"the grader's scratch folder {runtime.parent.parent} is too deep for the kernel's "
+                          f"Unix sockets ({len(sockets) + 6} bytes, at most {SOCKET_PATH}): set TMPDIR to "
+                          "a shorter folder")
+        manager.transport = "ipc"
+        manager.ip = sockets
+    return manager
+
+
 def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) -> NotebookRun:
     """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions.
 
-    The kernel's connection file goes beside the notebook's private copy (``../run``), where the
-    kernel, sealed in that private folder, can read it."""
+    The kernel's connection file and sockets go beside the notebook's private copy (``../run``), where
+    the kernel, sealed in that private folder, can reach them (:func:`connect_in`)."""
     nbclient = load_nbclient()
     NotebookClient, run_sync = nbclient.NotebookClient, nbclient.util.run_sync
     CellTimeoutError = nbclient.exceptions.CellTimeoutError
@@ -259,10 +281,8 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
                                     if key in payload})
 
         class Client(NotebookClient):
-            def create_kernel_manager(self):  # the connection file where the sealed kernel can read it
-                manager = super().create_kernel_manager()
-                manager.connection_file = str(runtime / f"kernel-{os.getpid()}-{next(_KERNELS)}.json")
-                return manager
+            def create_kernel_manager(self):
+                return connect_in(super().create_kernel_manager(), runtime, next(_KERNELS))
 
             def output(self, outs, msg, display_id, cell_index):  # keep nothing, count what is printed
                 content = msg.get("content", {})
