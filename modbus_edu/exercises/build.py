@@ -28,7 +28,8 @@ from typing import Any
 import modbus_edu
 
 from ..errors import ModbusError
-from .core import EXERCISES, Exercise, is_unwritten, kind, register, safe_str, show
+from .core import EXERCISES, Exercise, Raised, is_unwritten, kind, register, safe_str, show
+from .misconceptions import name as misconception
 from .plain import PlainError, plain, revive
 
 TIME_LIMIT = 2.0
@@ -273,22 +274,23 @@ class BuildChecker:
         if "raised" in entry:
             if isinstance(expected, _Refused):
                 return None
+            raised = Raised(str(entry["raised"]), str(entry.get("message", "")))
             return (f"{call} raised {entry['raised']}: {show(str(entry.get('message', '')))}. "
-                    f"The library gives {self.show_expected(expected)}.")
+                    f"The library gives {self.show_expected(expected)}." + self._note(args, expected, raised))
         got = revive(entry.get("out"))
         if isinstance(expected, _Refused):
-            note = self._note(args, expected, got)
-            return (f"{call} returned {show(got)}, but that input is not valid"
-                    + ("" if note else f" ({expected.error})") + ": your function should raise an exception "
-                    "for it." + note)
+            words = misconception("invalid-input-accepted")
+            note = self._note(args, expected, got) or f" {words[0].upper()}{words[1:]}"
+            return (f"{call} returned {show(got)}, but that input is not valid ({expected.error}): your "
+                    "function should raise an exception for it." + note)
         try:
             if not self.compare(expected, got):
                 message = (f"{call} should give {self.show_expected(expected)}; "
                            f"your function gives {show(got)}.")
                 note = self._note(args, expected, got)
                 return message + (note or (_type_note(expected, got) if self.compare is same else ""))
-        except Exception as exc:
-            return f"{call} returned {show(got)}, which cannot be compared ({type(exc).__name__})."
+        except Exception:
+            return f"{call} returned {show(got)}, which cannot be compared with the library's answer."
         return self._read_back(name, call, args, entry)
 
     def _read_back(self, name: str, call: str, args: tuple, entry: dict) -> str | None:

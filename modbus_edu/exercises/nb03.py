@@ -43,7 +43,9 @@ def _check_03_1(answer: Any) -> str | None:
                                                                 "one-based-address"),
                    ("01 06 00 02 12 34", "crc-forgotten"), ("01 06 00 02 12 34 25 7E", None),
                    ("01 06 00 02 34 12 BE C7", "field-low-byte-first"),
-                   ("01 06 02 00 12 34 85 05", "field-low-byte-first")])
+                   ("01 06 02 00 12 34 85 05", "field-low-byte-first"),
+                   ("01 06 00 02 04 D2 AA 97", "hex-read-as-decimal"),
+                   ("01 06 00 02 12 34 00 B7", "checksum-without-address")])
 def _check_03_2(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
     return (rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)

@@ -63,6 +63,9 @@ def _check_06_2(answer: Any) -> str | None:
     if diagnose("illegal-function-for-address", got, expected):
         return (name("illegal-function-for-address") + " The slave implements function 5, but coil 0 does "
                 "not exist in its bank.")
+    named = diagnose("exception-function-for-code", got, 5, expected)
+    if named:
+        return named
     return f"exception code {got:02X} is not what the slave answers."
 
 
@@ -70,7 +73,8 @@ def _check_06_2(answer: Any) -> str | None:
           hint="one transaction (FC3, 1 register) takes (8 + 3.5 + 7 + 3.5) characters; a character is "
                "10 bits at 8N1; at 19200 baud one bit takes 1/19200 s.",
           accepts=[87.3, 87.27],
-          refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (43.6, None), (80.0, None)])
+          refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (87.2, "truncated-not-rounded"),
+                   (43.6, None), (80.0, None)])
 def _check_06_3(answer: Any) -> str | None:
     expected = 1 / _one_read_time(19200, 1)
     got = real_answer(answer, "a rate")
@@ -135,6 +139,14 @@ def _read_it_back(args: tuple, state: tuple) -> tuple | None:
 def _diagnose_handler(args, expected, got) -> str | None:
     registers, pdu = args
     address = int.from_bytes(pdu[1:3], "big")
+    if isinstance(got, bytes) and isinstance(expected, bytes) and len(got) >= 2 and len(expected) >= 2:
+        exception = len(got) == 2 and expected[0] & 0x80
+        named = (diagnose("exception-bit-missing", got[0], expected[0]) if exception else None) or (
+            diagnose("illegal-function-for-address", got[1], expected[1]) if exception else None) or (
+            diagnose("register-one-byte", got[1], expected[1], expected[1] // 2) if got[0] == expected[0] == 3
+            else None)
+        if named:
+            return named
     if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
         return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
                         expected)

@@ -116,7 +116,9 @@ def _diagnose_timing(args, expected, got) -> str | None:
         return None
     baudrate, parity, stopbits, request, response = args
     char = (1 + 8 + (parity != "N") + stopbits) / baudrate
-    named = diagnose("silences-forgotten", got, (request + response) * char)
+    t35 = 0.00175 if baudrate > 19200 else 3.5 * char
+    named = (diagnose("silences-forgotten", got, (request + response) * char)
+             or diagnose("silences-forgotten", got, (request + response) * char + t35))
     if not named and baudrate > 19200:
         named = diagnose("fixed-silence-ignored", got, (request + 3.5 + response + 3.5) * char)
     if not named and (parity, stopbits) != ("N", 1):

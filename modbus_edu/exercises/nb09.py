@@ -7,7 +7,7 @@ from typing import Any
 from ..datamodel import DataBank, parse_reference, table_kind
 from ..devices.arduino import SLOW_LOOP, expected_answered_fraction, loop_time_experiment
 from .build import build_exercise
-from .core import address_diagnosis, exercise, real_answer
+from .core import address_diagnosis, exercise, field_diagnosis, real_answer
 from .misconceptions import diagnose, name
 
 
@@ -28,8 +28,9 @@ def _check_09_1(answer: Any) -> str | None:
         return (diagnose("holding-for-input", got_function, function)
                 or f"function {got_function!r} does not read the table 30010 is in.")
     if got_address != ref.address:
-        return address_diagnosis(got_address,
-                                 ref.address) or f"address {got_address!r} is not where 30010 is."
+        return (address_diagnosis(got_address, ref.address) or field_diagnosis(got_address, ref.address)
+                or field_diagnosis(got_address, ref.address + 1)
+                or f"address {got_address!r} is not where 30010 is.")
     return None
 
 
@@ -63,7 +64,8 @@ def _check_09_2(answer: Any) -> str | None:
         return None
     if got == [a + 1 for a in expected]:
         return address_diagnosis(got[0], expected[0])
-    named = diagnose("range-one-end", len(got), len(expected), 2)
+    named = diagnose("range-one-end", len(got), len(expected), 2) or diagnose("range-one-end", len(got),
+                                                                              len(expected), 1)
     if named:
         return named
     if len(got) != len(expected):

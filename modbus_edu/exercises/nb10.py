@@ -9,7 +9,7 @@ from ..devices.meter import METER_BY_NAME, TRIALS, meter_blocks
 from ..framing import RtuFrame, parse_hex
 from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
-from .core import Written, address_diagnosis, exercise, number_answer, real_answer
+from .core import Written, address_diagnosis, exercise, field_diagnosis, number_answer, real_answer
 from .misconceptions import diagnose
 
 
@@ -70,7 +70,7 @@ _10_3_NAMES = ("THD_AL1", "THD_AL2", "THD_AL3")
           accepts=[(3, 54, 6), [3, 0x36, 6]],
           refuses=[((3, 55, 6), "one-based-address"), ((3, 54, 3), "one-register-for-32-bits"),
                    ((4, 54, 6), "holding-for-input"), ((3, 40055, 6), "reference-number"),
-                   ((3, 0x30, 6), None), ((3, 54, 5), None)])
+                   ((3, 0x30, 6), None), ((3, 54, 5), None), ((3, 36, 6), "hex-read-as-decimal")])
 def _check_10_3(answer: Any) -> str | None:
     members = [METER_BY_NAME[name] for name in _10_3_NAMES]
     [(address, count, _)] = meter_blocks(members)
@@ -84,7 +84,7 @@ def _check_10_3(answer: Any) -> str | None:
     if got_address != address:
         if got_address == 0x30:
             return "0x30 is where the THD of the voltages starts; the question asks for the currents' only."
-        return (address_diagnosis(got_address, address)
+        return (address_diagnosis(got_address, address) or field_diagnosis(got_address, address)
                 or f"address {got_address!r} is not where THD_AL1 starts.")
     if got_count != count:
         named = diagnose("one-register-for-32-bits", got_count, count, len(members))

@@ -10,7 +10,7 @@ from ..master import Master
 from ..pdu import mask_write
 from ..slave import Slave
 from .build import build_exercise
-from .core import exercise, int_answer, line_after_tries
+from .core import exercise, field_diagnosis, int_answer, line_after_tries
 from .misconceptions import diagnose
 
 
@@ -25,7 +25,7 @@ def _check_14_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mask-write-or", 0x00A5, 0x000F, 0x0130, got)
+    named = diagnose("mask-write-or", 0x00A5, 0x000F, 0x0130, got) or field_diagnosis(got, expected)
     if named:
         return named
     return f"0x{got:04X} is not what the register holds after FC 22."
