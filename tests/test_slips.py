@@ -26,7 +26,8 @@ CASES = [(key, index) for key in sorted(ALL_SLIPS) for index in range(len(ALL_SL
 
 PYTHON_ERRORS = re.compile(r"\b(" + "|".join(
     name for name, value in vars(builtins).items()
-    if isinstance(value, type) and issubclass(value, BaseException) and name.endswith(("Error", "Exit", "Interrupt", "Iteration", "BaseException"))) + r")\b")
+    if isinstance(value, type) and issubclass(value, BaseException)
+    and name.endswith(("Error", "Exit", "Interrupt", "Iteration", "BaseException"))) + r")\b")
 """The names of Python's own exceptions: no verdict may mention one (unless the learner's answer does)."""
 
 

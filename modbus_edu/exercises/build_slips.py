@@ -321,7 +321,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
              "the byte count as the number of registers"),
         Slip(lambda registers, pdu: _handler(registers, pdu, one_based=True), None,
              "the address counted from 1 on the slave's side"),
-        Slip(lambda registers, pdu: _handler(registers, pdu, missing=3), None,
+        Slip(lambda registers, pdu: _handler(registers, pdu, missing=3), "exception-code-confused",
              "exception 03 (illegal data value) for a missing address"),
     ),
     "07.4": (
@@ -351,8 +351,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
     ),
     "09.4": (
         Slip(_answered_percent, "percentage-for-fraction", "a percentage"),
-        Slip(_answered_unclamped, None, "no clamp to 0..1"),
-        Slip(_answered_top_only, None, "clamped at 1 only"),
+        Slip(_answered_unclamped, "fraction-unclamped", "no clamp to 0..1"),
+        Slip(_answered_top_only, "fraction-unclamped", "clamped at 1 only"),
         Slip(_answered_no_reply, None, "the reply time forgotten"),
         Slip(_answered_missed, None, "the share missed, not answered"),
     ),
@@ -426,7 +426,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
              "the header counted in the length"),
         Slip(lambda frame, tid: _gateway(frame, tid, check=False), "invalid-input-accepted",
              "a damaged frame forwarded"),
-        Slip(_gateway_no_unit, None, "the unit dropped"),
+        Slip(_gateway_no_unit, "unit-missing", "the unit dropped"),
     ),
     "16.4": (
         Slip(_echo_length_only, "echo-unchecked", "only the echo's length checked"),

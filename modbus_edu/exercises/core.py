@@ -460,7 +460,7 @@ def rtu_frame_diagnosis(got: bytes, expected: bytes) -> str | None:
     a field in decimal digits, low byte first or with its hex digits read as decimal."""
     if got == expected[:-2]:
         return diagnose("crc-forgotten", len(got), len(expected))
-    return (diagnose("checksum-without-address", got, expected)
+    return (diagnose(("checksum-without-address", "unit-missing"), got, expected)
             or request_field_diagnosis(got, expected, 1, 2) or frame_slip(got, expected, tail=2))
 
 
@@ -496,7 +496,8 @@ def tcp_frame_diagnosis(got: Any, expected: bytes) -> str | None:
     if not isinstance(got, (bytes, bytearray)) or got == expected:
         return None
     got = bytes(got)
-    named = diagnose(("mbap-little-endian", "crc-on-tcp", "mbap-length-missing"), got, expected)
+    named = diagnose(("mbap-little-endian", "crc-on-tcp", "mbap-length-missing", "unit-missing"), got,
+                     expected)
     if named:
         return named
     if len(got) == len(expected) >= 7 and got[:4] == expected[:4] and got[6:] == expected[6:]:
@@ -555,8 +556,9 @@ def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU", unit: int |
 
 
 def address_diagnosis(got: int, expected: int) -> str | None:
-    """Name the address slips from the catalogue: counting from 1, or giving a reference number."""
-    return diagnose(("one-based-address", "reference-number"), got, expected)
+    """Name the address slips from the catalogue: counting from 1, giving a reference number, or
+    subtracting the 1 twice."""
+    return diagnose(("one-based-address", "reference-number", "address-one-too-low"), got, expected)
 
 
 def crc_diagnosis(data: bytes, got: Any) -> str | None:

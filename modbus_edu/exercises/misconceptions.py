@@ -211,6 +211,13 @@ def _reference(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got - expected in REFERENCE_OFFSETS[1:]
 
 
+@_entry("address-one-too-low", "1 subtracted twice", "got, expected: addresses on the wire (int)",
+        "the address is the number after the table digit minus 1, subtracted once: 40021 is address 20; "
+        "one less is the register before it.")
+def _address_one_too_low(got: Any, expected: Any) -> bool:
+    return _int(got) and _int(expected) and got == expected - 1 >= -1
+
+
 @_entry("zero-based-number", "a reference number counted from 0", "got, expected: reference numbers (int)",
         "a reference number counts from 1: address 0 is 40001 (or 30001), so the number is the address plus "
         "1.")
@@ -305,6 +312,20 @@ def _time_for_rate(got: Any, expected: Any) -> bool:
         "divide by 10).")
 def _raw_for_scaled(got: Any, raw: Any, scaled: Any) -> bool:
     return _number(got) and _near(got, raw) and not _near(raw, scaled)
+
+
+@_entry("scale-wrong", "the wrong scale", "got, raw, scaled: numbers",
+        "divide the register's whole number by the scale the register map gives (tenths: by 10; mA to A: by "
+        "1000), not by another power of ten.")
+def _scale_wrong(got: Any, raw: Any, scaled: Any) -> bool:
+    return (_number(got) and _number(raw) and not _near(got, scaled) and not _near(got, raw)
+            and any(_near(got * 10 ** k, raw) for k in range(1, 6)))
+
+
+@_entry("fraction-unclamped", "a fraction outside 0..1", "got: a share the learner computed",
+        "a share of requests answered stays between 0 and 1: clamp it with max(0.0, min(1.0, x)).")
+def _fraction_unclamped(got: Any) -> bool:
+    return _number(got) and not 0 <= got <= 1
 
 
 @_entry("milliamperes-for-amperes", "milliamperes for amperes", "got, expected: a current, expected in A",
@@ -500,6 +521,25 @@ def _exception_as_function(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected | 0x80 and got != expected
 
 
+@_entry("exception-code-confused", "another exception code", "got, expected: exception codes (int)",
+        "the exception code says why: 01 illegal function (not implemented), 02 illegal data address (no "
+        "such address), 03 illegal data value (a count or value out of range), 04 slave device failure.")
+def _exception_code_confused(got: Any, expected: Any) -> bool:
+    return (_int(got) and _int(expected) and got != expected and 1 <= got <= 11 and 1 <= expected <= 11
+            and (got, expected) != (1, 2))
+
+
+@_entry("unit-missing", "a frame without its slave address", "got, expected: an RTU frame or a Modbus/TCP "
+        "frame (bytes)",
+        "the slave address (the unit identifier) comes before the PDU in every frame; without it the "
+        "function code is read as the address.")
+def _unit_missing(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    if len(got) != len(expected) - 1 or len(expected) < 4:
+        return False
+    return got[:-2] == expected[1:-2] or (len(expected) > 8 and got == expected[:6] + expected[7:])
+
+
 @_entry("illegal-function-for-address", "exception 01 for a missing address", "got, expected: exception "
         "codes (int)",
         "01 (illegal function) means the slave does not implement the function at all; a coil or register "
@@ -654,6 +694,21 @@ def _gateway_codes(got: Any, expected: Any) -> bool:
         "own timeout has passed; the client sees a timeout only if it gives up first.")
 def _gateway_silence(got: Any, expected: Any) -> bool:
     return got == "timeout" and expected == 0x0B
+
+
+@_entry("damaged-message-counted", "a damaged message counted", "got, expected: message counts (int)",
+        "a frame with a bad CRC is no message to a slave: it goes to the checksum-error counter (0x0C), "
+        "never to the bus message count (0x0B).")
+def _damaged_counted(got: Any, expected: Any) -> bool:
+    return _int(got) and _int(expected) and got == expected + 1
+
+
+@_entry("others-not-heard", "only its own messages counted", "got: a message count; own: the messages "
+        "addressed to the node",
+        "every node on an RS-485 line hears every frame: the bus message count also counts the requests for "
+        "other units and their responses.")
+def _others_not_heard(got: Any, own: Any) -> bool:
+    return _int(got) and _int(own) and got == own
 
 
 @_entry("answer-to-damaged-request", "an answer to a damaged request", "got, expected: what the master "

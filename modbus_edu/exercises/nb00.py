@@ -54,7 +54,7 @@ def _check_00_2(answer: Any) -> str | None:
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
           refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
                                                                 "one-based-address"),
-                   ("02 03 00 00 00 02", "crc-forgotten")])
+                   ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing")])
 def _check_00_3(answer: Any) -> str | None:
     expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
     return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")

@@ -77,7 +77,8 @@ def _check_02_2(answer: Any) -> str | None:
                "then the exception code; mb.ExceptionCode lists the codes.",
           accepts=["84 02", "8402", bytes([0x84, 0x02]), [132, 2]],
           refuses=[("04 02", "exception-bit-missing"), ("84 01", "illegal-function-for-address"),
-                   ("83 02", "holding-for-input"), ("84 03", None), ("01 84 02", "unit-in-pdu")])
+                   ("83 02", "holding-for-input"), ("84 03", "exception-code-confused"),
+                   ("01 84 02", "unit-in-pdu")])
 def _check_02_3(answer: Any) -> str | None:
     expected = ExceptionResponse(function=4, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
     got = as_bytes(answer)
@@ -96,7 +97,8 @@ def _check_02_3(answer: Any) -> str | None:
                                                             expected[1]):
         return name("illegal-function-for-address")
     if len(got) == 2 and got[0] == expected[0] and got[1] != expected[1]:
-        return f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'."
+        return (diagnose("exception-code-confused", got[1], expected[1])
+                or f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'.")
     return compare_bytes(got, expected, "your exception response")
 
 
@@ -108,10 +110,12 @@ def _check_02_3(answer: Any) -> str | None:
 def _check_02_4(answer: Any) -> str | None:
     bits = ReadCoilsResponse.decode(bytes([0x01, 0x01, 0x05])).bits
     expected = [address for address, bit in enumerate(bits) if bit]
-    try:
-        got = sorted(int(a) for a in answer)
-    except TypeError:
+    if not isinstance(answer, (list, tuple, set, frozenset)) or len(answer) > 64:
         return "answer with a list of coil addresses, e.g. [1, 4]."
+    items = [int_answer(a, "a coil address") for a in answer]
+    if any(isinstance(item, str) for item in items):
+        return next(item for item in items if isinstance(item, str))
+    got = sorted(items)
     if got == expected:
         return None
     named = diagnose("bits-from-the-left", got, expected)

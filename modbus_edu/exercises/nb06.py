@@ -45,7 +45,8 @@ def _check_06_1(answer: Any) -> str | None:
 @exercise("06.2", "an exception the master reports",
           hint="try it: master.write_single_coil(unit=1, address=0, value=True) inside try/except "
                "mb.ModbusExceptionError as error, and look at error.code.",
-          accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, None)])
+          accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, "exception-code-confused"),
+                                                   (0x86, None)])
 def _check_06_2(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 20)
@@ -66,7 +67,8 @@ def _check_06_2(answer: Any) -> str | None:
     named = diagnose("exception-function-for-code", got, 5, expected)
     if named:
         return named
-    return f"exception code {got:02X} is not what the slave answers."
+    return (diagnose("exception-code-confused", got, expected)
+            or f"exception code {got:02X} is not what the slave answers.")
 
 
 @exercise("06.3", "the most transactions per second",
@@ -142,7 +144,8 @@ def _diagnose_handler(args, expected, got) -> str | None:
     if isinstance(got, bytes) and isinstance(expected, bytes) and len(got) >= 2 and len(expected) >= 2:
         exception = len(got) == 2 and expected[0] & 0x80
         named = (diagnose("exception-bit-missing", got[0], expected[0]) if exception else None) or (
-            diagnose("illegal-function-for-address", got[1], expected[1]) if exception else None) or (
+            diagnose(("illegal-function-for-address", "exception-code-confused"), got[1], expected[1])
+            if exception and got[0] == expected[0] else None) or (
             diagnose("register-one-byte", got[1], expected[1], expected[1] // 2) if got[0] == expected[0] == 3
             else None)
         if named:

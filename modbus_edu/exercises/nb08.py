@@ -73,7 +73,7 @@ def _check_08_3(answer: Any) -> str | None:
         return "give a list of pauses, e.g. [1.0, 2.0]."
     try:
         got = sorted(float(x) for x in answer)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return "the list should hold numbers of character times taken from [1.0, 1.4, 2.0, 3.0, 5.0]."
     if got == expected:
         return None

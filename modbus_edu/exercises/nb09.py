@@ -17,7 +17,7 @@ from .misconceptions import diagnose, name
           accepts=[(4, 9), [4, 9], (0x04, 0x09)],
           refuses=[((3, 9), "holding-for-input"), ((4, 10), "one-based-address"), ((4, 30009),
                                                                                    "reference-number"),
-                   ((4, 30010), "reference-number"), ((4, 8), None)])
+                   ((4, 30010), "reference-number"), ((4, 8), "address-one-too-low")])
 def _check_09_1(answer: Any) -> str | None:
     ref = parse_reference("30010")
     function = next(fc for fc in (1, 2, 3, 4) if table_kind(fc) == ref.kind)
@@ -112,8 +112,9 @@ def _fraction_close(expected: float, got) -> bool:
 def _diagnose_answered(args, expected, got) -> str | None:
     loop_time, timeout, reply = args
     if isinstance(got, (int, float)) and abs(got - (timeout - reply) / loop_time) < 1e-9:
-        return "a fraction stays between 0 and 1: clamp it with max(0.0, min(1.0, ...))."
-    return diagnose("percentage-for-fraction", got, expected) if expected else None
+        return diagnose("fraction-unclamped", got)
+    named = diagnose("percentage-for-fraction", got, expected) if expected else None
+    return named or diagnose("fraction-unclamped", got)
 
 
 build_exercise(
@@ -125,5 +126,5 @@ build_exercise(
          "and 1.",
     refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply),
               "percentage-for-fraction"),
-             (lambda loop_time, timeout, reply: timeout / loop_time, None)],
+             (lambda loop_time, timeout, reply: timeout / loop_time, "fraction-unclamped")],
     diagnose=_diagnose_answered, compare=_fraction_close)

@@ -17,7 +17,7 @@ from .misconceptions import diagnose
           hint="the two registers after the byte count form one 32-bit number, high word first; VL2 is in "
                "tenths of a volt. METER_BY_NAME['VL2'].value(registers) does both steps.",
           accepts=[410.5, 410.50, 410.48],
-          refuses=[(4105, "raw-for-scaled"), (26902528.0, "word-order"), (41.05, None)])
+          refuses=[(4105, "raw-for-scaled"), (26902528.0, "word-order"), (41.05, "scale-wrong"), (410, None)])
 def _check_10_1(answer: Any) -> str | None:
     registers = RtuFrame.decode(parse_hex("01 03 04 00 00 10 09 37 F5"), role="response").pdu.registers
     expected = METER_BY_NAME["VL2"].value(registers)
@@ -25,7 +25,7 @@ def _check_10_1(answer: Any) -> str | None:
     if isinstance(got, str):
         return got
     raw = decode_value(registers, "uint32", "ABCD")
-    named = (diagnose("raw-for-scaled", got, raw, expected)
+    named = (diagnose(("raw-for-scaled", "scale-wrong"), got, raw, expected)
              or diagnose("word-order", registers, "uint32", round(got * 10), "ABCD"))
     if named:
         return named

@@ -7,11 +7,12 @@ from typing import Any
 from ..crc import crc_bytes
 from ..datamodel import DataBank
 from ..devices.generators import increment_fill
-from ..framing import TcpFrame, parse_hex
+from ..framing import TcpFrame
 from ..pdu import ReadHoldingRegistersRequest
 from .build import build_exercise
 from .core import (
     address_diagnosis,
+    as_bytes,
     exercise,
     field_diagnosis,
     right_value_in_another_form,
@@ -106,6 +107,8 @@ def _check_12_2(answer: Any) -> str | None:
           accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
           refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair: (transaction_id, 'XX XX')."
     TestTool = _testtool()  # noqa: N806 (a class)
     server = TestTool("tcp_server", unit=1, length=1)
     client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
@@ -113,15 +116,13 @@ def _check_12_3(answer: Any) -> str | None:
     tid = client.transaction_id.value
     client.run_polls(1)
     first_two = client.traffic.search(direction="tx")[-1].data[:2]
-    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
-        return "answer with a pair: (transaction_id, 'XX XX')."
     got_tid, got_bytes = answer
     if got_tid != tid:
         if got_tid == tid - 1:
             return "that is the id of the third request; the question asks for the next one."
         return (diagnose("mbap-little-endian", got_tid, tid) or field_diagnosis(got_tid, tid)
                 or f"the next transaction id is not {got_tid!r}.")
-    got = parse_hex(got_bytes) if isinstance(got_bytes, str) else bytes(got_bytes)
+    got = as_bytes(got_bytes)
     named = diagnose("mbap-little-endian", got, first_two)
     if named:
         return named

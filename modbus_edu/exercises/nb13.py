@@ -17,6 +17,7 @@ from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
 from .core import (
     address_diagnosis,
+    as_bytes,
     compare_rtu_frame,
     exercise,
     field_diagnosis,
@@ -135,7 +136,8 @@ def _check_13_2(answer: Any) -> str | None:
     value = real_answer(got_amperes, "the current")
     if isinstance(value, str):
         return value
-    named = diagnose("milliamperes-for-amperes", value, amperes)
+    named = diagnose("milliamperes-for-amperes", value, amperes) or diagnose("scale-wrong", value,
+                                                                               round(amperes * 1000), amperes)
     if named:
         return named
     if abs(value - amperes) > CURRENT_TOLERANCE:
@@ -151,8 +153,8 @@ CURRENT_TOLERANCE = 0.06
           hint="a reference number counts from 1, the address in the frame from 0: 40001 is address 0. "
                "mb.parse_reference('40021') gives the address.",
           accepts=[20, 0x14],
-          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"), (19,
-                                                                                                         None)])
+          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"),
+                   (19, "address-one-too-low")])
 def _check_13_3(answer: Any) -> str | None:
     expected = parse_reference("40021").address
     got = int_answer(answer, "the address")
@@ -184,7 +186,7 @@ def _check_13_4(answer: Any) -> str | None:
             return named + " 3 is what the client meant; the server reads 03 00."
         return (field_diagnosis(seen, captured.transaction_id)
                 or f"the server does not read {seen!r} from 03 00.")
-    got = parse_hex(first_two) if isinstance(first_two, str) else bytes(first_two)
+    got = as_bytes(first_two)
     if got != correct[:2]:
         return (diagnose("mbap-little-endian", got, correct[:2])
                 or f"{got.hex(' ').upper()} is not transaction id 3 written high byte first.")

@@ -70,7 +70,7 @@ def counters_scenario() -> dict[str, int]:
           hint="count every message on the line that unit 1 received with a good CRC since the clear: "
                "requests for it, requests for the other unit, the other unit's responses, and the 0x0B "
                "request itself; a frame with a bad CRC goes to 0x0C instead.",
-          accepts=[5, 0x05], refuses=[(6, None), (4, None), (3, None)])
+          accepts=[5, 0x05], refuses=[(6, "damaged-message-counted"), (4, None), (3, "others-not-heard")])
 def _check_14_3(answer: Any) -> str | None:
     got = int_answer(answer, "a number of messages")
     if isinstance(got, str):
@@ -79,12 +79,12 @@ def _check_14_3(answer: Any) -> str | None:
     if got == expected:
         return None
     if got == expected + 1:
-        return ("you counted the damaged request; the serial-line guide leaves a message with a bad CRC out "
-                "of the bus message count (it goes to 0x0C).")
+        return diagnose("damaged-message-counted", got, expected) + " Here the damaged request is the one."
     if got == expected - 1:
         return ("one message is missing: unit 1 also hears unit 2's response (every node hears the line), "
                 "and the 0x0B request is itself a message, counted before it is answered.")
-    if got == 3:
-        return ("those are only the requests for unit 1; the bus message count also counts what unit 1 "
-                "hears for others: the request for unit 2 and its response.")
+    named = diagnose("others-not-heard", got, 3)
+    if named:
+        return named + (" Those are only the requests for unit 1; it also hears the request for unit 2 and "
+                        "its response.")
     return f"{got} is not the count unit 1 reports: list every frame on the line after the clear."

@@ -83,6 +83,7 @@ def _check_16_1(answer: Any) -> str | None:
     if not isinstance(answer, str):
         return (f"give the file's text as a str (a header row, then one row per value), not {show(answer)}: "
                 'for example """name,table,address,type,order,scale,unit\\n..."""')
+    answer = answer if "\n" in answer else answer + "\n"  # always the file's text, never a path to a file
     try:
         points = sorted(load_map(answer, numbering="reference", name="your map"), key=lambda p: p.address)
     except RegisterMapError as exc:

@@ -8,7 +8,7 @@ from .. import pdu as p
 from ..security import course_roles
 from .build import build_exercise
 from .core import exercise, int_answer, show
-from .misconceptions import diagnose
+from .misconceptions import diagnose, name
 
 #: The request of exercise 17.1, as a capture shows it.
 CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
@@ -31,7 +31,7 @@ def _check_17_1(answer: Any) -> str | None:
         "register address (00 0A)": 10, "function code": 6, "transaction id": 7, "length field": 6,
         "unit identifier": 1})
     if named:
-        return f"{named} The value is the last two bytes, after the address."
+        return f"{named} It is not the value: the value is the last two bytes, after the address."
     return f"{show(got)} is not the value: read the last two bytes of the frame, high byte first."
 
 
@@ -39,7 +39,8 @@ def _check_17_1(answer: Any) -> str | None:
           hint="the course's role table lets an operator write addresses 0..99 only; a write of 3 "
                "registers from 98 touches 98, 99 and 100. A refused request gets exception 01.",
           accepts=[1, 0x01],
-          refuses=[(0, "first-address-only"), (2, None), (0x90, "exception-function-for-code"), (3, None)])
+          refuses=[(0, "first-address-only"), (2, "exception-code-confused"),
+                   (0x90, "exception-function-for-code"), (3, "exception-code-confused")])
 def _check_17_2(answer: Any) -> str | None:
     got = int_answer(answer, "an exception code (or 0 for allowed)")
     if isinstance(got, str):
@@ -48,13 +49,16 @@ def _check_17_2(answer: Any) -> str | None:
         return None
     if got == 0:
         return (diagnose("first-address-only", _request(16, 98, 3), 99, None)
-                + " Here the write touches 98, 99 and 100: 100 is past the operator's 0..99.")
+                + " Here the write touches 98, 99 and 100: address 100 is past the operator's 0..99.")
     if got == 2:
-        return ("02 (illegal data address) is what a slave answers for an address it does not have; the "
-                "role check answers before the slave sees the request, with 01.")
+        return (name("exception-code-confused") + " Here 02 (illegal data address) is what a slave answers "
+                "for an address it does not have; the role check answers before the slave sees the request.")
     named = diagnose("exception-function-for-code", got, 16, 1)
     if named:
-        return named
+        return f"{named} Here the code is the byte after 0x{got:02X}."
+    named = diagnose("exception-code-confused", got, 1)
+    if named:
+        return f"{named} {show(got)} is not the answer: a refused role gets 01."
     return f"{show(got)} is not the answer: 0 if allowed, else the exception code the server sends."
 
 

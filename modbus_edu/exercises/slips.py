@@ -132,7 +132,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(rtu("02 04 00 00 00 02"), "holding-for-input", "function 4 for holding registers"),
         Slip(rtu("02 03 9C 41 00 02"), "reference-number", "the address 40001 put in the frame"),
         Slip("02 03 00 00 00 02 38C4", "crc-swapped", "the CRC register's hex as it reads"),
-        Slip(rtu("03 00 00 00 02"), None, "the slave address left out"),
+        Slip(rtu("03 00 00 00 02"), "unit-missing", "the slave address left out"),
     ),
     "01.1": (
         Slip(0x249, "decimal-written-as-hex", "the address 249 written with hex digits"),
@@ -140,7 +140,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(30249, "reference-number", "a reference number of the wrong table"),
         Slip(40249.0, "reference-number", "the reference number minus 1, as a float"),
         Slip(250.0, "one-based-address", "the number after the prefix, as a float"),
-        Slip(248, None, "1 subtracted twice, no catalogued misconception"),
+        Slip(248, "address-one-too-low", "1 subtracted twice"),
     ),
     "01.2": (
         Slip("300009", "zero-based-number", "the 6-digit form counted from 0"),
@@ -208,7 +208,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(crc_over_pdu("01 06 00 02 12 34"), "checksum-without-address", "the CRC over the PDU alone"),
         Slip(rtu("01 06 9C 43 12 34"), "reference-number", "the reference number 40003 as address"),
         Slip("01 06 00 02 12 34 7d 25", "crc-swapped", "the CRC high byte first, lower case"),
-        Slip(rtu("06 00 02 12 34"), None, "the slave address left out"),
+        Slip(rtu("06 00 02 12 34"), "unit-missing", "the slave address left out"),
     ),
     "03.3": (
         Slip(True, "answer-to-damaged-request", "a damaged request answered"),
@@ -273,7 +273,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip("00 07 00 00 00 0C 01 06 00 00 04 D2", "mbap-length", "the length counts the whole frame"),
         Slip("00 07 00 00 00 06 01 06 00 00 12 34", "decimal-written-as-hex", "1234 written as hex digits"),
         Slip("00 07 00 00 00 06 01 06 9C 41 04 D2", "reference-number", "the reference number 40001"),
-        Slip("00 07 00 00 00 06 06 00 00 04 D2", None, "the unit left out: the length field still says 6"),
+        Slip("00 07 00 00 00 06 06 00 00 04 D2", "unit-missing",
+             "the unit left out: the length field still says 6"),
     ),
     "05.3": (
         Slip(22, "mbap-length", "the PDU alone, without the unit"),
@@ -301,7 +302,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(0x85, "exception-function-for-code", "the exception response's function code"),
         Slip(1.0, "illegal-function-for-address", "illegal function, as a float"),
         Slip(0x01, "illegal-function-for-address", "illegal function"),
-        Slip(4, None, "slave device failure"),
+        Slip(4, "exception-code-confused", "slave device failure"),
         Slip(0, None, "no exception at all"),
     ),
     "06.3": (
@@ -331,7 +332,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(rtu("11 01 02"), "exception-bit-missing", "the top bit forgotten"),
         Slip(rtu("17 81 02"), "decimal-written-as-hex", "unit 17 written as hex digits"),
         Slip(rtu("11 81 01"), "illegal-function-for-address", "illegal function for a missing address"),
-        Slip(rtu("81 02"), None, "the unit left out"),
+        Slip(rtu("81 02"), "unit-missing", "the unit left out"),
     ),
     "07.3": (
         Slip(_outcomes("checksum error", "timeout", "checksum error", "exception", "mismatch"),
@@ -393,7 +394,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(4105, "raw-for-scaled", "the scale forgotten, an int"),
         Slip(15204352.0, "word-order", "low word first with bytes swapped, scaled"),
         Slip(232.0, "word-order", "bytes swapped in each register, scaled"),
-        Slip(41.05, None, "divided by 100"),
+        Slip(41.05, "scale-wrong", "divided by 100"),
     ),
     "10.2": (
         Slip([0x6884, 0x0004], "word-order", "low word first"),
@@ -475,14 +476,14 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(("BADC", 135.541), "word-order", "bytes swapped in each register"),
         Slip(("CDAB", 135.541e3), "milliamperes-for-amperes", "milliamperes, as a float"),
         Slip(("abcd", 292.88), "word-order", "high word first, lower case"),
-        Slip(("CDAB", 13.5), None, "divided by 10 000"),
+        Slip(("CDAB", 13.5), "scale-wrong", "divided by 10 000"),
     ),
     "13.3": (
         Slip(400020, "reference-number", "the 6-digit reference number minus 1"),
         Slip(0x20, "decimal-written-as-hex", "20 written with hex digits"),
         Slip(21.0, "one-based-address", "counted from 1, as a float"),
         Slip(40021.0, "reference-number", "the reference number, as a float"),
-        Slip(19, None, "1 subtracted twice"),
+        Slip(19, "address-one-too-low", "1 subtracted twice"),
     ),
     "13.4": (
         Slip((3, "00 03"), "mbap-little-endian", "what the client meant, not what the server reads"),
@@ -514,9 +515,10 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(0x0005, None, "the AND mask alone"),
     ),
     "14.3": (
-        Slip(6, None, "the damaged request counted"),
+        Slip(6, "damaged-message-counted", "the damaged request counted"),
+        Slip(6.0, "damaged-message-counted", "the damaged request counted, as a float"),
         Slip(4, None, "the 0x0B request itself forgotten"),
-        Slip(3, None, "only the requests for unit 1"),
+        Slip(3, "others-not-heard", "only the requests for unit 1"),
         Slip(2, None, "only the reads of unit 1"),
         Slip(7, None, "every frame on the line"),
     ),
@@ -575,8 +577,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(0, "first-address-only", "allowed: only the first address checked"),
         Slip(0.0, "first-address-only", "allowed, as a float"),
         Slip(0x90, "exception-function-for-code", "the exception response's function code"),
-        Slip(2, None, "illegal data address, the slave's answer"),
-        Slip(4, None, "slave device failure"),
+        Slip(2, "exception-code-confused", "illegal data address, the slave's answer"),
+        Slip(4, "exception-code-confused", "slave device failure"),
     ),
 }
 """Likely wrong answers to each value exercise, by key (build exercises: :data:`.build_slips.SLIPS`)."""
