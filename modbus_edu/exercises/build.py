@@ -279,10 +279,11 @@ class BuildChecker:
                     f"The library gives {self.show_expected(expected)}." + self._note(args, expected, raised))
         got = revive(entry.get("out"))
         if isinstance(expected, _Refused):
+            note = self._note(args, expected, got)
+            detail = "" if note else f" ({expected.error})"
             words = misconception("invalid-input-accepted")
-            note = self._note(args, expected, got) or f" {words[0].upper()}{words[1:]}"
-            return (f"{call} returned {show(got)}, but that input is not valid ({expected.error}): your "
-                    "function should raise an exception for it." + note)
+            return (f"{call} returned {show(got)}, but that input is not valid{detail}: your function should "
+                    "raise an exception for it." + (note or f" {words[0].upper()}{words[1:]}"))
         try:
             if not self.compare(expected, got):
                 message = (f"{call} should give {self.show_expected(expected)}; "

@@ -14,11 +14,12 @@ never raises.
 
 How strict a checker is, the same in every exercise: **spelling is free, the value is not.**  A right value
 is accepted in every spelling the course uses: hex digits in upper or lower case, with or without ``0x``
-and leading zeros; an int, or a float that is a whole number (``3.0``); a 5- or 6-digit reference number;
-bytes, a hex string or a list of ints; more decimals than asked when they round to the answer.  Where an
-exercise asks for a form (hex as the test tool's grid shows it, milliseconds, a fraction), a right value
-in another form is refused with :func:`right_value_in_another_form`: "the value is right; write it as
-...".  A wrong value is never accepted for its form.
+and leading zeros; an int, a float that is a whole number (``3.0``) or a number written as text
+(``"17"``, ``"0x11"``); a 5- or 6-digit reference number; bytes, a hex string or a list of ints; more
+decimals than asked when they round to the answer.  Where an exercise asks for a form (hex as the test
+tool's grid shows it, milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another
+form is refused with :func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong
+value is never accepted for its form.
 """
 
 from __future__ import annotations
@@ -375,9 +376,24 @@ def as_bytes(answer: Any) -> bytes:
     return data
 
 
+def number_text(answer: Any) -> Any:
+    """``answer`` read as a number when it is short text that writes one ("17", "0x11", " 2.5 "), else
+    ``answer`` unchanged: a number's spelling as text is one more spelling of it."""
+    if not isinstance(answer, str) or len(answer) > 40:
+        return answer
+    text = answer.strip().replace("_", "")
+    for read in (lambda t: int(t, 0), lambda t: int(t, 10), float):
+        try:
+            return read(text)
+        except ValueError:
+            continue
+    return answer
+
+
 def int_answer(answer: Any, what: str) -> int | str:
-    """The answer as an int (a float that is a whole number, such as 3.0, is the same value), or a sentence
-    saying why it is not one."""
+    """The answer as an int (a float that is a whole number, such as 3.0, and text such as "17" or "0x11"
+    are the same value), or a sentence saying why it is not one."""
+    answer = number_text(answer)
     if isinstance(answer, float) and math.isfinite(answer) and answer.is_integer() and abs(answer) < 2 ** 63:
         answer = int(answer)
     if isinstance(answer, bool) or not isinstance(answer, int):
@@ -389,7 +405,9 @@ def int_answer(answer: Any, what: str) -> int | str:
 
 
 def real_answer(answer: Any, what: str) -> float | str:
-    """The answer as a finite float, or a sentence saying why it is not a usable number."""
+    """The answer as a finite float (text such as "12.5" is the same value), or a sentence saying why it is
+    not a usable number."""
+    answer = number_text(answer)
     if isinstance(answer, bool) or not isinstance(answer, (int, float)):
         return f"{what} is a number (such as 12.5), you gave {kind(answer)}: {show(answer)}."
     if isinstance(answer, int) and answer.bit_length() > 1000:

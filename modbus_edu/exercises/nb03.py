@@ -16,6 +16,7 @@ from .core import (
     crc_diagnosis,
     exercise,
     int_answer,
+    right_value_in_another_form,
     rtu_request_diagnosis,
 )
 from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_slip, name
@@ -28,6 +29,8 @@ from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_
           refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None)])
 def _check_03_1(answer: Any) -> str | None:
     expected = crc_bytes(parse_hex("11 04 00 08 00 01"))
+    if answer == crc16(parse_hex("11 04 00 08 00 01")) and not isinstance(answer, bool):
+        return right_value_in_another_form("the two bytes in the order they are sent, low byte first")
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")

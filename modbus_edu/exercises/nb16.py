@@ -59,7 +59,7 @@ def _map_problem(points: list[Any]) -> str | None:
         if mine.order != theirs.order:
             named = name("word-order", used=mine.order, used_words=ORDER_WORDS.get(mine.order, mine.order),
                          right=theirs.order)
-            return (f"{label} has word order {mine.order}. {named} The datasheet says 'low word first', so "
+            return (f"{label} has word order {mine.order}: {named} The datasheet says 'low word first', so "
                     "the register at the lower address holds the low word: order CDAB.")
         if mine.scale != theirs.scale:
             return (f"{label} has scale {mine.scale:g}: the floats already carry volts, amperes, watts, "

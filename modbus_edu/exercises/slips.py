@@ -115,7 +115,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(0x6B, "another-field", "the starting address"),
         Slip(0x76, "another-field", "the first CRC byte"),
         Slip(0x87, "another-field", "the last byte, the CRC's high byte, read as the address"),
-        Slip("11", None, "the hex text itself, not a number: a form, no misconception"),
+        Slip("11", "hex-read-as-decimal", "the byte's digits typed as text, read as decimal"),
+        Slip(2, None, "the slave address of another frame: no misconception"),
     ),
     "00.2": (
         Slip("06 11 03 00 6B 00 03", "frame-for-pdu", "the length's low byte and the unit kept"),
