@@ -477,7 +477,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(("BADC", 135.541), "word-order", "bytes swapped in each register"),
         Slip(("CDAB", 135.541e3), "milliamperes-for-amperes", "milliamperes, as a float"),
         Slip(("abcd", 292.88), "word-order", "high word first, lower case"),
-        Slip(("CDAB", 13.5), "scale-wrong", "divided by 10 000"),
+        Slip(("CDAB", 13.55), "scale-wrong", "divided by 10 000"),
     ),
     "13.3": (
         Slip(400020, "reference-number", "the 6-digit reference number minus 1"),
