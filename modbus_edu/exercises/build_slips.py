@@ -332,7 +332,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
              + crc_bytes(bytes([function | 0x80, code])),
              "frame-for-pdu", "a CRC after the PDU"),
         Slip(lambda function, code: bytes([0x80, code]), None, "0x80 alone, the function forgotten"),
-        Slip(lambda function, code: bytes([function | 0x80, code | 0x80]), None, "the top bit on both"),
+        Slip(lambda function, code: bytes([function | 0x80, code | 0x80]), "top-bit-on-code",
+             "the top bit on both"),
     ),
     "08.4": (
         Slip(lambda *args: _transaction(*args, silences=1), "silences-forgotten", "one silence only"),
@@ -372,7 +373,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(lambda frame: _split(frame, pdu_from=6), "unit-in-pdu", "the unit kept in the PDU"),
         Slip(_split_length_check_wrong, "mbap-length", "the length compared with the PDU alone"),
         Slip(lambda frame: _split(frame, unit_at=7), None, "the function code as the unit"),
-        Slip(lambda frame: _split(frame)[:4] + (frame[8:],), None, "the PDU without its function code"),
+        Slip(lambda frame: _split(frame)[:4] + (frame[8:],), "function-code-missing",
+             "the PDU without its function code"),
     ),
     "12.4": (
         Slip(lambda tid, unit, address, count: _request(tid, unit, address, count, b""),
@@ -411,8 +413,8 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
     ),
     "14.2": (
         Slip(lambda current, and_mask, or_mask: current | or_mask, "mask-write-or", "OR over the register"),
-        Slip(lambda current, and_mask, or_mask: (current & ~and_mask) | (or_mask & and_mask), None,
-             "the masks' roles swapped"),
+        Slip(lambda current, and_mask, or_mask: (current & ~and_mask) | (or_mask & and_mask),
+             "mask-roles-swapped", "the masks' roles swapped"),
         Slip(lambda current, and_mask, or_mask: (current & and_mask) | (or_mask & and_mask), None,
              "the OR mask kept where the AND mask has 1"),
         Slip(lambda current, and_mask, or_mask: (current | or_mask) & and_mask, None, "OR before AND"),

@@ -500,12 +500,12 @@ def request_field_diagnosis(got: Any, expected: bytes, start: int, tail: int = 0
 
 
 def pdu_envelope_diagnosis(got: Any, expected: bytes, unit: int | None = None) -> str | None:
-    """Name a PDU given with its envelope: the unit (``unit``, by default whatever byte leads) in front of
-    it, or a whole frame around it."""
+    """Name a PDU given with its envelope (the unit, by default whatever byte leads, in front of it, or a
+    whole frame around it) or without its function code."""
     got = bytes(got) if isinstance(got, (bytes, bytearray)) else b""
     if len(got) == len(expected) + 1 and got[1:] == expected:
         return diagnose("unit-in-pdu", got, expected, got[0] if unit is None else unit)
-    return diagnose("frame-for-pdu", got, expected)
+    return diagnose(("frame-for-pdu", "function-code-missing"), got, expected)
 
 
 def tcp_frame_diagnosis(got: Any, expected: bytes) -> str | None:

@@ -460,6 +460,20 @@ def _first_address_only(pdu: Any, limit: int, got: Any) -> bool:
     return address <= limit < address + quantity - 1
 
 
+@_entry("function-code-missing", "a PDU without its function code", "got, expected: a PDU (bytes)",
+        "a PDU starts with the function code (03, 10, 83 ...); its data follows it.")
+def _function_code_missing(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    return len(expected) >= 2 and got == expected[1:]
+
+
+@_entry("top-bit-on-code", "the top bit set on the exception code", "got, expected: exception codes (int)",
+        "only the function code gets the top bit (function + 0x80); the exception code after it stays as it "
+        "is: 02, not 82.")
+def _top_bit_on_code(got: Any, expected: Any) -> bool:
+    return _int(got) and _int(expected) and expected < 0x80 and got == expected | 0x80
+
+
 @_entry("crc-forgotten", "a frame without its CRC", "got, expected: frame lengths (int)",
         "an RTU frame ends with its two CRC bytes.")
 def _crc_forgotten(got: Any, expected: Any) -> bool:
@@ -762,3 +776,11 @@ def _word_order(registers: Any, dtype: str, value: Any, right: Any) -> dict | No
 def _mask_or(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
     return _int(got) and got in ((current & and_mask) | or_mask, current | or_mask) and \
         got != mask_write(current, and_mask, or_mask)
+
+
+@_entry("mask-roles-swapped", "the AND and OR masks' roles swapped", "current, and_mask, or_mask, got: ints",
+        "a 1 in the AND mask keeps the register's bit; where the AND mask has 0 the bit comes from the OR "
+        "mask: (current & and_mask) | (or_mask & ~and_mask).")
+def _mask_roles(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
+    return _int(got) and got == ((current & ~and_mask) | (or_mask & and_mask)) & 0xFFFF != mask_write(
+        current, and_mask, or_mask)

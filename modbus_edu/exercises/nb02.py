@@ -47,8 +47,6 @@ def _check_02_1(answer: Any) -> str | None:
     named = diagnose("byte-count-missing", got, expected) or pdu_address_diagnosis(got, expected)
     if named:
         return named
-    if got == expected[1:]:
-        return "the PDU starts with the function code."
     return diagnose("byte-count-for-quantity", got, expected) or compare_pdu(got, expected, "your PDU")
 
 

@@ -148,7 +148,8 @@ def _check_04_3(answer: Any) -> str | None:
                "the PDU starts with the function code, after the address.",
           accepts=["03 04 FF 06 00 64", "0304ff060064", bytes.fromhex("0304FF060064")],
           refuses=[("05 03 04 FF 06 00 64", "unit-in-pdu"), ("03 04 FF 06 00 64 8B", "frame-for-pdu"),
-                   ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None)])
+                   ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None),
+                   ("04 FF 06 00 64", "function-code-missing")])
 def _check_04_4(answer: Any) -> str | None:
     frame = AsciiFrame.decode(parse_hex(":050304FF0600648B"), role="response")
     expected = frame.pdu.encode()

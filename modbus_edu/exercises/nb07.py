@@ -22,7 +22,7 @@ from .misconceptions import diagnose, frame_slip, name
                "role='response').pdu reads it for you.",
           accepts=[(3, 2), [3, 2], (0x03, 0x02)],
           refuses=[((0x83, 2), "exception-code-as-function"), ((3, 3), "exception-code-confused"),
-                   ((2, 3), None)])
+                   ((2, 3), None), ((3, 0x82), "top-bit-on-code")])
 def _check_07_1(answer: Any) -> str | None:
     pdu = RtuFrame.decode(parse_hex("11 83 02 C1 34"), role="response").pdu
     expected = (pdu.function, pdu.code)
@@ -39,7 +39,8 @@ def _check_07_1(answer: Any) -> str | None:
     if function != expected[0]:
         return f"the request's function is not {function}."
     if code != expected[1]:
-        named = field_diagnosis(code, expected[1]) or diagnose("exception-code-confused", code, expected[1])
+        named = field_diagnosis(code, expected[1]) or diagnose(("top-bit-on-code", "exception-code-confused"),
+                                                               code, expected[1])
         if named:
             return named
         return f"the exception code is the byte after the function code, not {code}."
@@ -146,8 +147,8 @@ def _diagnose_exception(got, expected) -> str | None:
     if not isinstance(got, (bytes, bytearray)) or not got:
         return None
     return (pdu_envelope_diagnosis(got, expected) or diagnose("exception-bit-missing", got[0], expected[0])
-            or (diagnose("exception-code-confused", got[1], expected[1]) if len(got) == 2 == len(expected)
-                and got[0] == expected[0] else None))
+            or (diagnose(("top-bit-on-code", "exception-code-confused"), got[1], expected[1])
+                if len(got) == 2 == len(expected) and got[0] == expected[0] else None))
 
 
 def _exception_inputs(rng) -> tuple:

@@ -138,8 +138,8 @@ def _diagnose_split(got: Any, expected: Any) -> str | None:
         return diagnose("mbap-little-endian", got[0], expected[0])
     if got[2] != expected[2]:
         return diagnose("mbap-length", got[2], expected[2])
-    if got[4] != expected[4] and isinstance(got[4], (bytes, bytearray)):
-        return pdu_envelope_diagnosis(got[4], expected[4], expected[3])
+    if got[4] != expected[4] and isinstance(got[4], (bytes, bytearray, list)):
+        return pdu_envelope_diagnosis(bytes(got[4]), expected[4], expected[3])
     return None
 
 

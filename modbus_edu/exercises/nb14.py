@@ -17,7 +17,8 @@ from .misconceptions import diagnose
 @exercise("14.1", "a register after Mask Write Register",
           hint="keep the bits where the AND mask has 1 (current & and_mask), take the OR mask's bits where "
                "it has 0 (or_mask & ~and_mask), and OR the two.",
-          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None)])
+          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None),
+                                          (0x00A0, "mask-roles-swapped")])
 def _check_14_1(answer: Any) -> str | None:
     expected = mask_write(0x00A5, 0x000F, 0x0130)
     got = int_answer(answer, "a register value")
@@ -25,7 +26,8 @@ def _check_14_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mask-write-or", 0x00A5, 0x000F, 0x0130, got) or field_diagnosis(got, expected)
+    named = (diagnose(("mask-write-or", "mask-roles-swapped"), 0x00A5, 0x000F, 0x0130, got)
+             or field_diagnosis(got, expected))
     if named:
         return named
     return f"0x{got:04X} is not what the register holds after FC 22."
@@ -39,7 +41,7 @@ build_exercise(
     hint="bit by bit: where the AND mask has a 1 the register keeps its bit; where it has a 0 the bit comes "
          "from the OR mask. The result stays a 16-bit value.",
     refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or")],
-    diagnose=lambda args, expected, got: diagnose("mask-write-or", *args, got))
+    diagnose=lambda args, expected, got: diagnose(("mask-write-or", "mask-roles-swapped"), *args, got))
 line_after_tries("14.2", "return ((current & and_mask) | (or_mask & ~and_mask)) & 0xFFFF")
 
 

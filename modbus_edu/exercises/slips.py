@@ -258,7 +258,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip("05 03 04 FF 06 00 64", "unit-in-pdu", "the slave address kept"),
         Slip("03 04 06 FF 64 00", "field-low-byte-first", "each register read low byte first"),
         Slip([5, 3, 4, 0xFF, 6, 0, 0x64], "unit-in-pdu", "the slave address kept, as a list"),
-        Slip("04 FF 06 00 64", None, "the function code left out"),
+        Slip("04 FF 06 00 64", "function-code-missing", "the function code left out"),
     ),
     "05.1": (
         Slip(0x2A00, "mbap-little-endian", "the two bytes read low byte first"),
@@ -324,7 +324,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip((83, 2), "hex-read-as-decimal", "the byte 83 read as decimal"),
         Slip((0x83, 0x02), "exception-code-as-function", "the response's function code"),
         Slip([0x83, 2], "exception-code-as-function", "the response's function code, as a list"),
-        Slip((3, 0x82), None, "0x80 added to the exception code"),
+        Slip((3, 0x82), "top-bit-on-code", "0x80 added to the exception code"),
         Slip((2, 3), None, "the two swapped"),
     ),
     "07.2": (
@@ -512,7 +512,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(135, "hex-read-as-decimal", "0x0135 read as 135"),
         Slip(0x01B5, "mask-write-or", "the OR mask over the whole register"),
         Slip(437.0, "mask-write-or", "the OR mask over the whole register, as a float"),
-        Slip(0x00A0, None, "the AND mask inverted: the bits it clears kept"),
+        Slip(0x00A0, "mask-roles-swapped", "the AND mask read the other way round"),
         Slip(0x0005, None, "the AND mask alone"),
     ),
     "14.3": (
