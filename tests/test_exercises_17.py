@@ -24,11 +24,12 @@ def test_17_1_the_captured_write_is_what_explain_shows():
     rows = {row.field: row.value for row in explain(CAPTURED_WRITE, "tcp", "request").rows}
     assert 500 in rows.values()
     assert exercises.evaluate("17.1", 500).ok and exercises.evaluate("17.1", 0x01F4).ok
+    assert exercises.evaluate("17.1", "500").ok and exercises.evaluate("17.1", 500.0).ok  # spellings of 500
 
 
 @pytest.mark.parametrize("answer, words", [
     (10, "address"), (0xF401, "low byte first"), (6, "function code"), (7, "transaction id"),
-    ("500", "whole number"), (1, "not the value"),
+    ("five hundred", "whole number"), (1, "not the value"),
 ])
 def test_17_1_mistakes_are_named(answer, words):
     assert words in _message("17.1", answer)

@@ -25,7 +25,8 @@ import modbus_edu
 
 from ..errors import ModbusError, ReferenceUnavailable
 from .calls import call_all, follow_plan, is_unwritten
-from .core import EXERCISES, Exercise, kind, register, show
+from .core import EXERCISES, Exercise, Raised, kind, register, show
+from .misconceptions import name as misconception
 from .plain import revive
 
 TIME_LIMIT = 2.0
@@ -216,22 +217,24 @@ class BuildChecker:
         if "raised" in entry:
             if isinstance(expected, _Refused):
                 return None
+            raised = Raised(str(entry["raised"]), str(entry.get("message", "")))
             return (f"{call} raised {entry['raised']}: {show(str(entry.get('message', '')))}. "
-                    f"The library gives {self.show_expected(expected)}.")
+                    f"The library gives {self.show_expected(expected)}." + self._note(args, expected, raised))
         got = revive(entry.get("out"))
         if isinstance(expected, _Refused):
             note = self._note(args, expected, got)
-            return (f"{call} returned {show(got)}, but that input is not valid"
-                    + ("" if note else f" ({expected.error})") + ": your function should raise an exception "
-                    "for it." + note)
+            detail = "" if note else f" ({expected.error})"
+            words = misconception("invalid-input-accepted")
+            return (f"{call} returned {show(got)}, but that input is not valid{detail}: your function should "
+                    "raise an exception for it." + (note or f" {words[0].upper()}{words[1:]}"))
         try:
             if not self.compare(expected, got):
                 message = (f"{call} should give {self.show_expected(expected)}; "
                            f"your function gives {show(got)}.")
                 note = self._note(args, expected, got)
                 return message + (note or (_type_note(expected, got) if self.compare is same else ""))
-        except Exception as exc:
-            return f"{call} returned {show(got)}, which cannot be compared ({type(exc).__name__})."
+        except Exception:
+            return f"{call} returned {show(got)}, which cannot be compared with the library's answer."
         return self._read_back(name, call, args, entry)
 
     def _read_back(self, name: str, call: str, args: tuple, entry: dict) -> str | None:

@@ -11,6 +11,15 @@ top to bottom.  With an answer it says whether it is right and, if not, what is 
 expected values are computed with the library itself, never typed in.  Whatever the learner passes in
 (a huge int, a deeply nested list, an object whose methods raise), ``check`` answers with a message and
 never raises.
+
+How strict a checker is, the same in every exercise: **spelling is free, the value is not.**  A right value
+is accepted in every spelling the course uses: hex digits in upper or lower case, with or without ``0x``
+and leading zeros; an int, a float that is a whole number (``3.0``) or a number written as text
+(``"17"``, ``"0x11"``); a 5- or 6-digit reference number; bytes, a hex string or a list of ints; more
+decimals than asked when they round to the answer.  Where an exercise asks for a form (hex as the test
+tool's grid shows it, milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another
+form is refused with :func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong
+value is never accepted for its form.
 """
 
 from __future__ import annotations
@@ -27,7 +36,7 @@ from ..crc import crc16
 from ..errors import ModbusError
 from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
-from .misconceptions import CATALOGUE, diagnose
+from .misconceptions import CATALOGUE, diagnose, frame_slip
 from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...
@@ -189,10 +198,11 @@ def _result(item: Exercise, decide: Callable[[], str | None], raising: bool = Fa
         problem = "your answer is nested too deeply to read."
     except MemoryError:
         problem = "your answer is far too large to check."
-    except Exception as exc:  # the learner's object may fail in any way: answer, never raise
+    except Exception:  # the learner's object may fail in any way: answer, never raise
         if raising:
             raise
-        problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
+        problem = ("the checker cannot read your answer as what this exercise asks for; give it in the form "
+                   "the exercise's cell and its hint show.")
     if problem is None:
         return Result(item.key, True, f"Right! Exercise {item.key} ({item.title}) is solved.")
     if isinstance(problem, Recorded):
@@ -303,6 +313,15 @@ def kind(value: Any) -> str:
     return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
 
 
+@dataclass(frozen=True)
+class Raised:
+    """What a build exercise's diagnosis gets as ``got`` when the learner's function raised where the
+    library answers: the exception's class name and message."""
+
+    name: str
+    message: str
+
+
 class Written(int):
     """A number drawn for a build exercise that messages write the way the exercise writes it:
     ``Written(0x43C9, "0x{:04X}")`` as 0x43C9 (a register, in an exercise given in hex),
@@ -372,8 +391,26 @@ def as_bytes(answer: Any) -> bytes:
     return data
 
 
+def number_text(answer: Any) -> Any:
+    """``answer`` read as a number when it is short text that writes one ("17", "0x11", " 2.5 "), else
+    ``answer`` unchanged: a number's spelling as text is one more spelling of it."""
+    if not isinstance(answer, str) or len(answer) > 40:
+        return answer
+    text = answer.strip().replace("_", "")
+    for read in (lambda t: int(t, 0), lambda t: int(t, 10), float):
+        try:
+            return read(text)
+        except ValueError:
+            continue
+    return answer
+
+
 def int_answer(answer: Any, what: str) -> int | str:
-    """The answer as an int, or a sentence saying why it is not one."""
+    """The answer as an int (a float that is a whole number, such as 3.0, and text such as "17" or "0x11"
+    are the same value), or a sentence saying why it is not one."""
+    answer = number_text(answer)
+    if isinstance(answer, float) and math.isfinite(answer) and answer.is_integer() and abs(answer) < 2 ** 63:
+        answer = int(answer)
     if isinstance(answer, bool) or not isinstance(answer, int):
         return (f"{what} is a whole number (an int such as 5 or 0x05), "
                 f"you gave {kind(answer)}: {show(answer)}.")
@@ -383,7 +420,9 @@ def int_answer(answer: Any, what: str) -> int | str:
 
 
 def real_answer(answer: Any, what: str) -> float | str:
-    """The answer as a finite float, or a sentence saying why it is not a usable number."""
+    """The answer as a finite float (text such as "12.5" is the same value), or a sentence saying why it is
+    not a usable number."""
+    answer = number_text(answer)
     if isinstance(answer, bool) or not isinstance(answer, (int, float)):
         return f"{what} is a number (such as 12.5), you gave {kind(answer)}: {show(answer)}."
     if isinstance(answer, int) and answer.bit_length() > 1000:
@@ -404,8 +443,8 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
     """None if ``answer`` equals ``expected`` to ``decimals`` decimals; otherwise what is wrong.
 
     Names the usual slips from the catalogue: seconds given where milliseconds were asked (or the
-    reverse), a fraction where a percentage was asked (or the reverse); and a near miss ("close: give 2
-    decimals")."""
+    reverse), a fraction where a percentage was asked (or the reverse), decimals cut off instead of
+    rounded; and a near miss ("close: give 2 decimals")."""
     got = real_answer(answer, what)
     if isinstance(got, str):
         return got
@@ -414,7 +453,8 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
         return None
     slips = {"ms": ("seconds-for-milliseconds",), "%": ("fraction-for-percentage",),
              "s": ("milliseconds-for-seconds",), "": ("percentage-for-fraction",)}
-    named = diagnose(slips.get(unit, ()), got, expected) if expected else None
+    named = (diagnose(slips.get(unit, ()), got, expected) if expected else None) or diagnose(
+        "truncated-not-rounded", got, expected, decimals)
     if named:
         return named
     if abs(got - expected) <= max(10 * tolerance, 0.01 * abs(expected)):
@@ -438,13 +478,83 @@ def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
 
 
 def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | None = None) -> str | None:
-    """Like :func:`compare_bytes` for an RTU frame, naming the classic slip from the catalogue: the right
-    frame with its two CRC bytes the wrong way round (``swapped``, when given, is added to that verdict)."""
+    """Like :func:`compare_bytes` for an RTU frame, naming the slips of the catalogue: the two CRC bytes the
+    wrong way round (``swapped``, when given, is added to that verdict), no CRC, a CRC over the PDU alone,
+    and a field written wrong (:func:`~.misconceptions.frame_slip`)."""
     got = as_bytes(answer)
     named = diagnose("crc-swapped", got, expected)
     if named:
         return f"{named} {swapped}" if swapped else named
-    return compare_bytes(got, expected, what)
+    return rtu_frame_diagnosis(got, expected) or compare_bytes(got, expected, what)
+
+
+def rtu_frame_diagnosis(got: bytes, expected: bytes) -> str | None:
+    """Name the slips in an RTU frame that are not the CRC's byte order: no CRC, a CRC without the address,
+    a field in decimal digits, low byte first or with its hex digits read as decimal."""
+    if got == expected[:-2]:
+        return diagnose("crc-forgotten", len(got), len(expected))
+    return (diagnose(("checksum-without-address", "unit-missing"), got, expected)
+            or request_field_diagnosis(got, expected, 1, 2) or frame_slip(got, expected, tail=2))
+
+
+def request_field_diagnosis(got: Any, expected: bytes, start: int, tail: int = 0) -> str | None:
+    """Name the slip in a request's function code or address when every other byte is right (the last
+    ``tail`` bytes, a checksum, left out): holding and input registers confused, an address counted from 1
+    or given as a reference number.  ``start`` is the function code's index (0 in a PDU)."""
+    if not isinstance(got, (bytes, bytearray)) or len(got) != len(expected):
+        return None
+    if len(expected) < start + 5 + tail:
+        return None
+    differ = {i for i in range(len(expected) - tail) if got[i] != expected[i]}
+    if differ == {start}:
+        return diagnose("holding-for-input", got[start], expected[start])
+    if differ and differ <= {start + 1, start + 2}:
+        return address_diagnosis(int.from_bytes(got[start + 1:start + 3], "big"),
+                                 int.from_bytes(expected[start + 1:start + 3], "big"))
+    return None
+
+
+def pdu_envelope_diagnosis(got: Any, expected: bytes, unit: int | None = None) -> str | None:
+    """Name a PDU given with its envelope (the unit, by default whatever byte leads, in front of it, or a
+    whole frame around it) or without its function code."""
+    got = bytes(got) if isinstance(got, (bytes, bytearray)) else b""
+    if len(got) == len(expected) + 1 and got[1:] == expected:
+        return diagnose("unit-in-pdu", got, expected, got[0] if unit is None else unit)
+    return diagnose(("frame-for-pdu", "function-code-missing"), got, expected)
+
+
+def tcp_frame_diagnosis(got: Any, expected: bytes) -> str | None:
+    """Name the catalogued slips in a Modbus/TCP frame or MBAP header: a field low byte first, a CRC after
+    it, the length field left out or counting the wrong bytes, a PDU field written wrong."""
+    if not isinstance(got, (bytes, bytearray)) or got == expected:
+        return None
+    got = bytes(got)
+    named = diagnose(("mbap-little-endian", "crc-on-tcp", "mbap-length-missing", "unit-missing"), got,
+                     expected)
+    if named:
+        return named
+    if len(got) == len(expected) >= 7 and got[:4] == expected[:4] and got[6:] == expected[6:]:
+        return diagnose("mbap-length", int.from_bytes(got[4:6], "big"), int.from_bytes(expected[4:6], "big"))
+    if len(got) == len(expected) + 2 and got[:len(expected)] == expected[:4] + got[4:6] + expected[6:]:
+        return diagnose("crc-on-tcp", expected + got[-2:], expected)
+    return (request_field_diagnosis(got, expected, 7) or frame_slip(got, expected)
+            or (pdu_envelope_diagnosis(got[7:], expected[7:]) if got[:7] == expected[:7] and expected[7:]
+                else None))
+
+
+def field_diagnosis(got: Any, expected: int) -> str | None:
+    """Name a one-field slip of number base: a value's hex digits read as decimal (0x36 as 36), or a
+    decimal number written as hex digits (54 as 0x54)."""
+    named = diagnose("hex-read-as-decimal", got, expected)
+    if named:
+        return f"{named} Here 0x{expected:X} is {expected}, not {got}."
+    return diagnose("decimal-written-as-hex", got, expected)
+
+
+def right_value_in_another_form(form: str) -> str:
+    """The verdict for a right value written in another form than the one the exercise asks for (see the
+    module's docstring): said the same way in every exercise."""
+    return f"the value is right; write it as {form}."
 
 
 def pdu_address_diagnosis(got: Any, expected: bytes) -> str | None:
@@ -470,15 +580,18 @@ def rtu_request_diagnosis(answer: Any, expected: bytes) -> str | None:
     return None
 
 
-def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU") -> str | None:
-    """Like :func:`compare_bytes` for a PDU, naming the slip of giving a whole frame instead."""
+def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU", unit: int | None = None) -> str | None:
+    """Like :func:`compare_bytes` for a PDU, naming the slips of giving the unit in front of it or a whole
+    frame instead, and a field written wrong (:func:`~.misconceptions.frame_slip`)."""
     got = as_bytes(answer)
-    return diagnose("frame-for-pdu", got, expected) or compare_bytes(got, expected, what)
+    return (pdu_envelope_diagnosis(got, expected, unit) or request_field_diagnosis(got, expected, 0)
+            or frame_slip(got, expected) or compare_bytes(got, expected, what))
 
 
 def address_diagnosis(got: int, expected: int) -> str | None:
-    """Name the address slips from the catalogue: counting from 1, or giving a reference number."""
-    return diagnose(("one-based-address", "reference-number"), got, expected)
+    """Name the address slips from the catalogue: counting from 1, giving a reference number, or
+    subtracting the 1 twice."""
+    return diagnose(("one-based-address", "reference-number", "address-one-too-low"), got, expected)
 
 
 def crc_diagnosis(data: bytes, got: Any) -> str | None:

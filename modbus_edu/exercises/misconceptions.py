@@ -17,7 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ..crc import crc16, lrc
+from ..crc import crc16, crc_bytes, lrc
 from ..pdu import mask_write
 from ..values import ORDERS, decode_value
 
@@ -211,6 +211,13 @@ def _reference(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got - expected in REFERENCE_OFFSETS[1:]
 
 
+@_entry("address-one-too-low", "1 subtracted twice", "got, expected: addresses on the wire (int)",
+        "the address is the number after the table digit minus 1, subtracted once: 40021 is address 20; "
+        "one less is the register before it.")
+def _address_one_too_low(got: Any, expected: Any) -> bool:
+    return _int(got) and _int(expected) and got == expected - 1 >= -1
+
+
 @_entry("zero-based-number", "a reference number counted from 0", "got, expected: reference numbers (int)",
         "a reference number counts from 1: address 0 is 40001 (or 30001), so the number is the address plus "
         "1.")
@@ -268,6 +275,32 @@ def _percentage_for_fraction(got: Any, expected: Any) -> bool:
     return _number(got) and _number(expected) and got != expected and _near(got / 100, expected)
 
 
+@_entry("truncated-not-rounded", "decimals cut off instead of rounded", "got, expected: numbers; "
+        "decimals: how many the question asks for",
+        "to give {places}, round to the nearest: {exact} becomes {right} (round(x, {decimals})); cutting the "
+        "other digits off gives {got}.")
+def _truncated(got: Any, expected: Any, decimals: int) -> dict | None:
+    if not (_number(got) and _number(expected)):
+        return None
+    scale = 10 ** decimals
+    cut, right = math.trunc(expected * scale) / scale, round(expected, decimals)
+    if cut == right or abs(got - cut) > 1e-9 or abs(got - right) < 1e-9:
+        return None
+    places = f"{decimals} decimal" + "s" * (decimals != 1)
+    return {"places": places, "decimals": decimals, "exact": f"{expected:.{decimals + 2}f}",
+            "right": f"{right:.{decimals}f}", "got": f"{cut:.{decimals}f}"}
+
+
+@_entry("float-compared-exactly", "floats compared with ==", "got: the learner's result, None; near: the "
+        "values that are close but not equal",
+        "a float32 keeps about 7 significant digits, so the registers give {near}, a hair away from the "
+        "value asked: compare floats with a tolerance, math.isclose(a, b, rel_tol=1e-6), never with ==.")
+def _float_exactly(got: Any, near: Any) -> dict | None:
+    if got is not None or not _number(near):
+        return None
+    return {"near": repr(near)}
+
+
 @_entry("time-for-rate", "a time for a rate", "got: a number; expected: a rate (per second)",
         "the question asks how many fit in one second, which is 1 divided by the time one takes.")
 def _time_for_rate(got: Any, expected: Any) -> bool:
@@ -279,6 +312,20 @@ def _time_for_rate(got: Any, expected: Any) -> bool:
         "divide by 10).")
 def _raw_for_scaled(got: Any, raw: Any, scaled: Any) -> bool:
     return _number(got) and _near(got, raw) and not _near(raw, scaled)
+
+
+@_entry("scale-wrong", "the wrong scale", "got, raw, scaled: numbers",
+        "divide the register's whole number by the scale the register map gives (tenths: by 10; mA to A: by "
+        "1000), not by another power of ten.")
+def _scale_wrong(got: Any, raw: Any, scaled: Any) -> bool:
+    return (_number(got) and _number(raw) and not _near(got, scaled) and not _near(got, raw)
+            and any(_near(got * 10 ** k, raw) for k in range(1, 6)))
+
+
+@_entry("fraction-unclamped", "a fraction outside 0..1", "got: a share the learner computed",
+        "a share of requests answered stays between 0 and 1: clamp it with max(0.0, min(1.0, x)).")
+def _fraction_unclamped(got: Any) -> bool:
+    return _number(got) and not 0 <= got <= 1
 
 
 @_entry("milliamperes-for-amperes", "milliamperes for amperes", "got, expected: a current, expected in A",
@@ -378,6 +425,15 @@ def _mbap_length(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got in (expected - 1, expected + 6, expected + 5)
 
 
+@_entry("mbap-length-missing", "an MBAP header without its length", "got, expected: a Modbus/TCP frame "
+        "or MBAP header (bytes)",
+        "the MBAP header is 7 bytes: transaction id (2), protocol id (2), the length (2 bytes, high byte "
+        "first), then the unit; the length field is never left out, even when the receiver could count.")
+def _mbap_length_missing(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    return len(expected) >= 7 and got in (expected[:4] + expected[6:], expected[:4] + expected[5:])
+
+
 @_entry("unit-in-pdu", "the unit identifier in the PDU", "got, expected: a PDU (bytes), unit: int",
         "the unit identifier (or an RTU frame's slave address) belongs to the envelope; the PDU starts with "
         "the function code.")
@@ -424,10 +480,48 @@ def _first_address_only(pdu: Any, limit: int, got: Any) -> bool:
     return address <= limit < address + quantity - 1
 
 
+@_entry("function-code-missing", "a PDU without its function code", "got, expected: a PDU (bytes)",
+        "a PDU starts with the function code (03, 10, 83 ...); its data follows it.")
+def _function_code_missing(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    return len(expected) >= 2 and got == expected[1:]
+
+
+@_entry("top-bit-on-code", "the top bit set on the exception code", "got, expected: exception codes (int)",
+        "only the function code gets the top bit (function + 0x80); the exception code after it stays as it "
+        "is: 02, not 82.")
+def _top_bit_on_code(got: Any, expected: Any) -> bool:
+    return _int(got) and _int(expected) and expected < 0x80 and got == expected | 0x80
+
+
 @_entry("crc-forgotten", "a frame without its CRC", "got, expected: frame lengths (int)",
         "an RTU frame ends with its two CRC bytes.")
 def _crc_forgotten(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected - 2
+
+
+@_entry("checksum-without-address", "a checksum without the address", "got, expected: an RTU frame or the "
+        "bytes an ASCII frame's characters stand for (bytes)",
+        "the CRC (or the LRC) covers every byte before it, the slave address included, not the PDU alone.")
+def _checksum_without_address(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    if len(got) != len(expected) or got == expected or len(expected) < 4:
+        return False
+    return got in (expected[:-2] + crc_bytes(expected[1:-2]), expected[:-1] + bytes([lrc(expected[1:-1])]))
+
+
+@_entry("byte-count-for-quantity", "the byte count for the quantity", "got, expected: a write-multiple "
+        "request PDU (bytes)",
+        "the quantity (bytes 3-4) counts registers or coils, the byte count after it counts data bytes: two "
+        "registers are a quantity of 2 and a byte count of 4.")
+def _byte_count_for_quantity(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    if len(got) != len(expected) or len(expected) < 6 or expected[0] not in (15, 16) or got == expected:
+        return False
+    quantity, count = int.from_bytes(expected[3:5], "big"), expected[5]
+    pairs = ((count, count), (quantity, quantity), (count, quantity))
+    fields = (int.from_bytes(got[3:5], "big"), got[5])
+    return got[:3] == expected[:3] and got[6:] == expected[6:] and fields in pairs
 
 
 @_entry("register-one-byte", "a register of one byte", "got, expected: byte counts (int); registers: int",
@@ -461,6 +555,25 @@ def _exception_as_function(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected | 0x80 and got != expected
 
 
+@_entry("exception-code-confused", "another exception code", "got, expected: exception codes (int)",
+        "the exception code says why: 01 illegal function (not implemented), 02 illegal data address (no "
+        "such address), 03 illegal data value (a count or value out of range), 04 slave device failure.")
+def _exception_code_confused(got: Any, expected: Any) -> bool:
+    return (_int(got) and _int(expected) and got != expected and 1 <= got <= 11 and 1 <= expected <= 11
+            and (got, expected) != (1, 2))
+
+
+@_entry("unit-missing", "a frame without its slave address", "got, expected: an RTU frame or a Modbus/TCP "
+        "frame (bytes)",
+        "the slave address (the unit identifier) comes before the PDU in every frame; without it the "
+        "function code is read as the address.")
+def _unit_missing(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    if len(got) != len(expected) - 1 or len(expected) < 4:
+        return False
+    return got[:-2] == expected[1:-2] or (len(expected) > 8 and got == expected[:6] + expected[7:])
+
+
 @_entry("illegal-function-for-address", "exception 01 for a missing address", "got, expected: exception "
         "codes (int)",
         "01 (illegal function) means the slave will not carry out this function: it does not implement it, "
@@ -478,9 +591,14 @@ def _bits_left(got: Any, expected: Any) -> bool:
     return sorted(got) == sorted(7 - a for a in expected) != sorted(expected)
 
 
-@_entry("hex-read-as-decimal", "hex digits read as decimal", "got: int, text: the hex byte as written",
+@_entry("hex-read-as-decimal", "hex digits read as decimal", "got: int, text: the hex digits as written "
+        "(str), or the field's value (int: its hex digits are what the learner read)",
         "the bytes of a frame are written in hexadecimal: 11 is 0x11 = 17, int('11', 16).")
-def _hex_as_decimal(got: Any, text: Any) -> bool:
+def _hex_as_decimal(got: Any, text: Any) -> bool | dict:
+    if _int(text):
+        if not (_int(got) and 0 <= text and got == int(f"{text:X}") != text):
+            return False
+        return {"value": text}
     return _int(got) and got == int(text) != int(text, 16)
 
 
@@ -513,7 +631,7 @@ def _field_low_first(got: Any, expected: Any) -> dict | None:
             "written_bytes": f"{got >> 8:02X} {got & 0xFF:02X}"}
 
 
-FRAME_SLIPS = ("decimal-written-as-hex", "field-low-byte-first")
+FRAME_SLIPS = ("decimal-written-as-hex", "field-low-byte-first", "hex-read-as-decimal")
 """The slips :func:`frame_slip` looks for in a frame the learner built byte by byte."""
 
 
@@ -534,7 +652,8 @@ def frame_slip(got: Any, expected: Any, tail: int = 0, keys: tuple[str, ...] = F
     which follows whatever came before) are left out.  Each run of differing bytes is read as a field of
     one or two bytes, high byte first; a slip of ``keys`` that explains every run is named, with the
     first field's numbers: a value written in decimal digits as hex (500 as ``05 00``), a field low byte
-    first (500 as ``F4 01``).  None when no one slip explains them all.
+    first (500 as ``F4 01``), hex digits read as decimal (0x1234 as 1234, ``04 D2``).  None when no one
+    slip explains them all.
     """
     if not (_bytes(got) and _bytes(expected)) or len(got) != len(expected) or got == expected:
         return None
@@ -562,6 +681,69 @@ def frame_slip(got: Any, expected: Any, tail: int = 0, keys: tuple[str, ...] = F
         else:
             return name(key, **fields[0])
     return None
+
+
+@_entry("another-field", "another field of the frame", "got: the learner's number; fields: the frame's "
+        "other fields by name (int values)",
+        "{got} is the {field}; each field has its place in the frame: count the bytes from its start, as the "
+        "layout lists them.")
+def _another_field(got: Any, fields: Any) -> dict | None:
+    if not _int(got):
+        return None
+    return next(({"got": got, "field": field} for field, value in dict(fields).items() if value == got), None)
+
+
+@_entry("count-rounded-down", "a count rounded down", "got: int; exact: the quotient (float)",
+        "a part of a block still needs a whole request (or register): round the quotient up, "
+        "-(-total // size) or math.ceil, never down.")
+def _count_rounded_down(got: Any, exact: Any) -> bool:
+    return _number(got) and _number(exact) and not float(exact).is_integer() and got in (
+        math.floor(exact), exact)
+
+
+@_entry("invalid-input-accepted", "an invalid input accepted", "got: what the function returned where the "
+        "library raises",
+        "a frame, a reference or a request the specification forbids must be refused: check it, and raise "
+        "an error instead of returning a result built from it.")
+def _invalid_accepted(got: Any) -> bool:
+    return True
+
+
+@_entry("exception-function-for-code", "the exception's function byte for its code", "got: int; function, "
+        "code: the exception response's two bytes",
+        "an exception response is two bytes: the function code + 0x80, then the exception code; the code is "
+        "the second byte.")
+def _exception_function_for_code(got: Any, function: Any, code: Any) -> bool:
+    return _int(got) and _int(function) and got == function | 0x80 != code
+
+
+@_entry("gateway-codes-swapped", "gateway exceptions 0A and 0B confused", "got, expected: exception codes",
+        "0A (gateway path unavailable): the gateway has no way to that unit and asks nobody; 0B (gateway "
+        "target device failed to respond): it asked the unit, and no answer came in its timeout.")
+def _gateway_codes(got: Any, expected: Any) -> bool:
+    return {got, expected} == {0x0A, 0x0B}
+
+
+@_entry("gateway-silence", "a gateway that stays silent", "got, expected: what the client sees",
+        "a gateway answers its client even when the slave behind it is silent: with exception 0B once its "
+        "own timeout has passed; the client sees a timeout only if it gives up first.")
+def _gateway_silence(got: Any, expected: Any) -> bool:
+    return got == "timeout" and expected == 0x0B
+
+
+@_entry("damaged-message-counted", "a damaged message counted", "got, expected: message counts (int)",
+        "a frame with a bad CRC is no message to a slave: it goes to the checksum-error counter (0x0C), "
+        "never to the bus message count (0x0B).")
+def _damaged_counted(got: Any, expected: Any) -> bool:
+    return _int(got) and _int(expected) and got == expected + 1
+
+
+@_entry("others-not-heard", "only its own messages counted", "got: a message count; own: the messages "
+        "addressed to the node",
+        "every node on an RS-485 line hears every frame: the bus message count also counts the requests for "
+        "other units and their responses.")
+def _others_not_heard(got: Any, own: Any) -> bool:
+    return _int(got) and _int(own) and got == own
 
 
 @_entry("answer-to-damaged-request", "an answer to a damaged request", "got, expected: what the master "
@@ -634,3 +816,11 @@ def _word_order(registers: Any, dtype: str, value: Any, right: Any) -> dict | No
 def _mask_or(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
     return _int(got) and got in ((current & and_mask) | or_mask, current | or_mask) and \
         got != mask_write(current, and_mask, or_mask)
+
+
+@_entry("mask-roles-swapped", "the AND and OR masks' roles swapped", "current, and_mask, or_mask, got: ints",
+        "a 1 in the AND mask keeps the register's bit; where the AND mask has 0 the bit comes from the OR "
+        "mask: (current & and_mask) | (or_mask & ~and_mask).")
+def _mask_roles(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
+    return _int(got) and got == ((current & ~and_mask) | (or_mask & and_mask)) & 0xFFFF != mask_write(
+        current, and_mask, or_mask)

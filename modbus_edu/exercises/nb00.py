@@ -6,13 +6,13 @@ from typing import Any
 
 from ..framing import RtuFrame, TcpFrame, parse_hex
 from ..pdu import ReadHoldingRegistersRequest
-from .core import as_bytes, compare_bytes, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
+from .core import compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
 from .misconceptions import diagnose
 
 
 @exercise("00.1", "the slave address of a frame",
           hint="the first byte of an RTU frame is the slave address; the bytes are written in hexadecimal.",
-          accepts=[17, 0x11], refuses=[(11, "hex-read-as-decimal"), (3, None)])
+          accepts=[17, 0x11], refuses=[(11, "hex-read-as-decimal"), (3, "another-field"), (1, None)])
 def _check_00_1(answer: Any) -> str | None:
     text = "11 03 00 6B 00 03 76 87"
     expected = RtuFrame.decode(parse_hex(text)).unit
@@ -22,10 +22,18 @@ def _check_00_1(answer: Any) -> str | None:
     if got == expected:
         return None
     first = text.split()[0]
-    named = diagnose("hex-read-as-decimal", got, first)
+    named = diagnose("hex-read-as-decimal", got, first) or diagnose("another-field", got, _fields(text))
     if named:
         return named
     return f"the first byte is 0x{first}; {got} is 0x{got:02X}."
+
+
+def _fields(text: str) -> dict[str, int]:
+    """The fields of an RTU read request after its slave address, by name."""
+    frame = parse_hex(text)
+    return {"function code": frame[1], "starting address": int.from_bytes(frame[2:4], "big"),
+            "count": int.from_bytes(frame[4:6], "big"), "CRC's first byte": frame[6],
+            "CRC's second byte": frame[7]}
 
 
 @exercise("00.2", "the PDU inside a Modbus/TCP frame",
@@ -38,9 +46,7 @@ def _check_00_1(answer: Any) -> str | None:
 def _check_00_2(answer: Any) -> str | None:
     frame = parse_hex("00 07 00 00 00 06 11 03 00 6B 00 03")
     expected = TcpFrame.decode(frame).pdu.encode()
-    got = as_bytes(answer)
-    return (diagnose("unit-in-pdu", got, expected, frame[6]) or diagnose("frame-for-pdu", got, expected)
-            or compare_bytes(got, expected, "the PDU"))
+    return compare_pdu(answer, expected, "the PDU", unit=frame[6])
 
 
 @exercise("00.3", "build your first RTU frame",
@@ -56,7 +62,7 @@ def _check_00_2(answer: Any) -> str | None:
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
           refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
                                                                 "one-based-address"),
-                   ("02 03 00 00 00 02", "crc-forgotten")])
+                   ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing")])
 def _check_00_3(answer: Any) -> str | None:
     expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
     return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")

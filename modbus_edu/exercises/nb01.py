@@ -7,7 +7,7 @@ from typing import Any
 from ..datamodel import DataBank, format_reference, parse_reference, table_kind
 from ..errors import ModbusError
 from .build import build_exercise
-from .core import address_diagnosis, exercise, int_answer
+from .core import address_diagnosis, exercise, field_diagnosis, int_answer
 from .misconceptions import diagnose
 
 
@@ -23,7 +23,8 @@ def _check_01_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    return address_diagnosis(got, expected) or f"{got} is not the address of holding register {ref}."
+    return (address_diagnosis(got, expected) or field_diagnosis(got, expected)
+            or f"{got} is not the address of holding register {ref}.")
 
 
 @exercise("01.2", "the reference number of an address",
@@ -79,7 +80,7 @@ def _check_01_3(answer: Any) -> str | None:
                 "a range from first to last holds last - first + 1 registers; a sparse DataBank counts them "
                 "too, once each range is declared in its holding registers.",
                 "registers 5 to 7 and 20 to 21: (7 - 5 + 1) + (21 - 20 + 1) = 3 + 2 = 5."),
-          accepts=[60], refuses=[(58, "range-one-end"), (52, None), (59, None)])
+          accepts=[60], refuses=[(58, "range-one-end"), (52, None), (59, "range-one-end")])
 def _check_01_4(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
     for first, last in ((100, 149), (300, 309)):
@@ -90,7 +91,7 @@ def _check_01_4(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("range-one-end", got, expected, 2)
+    named = diagnose("range-one-end", got, expected, 2) or diagnose("range-one-end", got, expected, 1)
     if named:
         return named
     return f"{got} registers is not right."
@@ -120,7 +121,7 @@ def _diagnose_reference(args, expected, got) -> str | None:
     if args[0][:1] == "2":
         return diagnose("table-2x", args[0], got)
     if isinstance(got, tuple) and len(got) == 2 and isinstance(got[1], int) and isinstance(expected, tuple):
-        return address_diagnosis(got[1], expected[1])
+        return diagnose("holding-for-input", got[0], expected[0]) or address_diagnosis(got[1], expected[1])
     return None
 
 

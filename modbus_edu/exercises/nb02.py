@@ -17,10 +17,13 @@ from .core import (
     address_diagnosis,
     as_bytes,
     compare_bytes,
+    compare_pdu,
     exercise,
     int_answer,
     line_after_tries,
     pdu_address_diagnosis,
+    pdu_envelope_diagnosis,
+    request_field_diagnosis,
 )
 from .misconceptions import diagnose, frame_slip, name
 
@@ -39,30 +42,35 @@ from .misconceptions import diagnose, frame_slip, name
                    ("10 00 01 00 02 04 00 0A 01 02", None),
                    ("10 00 04 00 02 04 05 00 10 00", "decimal-written-as-hex"),
                    ("10 00 04 00 02 04 F4 01 E8 03", "field-low-byte-first"),
-                   ("10 04 00 02 00 04 01 F4 03 E8", "field-low-byte-first")])
+                   ("10 04 00 02 00 04 01 F4 03 E8", "field-low-byte-first"),
+                   ("10 00 04 00 04 04 01 F4 03 E8", "byte-count-for-quantity"),
+                   ("01 10 00 04 00 02 04 01 F4 03 E8", "unit-in-pdu")])
 def _check_02_1(answer: Any) -> str | None:
     expected = WriteMultipleRegistersRequest(address=4, values=(500, 1000)).encode()
     got = as_bytes(answer)
     named = diagnose("byte-count-missing", got, expected) or pdu_address_diagnosis(got, expected)
     if named:
         return named
-    if got == expected[1:]:
-        return "the PDU starts with the function code."
-    return frame_slip(got, expected) or compare_bytes(got, expected, "your PDU")
+    return diagnose("byte-count-for-quantity", got, expected) or compare_pdu(got, expected, "your PDU")
 
 
 @exercise("02.2", "how many requests to read 300 registers",
           hint="one Read Holding Registers request reads at most mb.MAX_READ_REGISTERS registers.",
-          accepts=[3], refuses=[(2, None), (4, None)])
+          accepts=[3, 3.0], refuses=[(2, "count-rounded-down"), (4, None)])
 def _check_02_2(answer: Any) -> str | None:
     expected = -(-300 // MAX_READ_REGISTERS)
+    exact = 300 / MAX_READ_REGISTERS
+    if isinstance(answer, float) and not answer.is_integer() and abs(answer - exact) < 0.05:
+        return diagnose("count-rounded-down", answer, exact)
     got = int_answer(answer, "a number of requests")
     if isinstance(got, str):
         return got
     if got == expected:
         return None
     if got < expected:
-        return f"{got} requests can read at most {got * MAX_READ_REGISTERS} registers."
+        named = diagnose("count-rounded-down", got, exact)
+        return (f"{named} " if named else "") + \
+            f"{got} requests can read at most {got * MAX_READ_REGISTERS} registers."
     return f"{got} requests work, but fewer are enough."
 
 
@@ -71,10 +79,16 @@ def _check_02_2(answer: Any) -> str | None:
                "then the exception code; mb.ExceptionCode lists the codes.",
           accepts=["84 02", "8402", bytes([0x84, 0x02]), [132, 2]],
           refuses=[("04 02", "exception-bit-missing"), ("84 01", "illegal-function-for-address"),
-                   ("83 02", "holding-for-input"), ("84 03", None)])
+                   ("83 02", "holding-for-input"), ("84 03", "exception-code-confused"),
+                   ("01 84 02", "unit-in-pdu")])
 def _check_02_3(answer: Any) -> str | None:
     expected = ExceptionResponse(function=4, code=ExceptionCode.ILLEGAL_DATA_ADDRESS).encode()
     got = as_bytes(answer)
+    named = pdu_envelope_diagnosis(got, expected)
+    if named:
+        return named
+    if len(got) == 1 and got[0] == expected[0]:
+        return diagnose("exception-function-for-code", got[0], 4, expected[1]) + " Here the code is missing."
     if len(got) == 2 and got[0] == expected[0] & 0x7F:
         return name("exception-bit-missing")
     if len(got) == 2 and got[0] & 0x80 and got[1] == expected[1]:
@@ -85,7 +99,8 @@ def _check_02_3(answer: Any) -> str | None:
                                                             expected[1]):
         return name("illegal-function-for-address")
     if len(got) == 2 and got[0] == expected[0] and got[1] != expected[1]:
-        return f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'."
+        return (diagnose("exception-code-confused", got[1], expected[1])
+                or f"the function byte is right; exception code {got[1]:02X} is not 'illegal data address'.")
     return compare_bytes(got, expected, "your exception response")
 
 
@@ -97,10 +112,12 @@ def _check_02_3(answer: Any) -> str | None:
 def _check_02_4(answer: Any) -> str | None:
     bits = ReadCoilsResponse.decode(bytes([0x01, 0x01, 0x05])).bits
     expected = [address for address, bit in enumerate(bits) if bit]
-    try:
-        got = sorted(int(a) for a in answer)
-    except TypeError:
+    if not isinstance(answer, (list, tuple, set, frozenset)) or len(answer) > 64:
         return "answer with a list of coil addresses, e.g. [1, 4]."
+    items = [int_answer(a, "a coil address") for a in answer]
+    if any(isinstance(item, str) for item in items):
+        return next(item for item in items if isinstance(item, str))
+    got = sorted(items)
     if got == expected:
         return None
     named = diagnose("bits-from-the-left", got, expected)
@@ -109,6 +126,13 @@ def _check_02_4(answer: Any) -> str | None:
     if len(got) == len(expected) and all(a == b + 1 for a, b in zip(got, expected)):
         return address_diagnosis(got[0], expected[0])
     return f"{got} are not the coils that are ON."
+
+
+def _diagnose_fc3(got, expected) -> str | None:
+    if not isinstance(got, (bytes, bytearray)) or not isinstance(expected, bytes):
+        return None
+    return (pdu_envelope_diagnosis(got, expected) or request_field_diagnosis(got, expected, 0)
+            or frame_slip(got, expected))
 
 
 def _fc3_pdu(address: int, count: int) -> bytes:
@@ -133,9 +157,8 @@ build_exercise(
     refuses=[(lambda address, count: bytes([3]) + (address + 1).to_bytes(2, "big") + count.to_bytes(2, "big"),
               "one-based-address"),
              (lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"),
-              None)],
-    diagnose=lambda args, expected, got: pdu_address_diagnosis(got, expected)
-    if isinstance(got, bytes) and isinstance(expected, bytes) else None)
+              "invalid-input-accepted")],
+    diagnose=lambda args, expected, got: _diagnose_fc3(got, expected))
 line_after_tries("02.5", "bytes([3]) is the function code's byte; an int's .to_bytes(2, 'big') gives its "
                  "two bytes, high byte first; + joins bytes. Check the count and the range first, and raise "
                  "when they break a limit.",

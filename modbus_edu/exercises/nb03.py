@@ -16,6 +16,7 @@ from .core import (
     crc_diagnosis,
     exercise,
     int_answer,
+    right_value_in_another_form,
     rtu_request_diagnosis,
 )
 from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_slip, name
@@ -31,6 +32,8 @@ from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_
           refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None)])
 def _check_03_1(answer: Any) -> str | None:
     expected = crc_bytes(parse_hex("11 04 00 08 00 01"))
+    if answer == crc16(parse_hex("11 04 00 08 00 01")) and not isinstance(answer, bool):
+        return right_value_in_another_form("the two bytes in the order they are sent, low byte first")
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
@@ -50,7 +53,9 @@ def _check_03_1(answer: Any) -> str | None:
                                                                 "one-based-address"),
                    ("01 06 00 02 12 34", "crc-forgotten"), ("01 06 00 02 12 34 25 7E", None),
                    ("01 06 00 02 34 12 BE C7", "field-low-byte-first"),
-                   ("01 06 02 00 12 34 85 05", "field-low-byte-first")])
+                   ("01 06 02 00 12 34 85 05", "field-low-byte-first"),
+                   ("01 06 00 02 04 D2 AA 97", "hex-read-as-decimal"),
+                   ("01 06 00 02 12 34 00 B7", "checksum-without-address")])
 def _check_03_2(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
     return (rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)

@@ -14,12 +14,13 @@ from .core import (
     AnswerError,
     address_diagnosis,
     as_bytes,
-    compare_bytes,
+    compare_pdu,
     exercise,
     int_answer,
     line_after_tries,
+    request_field_diagnosis,
 )
-from .misconceptions import diagnose, name
+from .misconceptions import diagnose, frame_slip, name
 
 
 @exercise("04.1", "an LRC by hand",
@@ -52,7 +53,10 @@ def _check_04_1(answer: Any) -> str | None:
           accepts=[":050310000002E6\r\n", b":050310000002E6\r\n", ":050310000002e6\r\n",
                    r":050310000002E6\r\n", list(b":050310000002E6\r\n")],
           refuses=[(":050310000002E6", "ascii-without-crlf"), (b":050310000002E6", "ascii-without-crlf"),
-                   (":050310010002E5\r\n", "one-based-address"), (":050310000002E5\r\n", None)])
+                   (":050310010002E5\r\n", "one-based-address"),
+                   (":050310000002E5\r\n", "lrc-ones-complement"),
+                   (":0503100000021A\r\n", "lrc-plain-sum"),
+                   (":050310000002E7\r\n", None)])
 def _check_04_2(answer: Any) -> str | None:
     address = parse_reference("44097").address
     expected = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address, count=2)).encode()
@@ -65,7 +69,43 @@ def _check_04_2(answer: Any) -> str | None:
         return address_diagnosis(address + 1, address)
     if got.upper() == expected:
         return None  # lowercase hex digits are allowed too
-    return compare_bytes(got, expected, "your frame")
+    return ascii_frame_diagnosis(got.upper(), expected) or compare_characters(got, expected, "your frame")
+
+
+def _ascii_bytes(frame: bytes) -> bytes | None:
+    """The bytes an ASCII frame's hex characters stand for (address, PDU, LRC), or None."""
+    body = frame[1:-2] if frame.endswith(b"\r\n") else frame[1:]
+    if not frame.startswith(b":") or len(body) % 2:
+        return None
+    try:
+        return bytes.fromhex(body.decode("ascii"))
+    except (UnicodeDecodeError, ValueError):
+        return None
+
+
+def ascii_frame_diagnosis(got: bytes, expected: bytes) -> str | None:
+    """Name the catalogued slips in an ASCII frame (upper case): an LRC that is the plain sum, its one's
+    complement or computed over the characters, shown as the characters the learner wrote; an LRC without
+    the address; a field written wrong (in decimal digits, low byte first, hex read as decimal)."""
+    mine, right = _ascii_bytes(got), _ascii_bytes(expected)
+    if mine is None or right is None or len(mine) != len(right):
+        return None
+    if mine[:-1] == right[:-1]:
+        named = diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters"), right[:-1], mine[-1])
+        if named:
+            return f"{named} Your frame carries the characters '{mine[-1]:02X}' where the LRC goes."
+    return (diagnose("checksum-without-address", mine, right) or request_field_diagnosis(mine, right, 1, 1)
+            or frame_slip(mine, right, tail=1))
+
+
+def compare_characters(got: bytes, expected: bytes, what: str) -> str | None:
+    """Like :func:`~.core.compare_bytes` for a frame of characters: the first character that differs,
+    shown as a character (the learner writes characters, not their codes)."""
+    for index, (mine, theirs) in enumerate(zip(got, expected)):
+        if mine != theirs:
+            return (f"{what} differs at character {index}: you have {chr(mine)!r}, it should be "
+                    f"{chr(theirs)!r} ({len(got)} characters given, {len(expected)} expected).")
+    return f"{what} has {len(got)} characters, it should have {len(expected)}." if got != expected else None
 
 
 def ascii_frame_answer(answer: Any) -> bytes:
@@ -117,17 +157,15 @@ def _check_04_3(answer: Any) -> str | None:
                 "in :010600010003F5 the bytes are 01 06 00 01 00 03 F5: the PDU is 06 00 01 00 03."),
           accepts=["03 04 FF 06 00 64", "0304ff060064", bytes.fromhex("0304FF060064")],
           refuses=[("05 03 04 FF 06 00 64", "unit-in-pdu"), ("03 04 FF 06 00 64 8B", "frame-for-pdu"),
-                   ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None)])
+                   ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None),
+                   ("04 FF 06 00 64", "function-code-missing")])
 def _check_04_4(answer: Any) -> str | None:
     frame = AsciiFrame.decode(parse_hex(":050304FF0600648B"), role="response")
     expected = frame.pdu.encode()
     got = as_bytes(answer)
-    named = diagnose("unit-in-pdu", got, expected, frame.unit) or diagnose("frame-for-pdu", got, expected)
-    if named:
-        return named
     if got[:1] == b":":
         return "give the bytes of the PDU, not the ASCII characters of the frame."
-    return compare_bytes(got, expected, "your PDU")
+    return compare_pdu(got, expected, "your PDU", unit=frame.unit)
 
 
 def _lrc_inputs(rng) -> tuple:
@@ -135,7 +173,7 @@ def _lrc_inputs(rng) -> tuple:
 
 
 def _diagnose_lrc(args, expected, got) -> str | None:
-    named = diagnose(("lrc-plain-sum", "lrc-ones-complement"), args[0], got)
+    named = diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters"), args[0], got)
     if named:
         return named
     if isinstance(got, int) and got > 255:

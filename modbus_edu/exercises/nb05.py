@@ -15,8 +15,8 @@ from ..pdu import (
     decode_pdu,
 )
 from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis
-from .misconceptions import diagnose, frame_slip
+from .core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
+from .misconceptions import diagnose
 
 
 @exercise("05.1", "read a transaction id",
@@ -30,7 +30,10 @@ def _check_05_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mbap-little-endian", got, expected)
+    named = diagnose("mbap-little-endian", got, expected) or diagnose("another-field", got, {
+        "protocol identifier": 0, "length field": int.from_bytes(frame[4:6], "big"),
+        "unit identifier": frame[6], "function code": frame[7],
+        "starting address": int.from_bytes(frame[8:10], "big")})
     if named:
         return named
     return f"{got} is not the transaction id of that frame."
@@ -51,22 +54,21 @@ def _check_05_1(answer: Any) -> str | None:
                    ("00 07 00 00 00 06 01 06 00 01 04 D2", "one-based-address"),
                    ("00 07 00 00 00 06 01 06 00 00 04 D3", None),
                    ("00 07 00 00 00 06 01 06 00 00 12 34", "decimal-written-as-hex"),
-                   ("00 07 00 00 00 06 01 06 00 00 D2 04", "field-low-byte-first")])
+                   ("00 07 00 00 00 06 01 06 00 00 D2 04", "field-low-byte-first"),
+                   ("00 07 00 00 01 06 00 00 04 D2", "mbap-length-missing")])
 def _check_05_2(answer: Any) -> str | None:
     pdu = WriteSingleRegisterRequest(address=0, value=1234)
     expected = TcpFrame(transaction_id=7, unit=1, pdu=pdu).encode()
     got = as_bytes(answer)
     if got == expected:
         return None
-    named = diagnose(("mbap-little-endian", "crc-on-tcp"), got, expected) or (
-        pdu_address_diagnosis(got[7:], expected[7:]) if got[:7] == expected[:7] else None)
+    named = (pdu_address_diagnosis(got[7:], expected[7:]) if got[:7] == expected[:7] else None) or \
+        tcp_frame_diagnosis(got, expected)
     if named:
         return named
     if len(got) == len(expected) and got[:4] == expected[:4] and got[6:] == expected[6:]:
-        return (diagnose("mbap-length", int.from_bytes(got[4:6], "big"), expected[5])
-                or f"the length field is wrong: it counts the unit identifier and the PDU ({expected[5]}).")
-    return (diagnose("crc-on-tcp", got, expected) or frame_slip(got, expected)
-            or compare_bytes(got, expected, "your frame"))
+        return f"the length field is wrong: it counts the unit identifier and the PDU ({expected[5]})."
+    return compare_bytes(got, expected, "your frame")
 
 
 @exercise("05.3", "the MBAP length of a response",
@@ -146,14 +148,7 @@ def _mbap_inputs(rng) -> tuple:
 
 
 def _diagnose_mbap(args, expected, got) -> str | None:
-    if not isinstance(got, (bytes, bytearray)) or len(got) != 7:
-        return None
-    named = diagnose("mbap-little-endian", got, expected)
-    if named:
-        return named
-    if got[:4] == expected[:4] and got[6] == expected[6]:
-        return diagnose("mbap-length", int.from_bytes(got[4:6], "big"), int.from_bytes(expected[4:6], "big"))
-    return None
+    return tcp_frame_diagnosis(got, expected)
 
 
 build_exercise(

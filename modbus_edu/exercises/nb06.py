@@ -47,7 +47,8 @@ def _check_06_1(answer: Any) -> str | None:
                 "exception code; mb.ExceptionCode lists the codes.",
                 "run it: the master raises mb.ModbusExceptionError, and the error's .code is the slave's "
                 "exception code."),
-          accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, None)])
+          accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, "exception-code-confused"),
+                                                   (0x86, None)])
 def _check_06_2(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 20)
@@ -65,7 +66,11 @@ def _check_06_2(answer: Any) -> str | None:
     if diagnose("illegal-function-for-address", got, expected):
         return (name("illegal-function-for-address") + " The slave implements function 5, but coil 0 does "
                 "not exist in its bank.")
-    return f"exception code {got:02X} is not what the slave answers."
+    named = diagnose("exception-function-for-code", got, 5, expected)
+    if named:
+        return named
+    return (diagnose("exception-code-confused", got, expected)
+            or f"exception code {got:02X} is not what the slave answers.")
 
 
 @exercise("06.3", "the most transactions per second",
@@ -76,7 +81,8 @@ def _check_06_2(answer: Any) -> str | None:
                 "two registers at 9600 baud: 8 + 3.5 + 9 + 3.5 = 24 characters = 240 bits = 25 ms: 40 "
                 "transactions per second."),
           accepts=[87.3, 87.27],
-          refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (43.6, None), (80.0, None)])
+          refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (87.2, "truncated-not-rounded"),
+                   (43.6, None), (80.0, None)])
 def _check_06_3(answer: Any) -> str | None:
     expected = 1 / _one_read_time(19200, 1)
     got = real_answer(answer, "a rate")
@@ -143,6 +149,15 @@ def _read_it_back(args: tuple, state: tuple) -> tuple | None:
 def _diagnose_handler(args, expected, got) -> str | None:
     registers, pdu = args
     address = int.from_bytes(pdu[1:3], "big")
+    if isinstance(got, bytes) and isinstance(expected, bytes) and len(got) >= 2 and len(expected) >= 2:
+        exception = len(got) == 2 and expected[0] & 0x80
+        named = (diagnose("exception-bit-missing", got[0], expected[0]) if exception else None) or (
+            diagnose(("illegal-function-for-address", "exception-code-confused"), got[1], expected[1])
+            if exception and got[0] == expected[0] else None) or (
+            diagnose("register-one-byte", got[1], expected[1], expected[1] // 2) if got[0] == expected[0] == 3
+            else None)
+        if named:
+            return named
     if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
         return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
                         expected)

@@ -12,7 +12,7 @@ from ..master import Master
 from ..pdu import ExceptionCode, ExceptionResponse
 from ..slave import Slave
 from .build import build_exercise
-from .core import as_bytes, compare_rtu_frame, exercise
+from .core import as_bytes, compare_rtu_frame, exercise, field_diagnosis, pdu_envelope_diagnosis
 from .misconceptions import diagnose, frame_slip, name
 
 
@@ -21,7 +21,8 @@ from .misconceptions import diagnose, frame_slip, name
                "request's function; the next byte is the exception code. mb.RtuFrame.decode(..., "
                "role='response').pdu reads it for you.",
           accepts=[(3, 2), [3, 2], (0x03, 0x02)],
-          refuses=[((0x83, 2), "exception-code-as-function"), ((3, 3), None), ((2, 3), None)])
+          refuses=[((0x83, 2), "exception-code-as-function"), ((3, 3), "exception-code-confused"),
+                   ((2, 3), None), ((3, 0x82), "top-bit-on-code")])
 def _check_07_1(answer: Any) -> str | None:
     pdu = RtuFrame.decode(parse_hex("11 83 02 C1 34"), role="response").pdu
     expected = (pdu.function, pdu.code)
@@ -32,9 +33,16 @@ def _check_07_1(answer: Any) -> str | None:
         return "both numbers should be ints, e.g. (1, 3)."
     if function == pdu.function_code:
         return diagnose("exception-code-as-function", function, expected[0])
+    named = field_diagnosis(function, pdu.function_code) or field_diagnosis(function, expected[0])
+    if function != expected[0] and named:
+        return named + " An exception response's function byte is the request's function + 0x80."
     if function != expected[0]:
         return f"the request's function is not {function}."
     if code != expected[1]:
+        named = field_diagnosis(code, expected[1]) or diagnose(("top-bit-on-code", "exception-code-confused"),
+                                                               code, expected[1])
+        if named:
+            return named
         return f"the exception code is the byte after the function code, not {code}."
     return None
 
@@ -50,7 +58,7 @@ def _check_07_1(answer: Any) -> str | None:
           accepts=["11 81 02 C0 54", "118102c054", bytes.fromhex("11 81 02 C0 54")],
           refuses=[("11 01 02 C1 34", "exception-bit-missing"), ("17 81 02 20 55", "decimal-written-as-hex"),
                    ("11 81 02 54 C0", "crc-swapped"), ("11 81 01 80 55", "illegal-function-for-address"),
-                   ("11 81 03 01 94", None)])
+                   ("11 81 03 01 94", "exception-code-confused"), ("11 81 02", "crc-forgotten")])
 def _check_07_2(answer: Any) -> str | None:
     code = int(ExceptionCode.ILLEGAL_DATA_ADDRESS)
     expected = RtuFrame(unit=17, pdu=ExceptionResponse(function=1, code=code)).encode()
@@ -61,7 +69,7 @@ def _check_07_2(answer: Any) -> str | None:
     if len(got) > 1 and got[1] == 0x01:
         return name("exception-bit-missing")
     if len(got) > 2 and got[1] == 0x81 and got[2] != expected[2]:
-        return (diagnose("illegal-function-for-address", got[2], expected[2])
+        return (diagnose(("illegal-function-for-address", "exception-code-confused"), got[2], expected[2])
                 or f"exception code {got[2]:02X} is not the one for an address the slave does not have.")
     return compare_rtu_frame(got, expected, "your exception response")
 
@@ -143,6 +151,14 @@ def _exception_pdu(function: int, code: int) -> bytes:
     return ExceptionResponse(function=function, code=code).encode()
 
 
+def _diagnose_exception(got, expected) -> str | None:
+    if not isinstance(got, (bytes, bytearray)) or not got:
+        return None
+    return (pdu_envelope_diagnosis(got, expected) or diagnose("exception-bit-missing", got[0], expected[0])
+            or (diagnose(("top-bit-on-code", "exception-code-confused"), got[1], expected[1])
+                if len(got) == 2 == len(expected) and got[0] == expected[0] else None))
+
+
 def _exception_inputs(rng) -> tuple:
     return rng.randrange(1, 128), rng.randrange(1, 12)
 
@@ -154,6 +170,5 @@ build_exercise(
     hint="two bytes: the function code with its top bit set (function | 0x80, or function + 128) and the "
          "exception code.",
     refuses=[(lambda function, code: bytes([function, code]), "exception-bit-missing"),
-             (lambda function, code: bytes([function | 0x80, 2]), None)],
-    diagnose=lambda args, expected, got: diagnose("exception-bit-missing", got[0], expected[0])
-    if isinstance(got, bytes) and got else None)
+             (lambda function, code: bytes([function | 0x80, 2]), "exception-code-confused")],
+    diagnose=lambda args, expected, got: _diagnose_exception(got, expected))

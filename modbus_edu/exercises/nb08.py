@@ -80,7 +80,7 @@ def _check_08_3(answer: Any) -> str | None:
         return "give a list of pauses, e.g. [1.0, 2.0]."
     try:
         got = sorted(float(x) for x in answer)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return "the list should hold numbers of character times taken from [1.0, 1.4, 2.0, 3.0, 5.0]."
     if got == expected:
         return None
@@ -123,7 +123,9 @@ def _diagnose_timing(args, expected, got) -> str | None:
         return None
     baudrate, parity, stopbits, request, response = args
     char = (1 + 8 + (parity != "N") + stopbits) / baudrate
-    named = diagnose("silences-forgotten", got, (request + response) * char)
+    t35 = 0.00175 if baudrate > 19200 else 3.5 * char
+    named = (diagnose("silences-forgotten", got, (request + response) * char)
+             or diagnose("silences-forgotten", got, (request + response) * char + t35))
     if not named and baudrate > 19200:
         named = diagnose("fixed-silence-ignored", got, (request + 3.5 + response + 3.5) * char)
     if not named and (parity, stopbits) != ("N", 1):

@@ -7,7 +7,7 @@ from typing import Any
 from ..datamodel import DataBank, parse_reference, table_kind
 from ..devices.arduino import SLOW_LOOP, expected_answered_fraction, loop_time_experiment
 from .build import build_exercise
-from .core import address_diagnosis, exercise, real_answer
+from .core import address_diagnosis, exercise, field_diagnosis, real_answer
 from .misconceptions import diagnose, name
 
 
@@ -19,7 +19,7 @@ from .misconceptions import diagnose, name
           accepts=[(4, 9), [4, 9], (0x04, 0x09)],
           refuses=[((3, 9), "holding-for-input"), ((4, 10), "one-based-address"), ((4, 30009),
                                                                                    "reference-number"),
-                   ((4, 30010), "reference-number"), ((4, 8), None)])
+                   ((4, 30010), "reference-number"), ((4, 8), "address-one-too-low")])
 def _check_09_1(answer: Any) -> str | None:
     ref = parse_reference("30010")
     function = next(fc for fc in (1, 2, 3, 4) if table_kind(fc) == ref.kind)
@@ -30,8 +30,9 @@ def _check_09_1(answer: Any) -> str | None:
         return (diagnose("holding-for-input", got_function, function)
                 or f"function {got_function!r} does not read the table 30010 is in.")
     if got_address != ref.address:
-        return address_diagnosis(got_address,
-                                 ref.address) or f"address {got_address!r} is not where 30010 is."
+        return (address_diagnosis(got_address, ref.address) or field_diagnosis(got_address, ref.address)
+                or field_diagnosis(got_address, ref.address + 1)
+                or f"address {got_address!r} is not where 30010 is.")
     return None
 
 
@@ -69,7 +70,8 @@ def _check_09_2(answer: Any) -> str | None:
         return None
     if got == [a + 1 for a in expected]:
         return address_diagnosis(got[0], expected[0])
-    named = diagnose("range-one-end", len(got), len(expected), 2)
+    named = diagnose("range-one-end", len(got), len(expected), 2) or diagnose("range-one-end", len(got),
+                                                                              len(expected), 1)
     if named:
         return named
     if len(got) != len(expected):
@@ -116,8 +118,9 @@ def _fraction_close(expected: float, got) -> bool:
 def _diagnose_answered(args, expected, got) -> str | None:
     loop_time, timeout, reply = args
     if isinstance(got, (int, float)) and abs(got - (timeout - reply) / loop_time) < 1e-9:
-        return "a fraction stays between 0 and 1: clamp it with max(0.0, min(1.0, ...))."
-    return diagnose("percentage-for-fraction", got, expected) if expected else None
+        return diagnose("fraction-unclamped", got)
+    named = diagnose("percentage-for-fraction", got, expected) if expected else None
+    return named or diagnose("fraction-unclamped", got)
 
 
 build_exercise(
@@ -133,5 +136,5 @@ build_exercise(
           "a 2 s loop, a 1 s timeout, a 0.2 s reply: (1 - 0.2) / 2 = 0.4; a 0.5 s loop: 1.6, so 1."),
     refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply),
               "percentage-for-fraction"),
-             (lambda loop_time, timeout, reply: timeout / loop_time, None)],
+             (lambda loop_time, timeout, reply: timeout / loop_time, "fraction-unclamped")],
     diagnose=_diagnose_answered, compare=_fraction_close)

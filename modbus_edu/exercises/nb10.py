@@ -9,7 +9,7 @@ from ..devices.meter import METER_BY_NAME, TRIALS, meter_blocks
 from ..framing import RtuFrame, parse_hex
 from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
-from .core import Written, address_diagnosis, exercise, number_answer, real_answer
+from .core import Written, address_diagnosis, exercise, field_diagnosis, number_answer, real_answer
 from .misconceptions import diagnose
 
 
@@ -20,7 +20,7 @@ from .misconceptions import diagnose
                 "map, METER_BY_NAME, checks it.",
                 "registers 0x0001 and 0x0002 are 0x00010002 = 65538 tenths: 6553.8 V."),
           accepts=[410.5, 410.50, 410.48],
-          refuses=[(4105, "raw-for-scaled"), (26902528.0, "word-order"), (41.05, None)])
+          refuses=[(4105, "raw-for-scaled"), (26902528.0, "word-order"), (41.05, "scale-wrong"), (410, None)])
 def _check_10_1(answer: Any) -> str | None:
     registers = RtuFrame.decode(parse_hex("01 03 04 00 00 10 09 37 F5"), role="response").pdu.registers
     expected = METER_BY_NAME["VL2"].value(registers)
@@ -28,7 +28,7 @@ def _check_10_1(answer: Any) -> str | None:
     if isinstance(got, str):
         return got
     raw = decode_value(registers, "uint32", "ABCD")
-    named = (diagnose("raw-for-scaled", got, raw, expected)
+    named = (diagnose(("raw-for-scaled", "scale-wrong"), got, raw, expected)
              or diagnose("word-order", registers, "uint32", round(got * 10), "ABCD"))
     if named:
         return named
@@ -77,7 +77,7 @@ _10_3_NAMES = ("THD_AL1", "THD_AL2", "THD_AL3")
           accepts=[(3, 54, 6), [3, 0x36, 6]],
           refuses=[((3, 55, 6), "one-based-address"), ((3, 54, 3), "one-register-for-32-bits"),
                    ((4, 54, 6), "holding-for-input"), ((3, 40055, 6), "reference-number"),
-                   ((3, 0x30, 6), None), ((3, 54, 5), None)])
+                   ((3, 0x30, 6), None), ((3, 54, 5), None), ((3, 36, 6), "hex-read-as-decimal")])
 def _check_10_3(answer: Any) -> str | None:
     members = [METER_BY_NAME[name] for name in _10_3_NAMES]
     [(address, count, _)] = meter_blocks(members)
@@ -91,7 +91,7 @@ def _check_10_3(answer: Any) -> str | None:
     if got_address != address:
         if got_address == 0x30:
             return "0x30 is where the THD of the voltages starts; the question asks for the currents' only."
-        return (address_diagnosis(got_address, address)
+        return (address_diagnosis(got_address, address) or field_diagnosis(got_address, address)
                 or f"address {got_address!r} is not where THD_AL1 starts.")
     if got_count != count:
         named = diagnose("one-register-for-32-bits", got_count, count, len(members))

@@ -7,11 +7,17 @@ from typing import Any
 from ..crc import crc_bytes
 from ..datamodel import DataBank
 from ..devices.generators import increment_fill
-from ..framing import TcpFrame, parse_hex
+from ..framing import TcpFrame
 from ..pdu import ReadHoldingRegistersRequest
-from ..values import format_registers
 from .build import build_exercise
-from .core import address_diagnosis, exercise
+from .core import (
+    address_diagnosis,
+    as_bytes,
+    exercise,
+    field_diagnosis,
+    right_value_in_another_form,
+    tcp_frame_diagnosis,
+)
 from .misconceptions import diagnose
 
 
@@ -28,23 +34,33 @@ def _testtool() -> Any:
                 "address n holds first + n x increment; mb.format_registers([value], 'hex') shows it as the "
                 "grid does.",
                 "first value 20, increment 4: address 3 holds 32, shown '0x0020'."),
-          accepts=["0x0096", "0X0096", " 0x0096 "],
+          accepts=["0x0096", "0X0096", " 0x0096 ", "0x96", "0096"],
           refuses=[("0x008C", "one-based-address"), ("150", None), ("0x0097", None)])
 def _check_12_1(answer: Any) -> str | None:
     bank = DataBank(sparse=False)
     increment_fill(bank.holding_registers, 0, 10, 100, 10)
-    expected = format_registers(bank.holding_registers.read(5, 1), "hex")[0]
     if not isinstance(answer, str):
         return "answer with the text the grid shows, a string such as '0x0001'."
     got = answer.strip()
-    if got.lower() == expected.lower():
-        return None
     value = bank.holding_registers[5]
+    if _hex_value(got) == value:
+        return None  # any spelling of the value in hex: 0x0096, 0x96, 0096
     if got == str(value):
-        return f"{got} is the unsigned display; in hex it is written with 0x and four hex digits."
-    if got.lower() == format_registers([value - 10], "hex")[0].lower():
+        return right_value_in_another_form("the grid's hex display does: 0x and four hex digits")
+    if _hex_value(got) == value - 10:
         return address_diagnosis(5, 4) + " Address 5 is the sixth cell."
+    named = field_diagnosis(_hex_value(got), value)
+    if named:
+        return named
     return f"{got!r} is not how the hex display shows address 5."
+
+
+def _hex_value(text: str) -> int | None:
+    """The number ``text`` writes in hex (with or without 0x, in either case), or None."""
+    digits = text[2:] if text[:2].lower() == "0x" else text
+    if not digits or len(digits) > 8 or any(c not in "0123456789abcdefABCDEF" for c in digits):
+        return None
+    return int(digits, 16)
 
 
 _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
@@ -85,7 +101,9 @@ def _check_12_2(answer: Any) -> str | None:
     for key in _12_2_KEYS[1:]:
         if config[key] != reference[key]:
             named = (diagnose("holding-for-input", config[key], reference[key]) if key == "function" else
-                     address_diagnosis(config[key], reference[key]) if key == "address" else None)
+                     address_diagnosis(config[key], reference[key]) if key == "address" else
+                     diagnose("milliseconds-for-seconds", config[key], reference[key]) if key == "interval"
+                     else None)
             return named or f"{key} is {config[key]!r}, it should be {reference[key]!r}."
     return None
 
@@ -99,6 +117,8 @@ def _check_12_2(answer: Any) -> str | None:
           accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
           refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:
+    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
+        return "answer with a pair: (transaction_id, 'XX XX')."
     TestTool = _testtool()  # noqa: N806 (a class)
     server = TestTool("tcp_server", unit=1, length=1)
     client = TestTool("tcp_client", partner=server, unit=1, length=1, transaction_id=280)
@@ -106,14 +126,13 @@ def _check_12_3(answer: Any) -> str | None:
     tid = client.transaction_id.value
     client.run_polls(1)
     first_two = client.traffic.search(direction="tx")[-1].data[:2]
-    if not isinstance(answer, (tuple, list)) or len(answer) != 2:
-        return "answer with a pair: (transaction_id, 'XX XX')."
     got_tid, got_bytes = answer
     if got_tid != tid:
         if got_tid == tid - 1:
             return "that is the id of the third request; the question asks for the next one."
-        return f"the next transaction id is not {got_tid!r}."
-    got = parse_hex(got_bytes) if isinstance(got_bytes, str) else bytes(got_bytes)
+        return (diagnose("mbap-little-endian", got_tid, tid) or field_diagnosis(got_tid, tid)
+                or f"the next transaction id is not {got_tid!r}.")
+    got = as_bytes(got_bytes)
     named = diagnose("mbap-little-endian", got, first_two)
     if named:
         return named
@@ -132,6 +151,10 @@ def _request_inputs(rng) -> tuple:
     return rng.randrange(65536), rng.randrange(256), rng.randrange(0, 65536 - count + 1), count
 
 
+def _diagnose_request(args, expected, got) -> str | None:
+    return tcp_frame_diagnosis(got, expected)
+
+
 def _with_crc(frame: bytes) -> bytes:
     """A plausible wrong Modbus/TCP frame: a CRC appended, as on a serial line."""
     return frame + crc_bytes(frame[6:])
@@ -147,4 +170,4 @@ build_exercise(
               + address.to_bytes(2, "big") + count.to_bytes(2, "big"), "mbap-little-endian"),
              (lambda tid, unit, address, count: _with_crc(_read_request(tid, unit, address, count)),
               "crc-on-tcp")],
-    diagnose=lambda args, expected, got: diagnose(("mbap-little-endian", "crc-on-tcp"), got, expected))
+    diagnose=_diagnose_request)

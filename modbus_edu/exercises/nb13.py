@@ -15,7 +15,16 @@ from ..pdu import ReadHoldingRegistersRequest
 from ..slave import Slave
 from ..values import ORDERS, decode_value, encode_value
 from .build import build_exercise
-from .core import address_diagnosis, compare_rtu_frame, exercise, real_answer, rtu_request_diagnosis
+from .core import (
+    address_diagnosis,
+    as_bytes,
+    compare_rtu_frame,
+    exercise,
+    field_diagnosis,
+    int_answer,
+    real_answer,
+    rtu_request_diagnosis,
+)
 from .misconceptions import ORDER_WORDS, diagnose
 from .misconceptions import name as misconception
 
@@ -127,7 +136,8 @@ def _check_13_2(answer: Any) -> str | None:
     value = real_answer(got_amperes, "the current")
     if isinstance(value, str):
         return value
-    named = diagnose("milliamperes-for-amperes", value, amperes)
+    named = diagnose("milliamperes-for-amperes", value, amperes) or diagnose("scale-wrong", value,
+                                                                               round(amperes * 1000), amperes)
     if named:
         return named
     if abs(value - amperes) > CURRENT_TOLERANCE:
@@ -145,18 +155,19 @@ CURRENT_TOLERANCE = 0.06
                 "take the number after the 4 and subtract one.",
                 "40108 is address 107: mb.parse_reference('40108').address."),
           accepts=[20, 0x14],
-          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"), (19,
-                                                                                                         None)])
+          refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"),
+                   (19, "address-one-too-low")])
 def _check_13_3(answer: Any) -> str | None:
     expected = parse_reference("40021").address
-    if isinstance(answer, bool) or not isinstance(answer, int):
-        return "answer with the address, an int."
-    if answer == expected:
+    got = int_answer(answer, "the address")
+    if isinstance(got, str):
+        return got
+    if got == expected:
         return None
-    named = address_diagnosis(answer, expected)
+    named = address_diagnosis(got, expected) or field_diagnosis(got, expected)
     if named:
         return named
-    return f"address {answer} is not where register 40021 is."
+    return f"address {got} is not where register 40021 is."
 
 
 @exercise("13.4", "the transaction ids that do not match",
@@ -179,8 +190,9 @@ def _check_13_4(answer: Any) -> str | None:
         named = diagnose("mbap-little-endian", seen, captured.transaction_id)
         if named:
             return named + " 3 is what the client meant; the server reads 03 00."
-        return f"the server does not read {seen!r} from 03 00."
-    got = parse_hex(first_two) if isinstance(first_two, str) else bytes(first_two)
+        return (field_diagnosis(seen, captured.transaction_id)
+                or f"the server does not read {seen!r} from 03 00.")
+    got = as_bytes(first_two)
     if got != correct[:2]:
         return (diagnose("mbap-little-endian", got, correct[:2])
                 or f"{got.hex(' ').upper()} is not transaction id 3 written high byte first.")
@@ -238,18 +250,26 @@ def _order_inputs(rng) -> tuple:
 
 
 def _order_accepted(expected: frozenset, got) -> bool:
-    return got in expected if expected else got is None
+    return (isinstance(got, str) and got in expected) if expected else got is None
 
 
 def _diagnose_order(args, expected, got) -> str | None:
     registers, value = args
     if not expected:
         return f"no order gives {value:g} from these registers: return None."
+    if got is None:
+        near = [decode_value(registers, "float32", order) for order in sorted(expected)]
+        return diagnose("float-compared-exactly", got, near[0]) if near[0] != value else None
     if got in ORDERS:
         return (misconception("word-order", used=got, used_words=ORDER_WORDS[got],
                               right=_orders_in_words(expected))
                 + f" In {got} order these registers hold {decode_value(registers, 'float32', got):g}.")
     return f"return one of the names in mb.ORDERS, such as {sorted(expected)[0]!r}."
+
+
+def _exact_order(registers: list, expected: float) -> str | None:
+    """A plausible wrong answer: the first order whose value equals the expected one exactly (==)."""
+    return next((order for order in ORDERS if decode_value(registers, "float32", order) == expected), None)
 
 
 def _orders_in_words(expected: frozenset) -> str:
@@ -269,5 +289,5 @@ build_exercise(
           "registers [0x0000, 0x4120] give 10.0 read as CDAB and a tiny number as ABCD: a display showing "
           "10.0 means CDAB."),
     refuses=[(lambda registers, expected: "ABCD", "word-order"),
-             (lambda registers, expected: "CDAB", "word-order")],
+             (lambda registers, expected: "CDAB", "word-order"), (_exact_order, "float-compared-exactly")],
     compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words)

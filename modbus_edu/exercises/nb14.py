@@ -10,7 +10,7 @@ from ..master import Master
 from ..pdu import mask_write
 from ..slave import Slave
 from .build import build_exercise
-from .core import exercise, int_answer, line_after_tries
+from .core import exercise, field_diagnosis, int_answer, line_after_tries
 from .misconceptions import diagnose
 
 
@@ -21,7 +21,8 @@ from .misconceptions import diagnose
                 "AND-mask bit 1, copy the register's bit; 0, copy the OR mask's bit.",
                 "the specification's example: register 0x12 = 0001 0010, AND 0xF2 = 1111 0010, OR 0x25 = "
                 "0010 0101: bits 7-4 and 1 kept, bits 3, 2 and 0 from the OR mask: 0001 0111 = 0x17."),
-          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None)])
+          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None),
+                                          (0x00A0, "mask-roles-swapped")])
 def _check_14_1(answer: Any) -> str | None:
     expected = mask_write(0x00A5, 0x000F, 0x0130)
     got = int_answer(answer, "a register value")
@@ -29,7 +30,8 @@ def _check_14_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mask-write-or", 0x00A5, 0x000F, 0x0130, got)
+    named = (diagnose(("mask-write-or", "mask-roles-swapped"), 0x00A5, 0x000F, 0x0130, got)
+             or field_diagnosis(got, expected))
     if named:
         return named
     return f"0x{got:04X} is not what the register holds after FC 22."
@@ -43,7 +45,7 @@ build_exercise(
     hint="bit by bit: where the AND mask has a 1 the register keeps its bit; where it has a 0 the bit comes "
          "from the OR mask. The result stays a 16-bit value.",
     refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or")],
-    diagnose=lambda args, expected, got: diagnose("mask-write-or", *args, got))
+    diagnose=lambda args, expected, got: diagnose(("mask-write-or", "mask-roles-swapped"), *args, got))
 line_after_tries("14.2", "build it from two parts and OR them: the bits kept from the register (AND it with "
                  "the AND mask) and the bits taken from the OR mask where the AND mask has 0 (the OR mask "
                  "ANDed with the AND mask's inverse, ~, kept to 16 bits).",
@@ -82,7 +84,7 @@ def counters_scenario() -> dict[str, int]:
                 "to 0x0C, not here.",
                 "after a clear, one read of unit 3 and one of unit 4, then 0x0B to unit 3: unit 3 counts "
                 "the request for it, the request for unit 4, unit 4's response and the 0x0B request: 4."),
-          accepts=[5, 0x05], refuses=[(6, None), (4, None), (3, None)])
+          accepts=[5, 0x05], refuses=[(6, "damaged-message-counted"), (4, None), (3, "others-not-heard")])
 def _check_14_3(answer: Any) -> str | None:
     got = int_answer(answer, "a number of messages")
     if isinstance(got, str):
@@ -91,12 +93,12 @@ def _check_14_3(answer: Any) -> str | None:
     if got == expected:
         return None
     if got == expected + 1:
-        return ("you counted the damaged request; the serial-line guide leaves a message with a bad CRC out "
-                "of the bus message count (it goes to 0x0C).")
+        return diagnose("damaged-message-counted", got, expected) + " Here the damaged request is the one."
     if got == expected - 1:
         return ("one message is missing: unit 1 also hears unit 2's response (every node hears the line), "
                 "and the 0x0B request is itself a message, counted before it is answered.")
-    if got == 3:
-        return ("those are only the requests for unit 1; the bus message count also counts what unit 1 "
-                "hears for others: the request for unit 2 and its response.")
+    named = diagnose("others-not-heard", got, 3)
+    if named:
+        return named + (" Those are only the requests for unit 1; it also hears the request for unit 2 and "
+                        "its response.")
     return f"{got} is not the count unit 1 reports: list every frame on the line after the clear."

@@ -8,8 +8,10 @@ client behind the notebook's gateway sees.
 from __future__ import annotations
 
 import random
+import re
 from typing import Any
 
+from ..crc import crc16
 from ..framing import RtuFrame, TcpFrame
 from ..gateway import GATEWAY_PATH_UNAVAILABLE, GATEWAY_TARGET_FAILED
 from ..links.wire import SerialTiming
@@ -21,8 +23,8 @@ from ..pdu import (
     WriteSingleRegisterRequest,
 )
 from .build import build_exercise
-from .core import exercise, number_answer, real_answer, show
-from .misconceptions import diagnose
+from .core import Raised, exercise, number_answer, real_answer, show, tcp_frame_diagnosis
+from .misconceptions import diagnose, name
 
 
 # --- 15.1: one transaction at 19200 baud 8E1 -------------------------------------------------------------
@@ -90,13 +92,22 @@ def _rtu_request(rng: random.Random) -> tuple[bytes, int]:
 
 
 def _diagnose_15_2(args: Any, expected: Any, got: Any) -> str | None:
-    if not isinstance(got, (bytes, bytearray)) or not isinstance(expected, bytes):
+    if isinstance(got, Raised):
+        return _crc_read_big_endian(args[0], got)
+    return tcp_frame_diagnosis(got, expected) if isinstance(expected, bytes) else None
+
+
+def _crc_read_big_endian(frame: bytes, raised: Raised) -> str | None:
+    """A gateway that refuses a frame whose CRC is right: the CRC read high byte first, when the learner's
+    error speaks of the CRC."""
+    carried = frame[-2:].hex(" ").upper()
+    if crc16(frame[:-2]) != int.from_bytes(frame[-2:], "little"):
         return None
-    got = bytes(got)
-    named = diagnose("crc-on-tcp", got, expected) or diagnose("mbap-little-endian", got, expected)
-    if named or len(got) != len(expected) or got[6:] != expected[6:]:
-        return named
-    return diagnose("mbap-length", int.from_bytes(got[4:6], "big"), int.from_bytes(expected[4:6], "big"))
+    note = (f"your function refuses a frame whose CRC is right: it carries {carried}, the CRC "
+            f"0x{crc16(frame[:-2]):04X} sent low byte first.")
+    if re.search(r"crc|checksum", f"{raised.name} {raised.message}", re.IGNORECASE):
+        return f"{note} {name('crc-swapped')}"
+    return note
 
 
 def _crc_kept(frame: bytes, tid: int) -> bytes:
@@ -188,8 +199,8 @@ def _read_outcome(value: Any) -> int | str | None:
                "that gives up first sees a timeout.",
           accepts=[{"a": 0x0A, "b": 0x0B, "c": 0x01, "d": "timeout"},
                    {"A": "0A", "b": "exception 0B", "c": "01", "d": "no answer"}],
-          refuses=[({"a": 0x0B, "b": 0x0B, "c": 0x01, "d": 0x0B}, None),
-                   ({"a": 0x0A, "b": "timeout", "c": 0x01, "d": "timeout"}, None),
+          refuses=[({"a": 0x0B, "b": 0x0B, "c": 0x01, "d": 0x0B}, "gateway-codes-swapped"),
+                   ({"a": 0x0A, "b": "timeout", "c": 0x01, "d": "timeout"}, "gateway-silence"),
                    ({"a": 0x0A, "b": 0x0B, "c": 0x0B, "d": "timeout"}, None), ("0B", None)])
 def _check_15_3(answer: Any) -> str | None:
     expected = expected_15_3()
@@ -208,6 +219,9 @@ def _check_15_3(answer: Any) -> str | None:
         if got == want:
             continue
         note = _CASE_NOTES.get(case, {}).get(got)
+        named = diagnose(("gateway-codes-swapped", "gateway-silence"), got, want)
+        if named:
+            return f"{named} {note}" if note else f"case {case}: {named}"
         if note:
             return note
         return f"case {case}: {show(keys[case])} is not what the client sees."

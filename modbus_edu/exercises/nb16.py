@@ -19,7 +19,7 @@ from ..pdu import ReadHoldingRegistersRequest, ReadInputRegistersRequest, ReadIn
 from ..registermap import RegisterMapError, load_map
 from .build import build_exercise
 from .core import AnswerError, address_diagnosis, as_bytes, exercise, show
-from .misconceptions import diagnose, name
+from .misconceptions import ORDER_WORDS, diagnose, name
 
 WORKSHEET_UNIT = 1
 """The bench meter's address in the worksheet (its factory setting)."""
@@ -57,8 +57,10 @@ def _map_problem(points: list[Any]) -> str | None:
             return (f"{label} has type {mine.type}: each value is a 32-bit IEEE 754 float in two registers, "
                     "type float32.")
         if mine.order != theirs.order:
-            return (f"{label} has word order {mine.order}: the datasheet says 'low word first', so the "
-                    "register at the lower address holds the low word: order CDAB.")
+            named = name("word-order", used=mine.order, used_words=ORDER_WORDS.get(mine.order, mine.order),
+                         right=theirs.order)
+            return (f"{label} has word order {mine.order}: {named} The datasheet says 'low word first', so "
+                    "the register at the lower address holds the low word: order CDAB.")
         if mine.scale != theirs.scale:
             return (f"{label} has scale {mine.scale:g}: the floats already carry volts, amperes, watts, "
                     "hertz and kWh, so the scale is 1.")
@@ -78,7 +80,7 @@ def _map_problem(points: list[Any]) -> str | None:
                    "name,table,address,type,order\n" + "".join(
                        f"{row.split(',')[0]},input,{row.split(',')[2]},float32,CDAB\n"
                        for row in _WORKSHEET_MAP.splitlines()[1:])],
-          refuses=[(_WORKSHEET_MAP.replace("CDAB", "ABCD"), None),
+          refuses=[(_WORKSHEET_MAP.replace("CDAB", "ABCD"), "word-order"),
                    (_WORKSHEET_MAP.replace(",input,", ",holding,"), "holding-for-input"),
                    (_WORKSHEET_MAP.replace(",30001,", ",0,").replace(",30007,", ",6,").replace(
                        ",30013,", ",12,").replace(",30071,", ",70,").replace(",30073,", ",72,"), None),
@@ -87,6 +89,7 @@ def _check_16_1(answer: Any) -> str | None:
     if not isinstance(answer, str):
         return (f"give the file's text as a str (a header row, then one row per value), not {show(answer)}: "
                 'for example """name,table,address,type,order,scale,unit\\n..."""')
+    answer = answer if "\n" in answer else answer + "\n"  # always the file's text, never a path to a file
     try:
         points = sorted(load_map(answer, numbering="reference", name="your map"), key=lambda p: p.address)
     except RegisterMapError as exc:
@@ -127,7 +130,7 @@ def _frames_with(request: type, shift: int = 0) -> list[bytes]:
 def _frame_slip(got: bytes, expected: bytes) -> str:
     """Name what differs between one learner frame and the expected one (same length)."""
     if got[:-2] == expected[:-2]:
-        return (diagnose("crc-swapped", got, expected)
+        return (diagnose(("crc-swapped", "checksum-without-address"), got, expected)
                 or "its CRC is wrong: compute it over the six bytes before it (mb.crc16), low byte first.")
     if got[0] != expected[0]:
         return f"it is addressed to unit {got[0]}; the meter's Addr is {expected[0]}."
@@ -139,7 +142,8 @@ def _frame_slip(got: bytes, expected: bytes) -> str:
     if address != want_address:
         return f"it starts at address {address}, expected {want_address}. " + (
             address_diagnosis(address, want_address) or "")
-    return f"it asks for {count} registers, expected {want_count}: a float32 takes two registers."
+    named = diagnose("one-register-for-32-bits", count, want_count, want_count // 2)
+    return named or f"it asks for {count} registers, expected {want_count}: a float32 takes two registers."
 
 
 @exercise("16.2", "the request frames that read the bench meter's map",
@@ -179,7 +183,9 @@ def _check_16_2(answer: Any) -> str | None:
             return (f"frame {index + 1} is right but out of place: give the frames in the planner's order, "
                     "by address.")
         if len(got) != len(want):
-            return f"frame {index + 1} has {len(got)} bytes; an RTU read request has {len(want)}."
+            return f"frame {index + 1}: " + (
+                diagnose("crc-forgotten", len(got), len(want))
+                or f"it has {len(got)} bytes; an RTU read request has {len(want)}.")
         return f"frame {index + 1}: " + _frame_slip(got, want)
     return None  # pragma: no cover - frames == expected was handled above
 

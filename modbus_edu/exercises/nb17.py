@@ -8,7 +8,7 @@ from .. import pdu as p
 from ..security import course_roles
 from .build import build_exercise
 from .core import exercise, int_answer, show
-from .misconceptions import diagnose
+from .misconceptions import diagnose, name
 
 #: The request of exercise 17.1, as a capture shows it.
 CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
@@ -19,19 +19,19 @@ CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
                "(2 bytes) and the value (2 bytes), each high byte first. mb.explain(frame, 'tcp', "
                "'request') shows every field.",
           accepts=[500, 0x01F4],
-          refuses=[(10, None), (0xF401, None), (6, None), (7, None), (0x000A, None)])
+          refuses=[(10, "another-field"), (0xF401, "field-low-byte-first"), (6, "another-field"),
+                   (7, "another-field"), (0x000A, "another-field"), (0x01F5, None)])
 def _check_17_1(answer: Any) -> str | None:
     got = int_answer(answer, "a register value")
     if isinstance(got, str):
         return got
     if got == 500:
         return None
-    if got == 10:
-        return "10 (00 0A) is the register's address; the value is the two bytes after it."
-    if got == 0xF401:
-        return "that is the value read low byte first; Modbus sends the high byte first: 01 F4."
-    if got in (6, 7):
-        return f"{got} is {'the function code' if got == 6 else 'the transaction id'}, not the value."
+    named = diagnose("field-low-byte-first", got, 500) or diagnose("another-field", got, {
+        "register address (00 0A)": 10, "function code": 6, "transaction id": 7, "length field": 6,
+        "unit identifier": 1})
+    if named:
+        return f"{named} It is not the value: the value is the last two bytes, after the address."
     return f"{show(got)} is not the value: read the last two bytes of the frame, high byte first."
 
 
@@ -44,7 +44,8 @@ def _check_17_1(answer: Any) -> str | None:
                 "an operator's FC 15 of 10 coils from address 95 writes 95 to 104: 100 to 104 are outside "
                 "0..99, so it is refused; FC 6 at address 99 is allowed (answer 0)."),
           accepts=[1, 0x01],
-          refuses=[(0, None), (2, None), (0x90, None), (3, None)])
+          refuses=[(0, "first-address-only"), (2, "exception-code-confused"),
+                   (0x90, "exception-function-for-code"), (3, "exception-code-confused")])
 def _check_17_2(answer: Any) -> str | None:
     got = int_answer(answer, "an exception code (or 0 for allowed)")
     if isinstance(got, str):
@@ -52,13 +53,17 @@ def _check_17_2(answer: Any) -> str | None:
     if got == 1:
         return None
     if got == 0:
-        return "the write touches 98, 99 and 100: address 100 is past the operator's 0..99, so it is refused."
+        return (diagnose("first-address-only", _request(16, 98, 3), 99, None)
+                + " Here the write touches 98, 99 and 100: address 100 is past the operator's 0..99.")
     if got == 2:
-        return ("02 (illegal data address) is what a slave answers for an address it does not have; the "
-                "role check answers before the slave sees the request, with 01.")
-    if got == 0x90:
-        return ("0x90 is the function code of the exception response (16 + 0x80); the code is the byte "
-                "after it.")
+        return (name("exception-code-confused") + " Here 02 (illegal data address) is what a slave answers "
+                "for an address it does not have; the role check answers before the slave sees the request.")
+    named = diagnose("exception-function-for-code", got, 16, 1)
+    if named:
+        return f"{named} Here the code is the byte after 0x{got:02X}."
+    named = diagnose("exception-code-confused", got, 1)
+    if named:
+        return f"{named} {show(got)} is not the answer: a refused role gets 01."
     return f"{show(got)} is not the answer: 0 if allowed, else the exception code the server sends."
 
 

@@ -1,0 +1,94 @@
+"""The slips a newcomer makes (modbus_edu.exercises.slips): every one is refused and named.
+
+Each slip of :data:`~modbus_edu.exercises.slips.SLIPS` and :data:`~modbus_edu.exercises.build_slips.SLIPS`
+must be refused; a slip with a misconception must be named by the catalogue's label of it, a slip without
+must not be named as any misconception; and no verdict may read like a Python error.  The share named is
+reported per notebook (``pytest -s``) and must stay at or above :data:`NAMED_AT_LEAST`.
+"""
+
+from __future__ import annotations
+
+import builtins
+import re
+from collections import defaultdict
+
+import pytest
+
+from modbus_edu import exercises
+from modbus_edu.exercises import build_slips, slips
+from modbus_edu.exercises.misconceptions import CATALOGUE
+
+NAMED_AT_LEAST = 0.90
+"""The share of slips with a catalogued misconception whose verdict names it."""
+
+ALL_SLIPS = {**slips.SLIPS, **build_slips.SLIPS}
+CASES = [(key, index) for key in sorted(ALL_SLIPS) for index in range(len(ALL_SLIPS[key]))]
+
+PYTHON_ERRORS = re.compile(r"\b(" + "|".join(
+    name for name, value in vars(builtins).items()
+    if isinstance(value, type) and issubclass(value, BaseException)
+    and name.endswith(("Error", "Exit", "Interrupt", "Iteration", "BaseException"))) + r")\b")
+"""The names of Python's own exceptions: no verdict may mention one (unless the learner's answer does)."""
+
+
+def python_errors(message: str, answer: object) -> list[str]:
+    """The Python exception names in ``message`` that the learner's ``answer`` itself does not name."""
+    given = set(PYTHON_ERRORS.findall(repr(answer)))
+    return [name for name in PYTHON_ERRORS.findall(message) if name not in given]
+
+
+def verdict(key: str, index: int) -> tuple[slips.Slip, str, bool]:
+    """The slip, the verdict's message, and whether the verdict refuses it, naming its misconception."""
+    slip = ALL_SLIPS[key][index]
+    result = exercises.evaluate(key, slip.answer)
+    named = result.ok is False and slip.misconception is not None and \
+        CATALOGUE[slip.misconception].label.lower() in result.message.lower()
+    return slip, result.message, named
+
+
+def test_every_exercise_has_five_slips_or_more_and_every_slip_says_what_the_newcomer_did():
+    assert set(ALL_SLIPS) == set(exercises.EXERCISES)
+    for key, items in ALL_SLIPS.items():
+        assert len(items) >= 5, key
+        for slip in items:
+            assert slip.why.strip(), key
+            assert slip.misconception is None or slip.misconception in CATALOGUE, (key, slip.misconception)
+            if exercises.EXERCISES[key].kind == "build":
+                assert callable(slip.answer), key
+    assert sum(map(len, ALL_SLIPS.values())) >= 395
+
+
+@pytest.mark.parametrize("key, index", CASES, ids=[f"{k}-slip-{i}" for k, i in CASES])
+def test_each_slip_is_refused_with_a_message_that_reads_like_a_teacher(key, index):
+    slip, message, _named = verdict(key, index)
+    assert message.startswith("Not yet:"), f"{key} accepts the slip {slip.answer!r} ({slip.why})"
+    assert not python_errors(message, slip.answer), f"{key}: {slip.answer!r} gets {message!r}"
+    if slip.misconception is None:
+        labels = [entry.label for entry in CATALOGUE.values() if entry.label.lower() in message.lower()]
+        assert not labels, f"{key}: {slip.answer!r} is named {labels}, but the slip names none ({slip.why})"
+
+
+def test_the_slips_are_named_by_their_misconception(capsys):
+    rows: dict[str, list[int]] = defaultdict(lambda: [0, 0])
+    unnamed = []
+    none = defaultdict(int)
+    for key, index in CASES:
+        slip, message, named = verdict(key, index)
+        notebook = key.split(".")[0]
+        if slip.misconception is None:
+            none[notebook] += 1
+            continue
+        rows[notebook][0] += named
+        rows[notebook][1] += 1
+        if not named:
+            unnamed.append(f"{key} {slip.misconception}: {message[:160]!r}")
+    total = sum(n for n, _ in rows.values()), sum(t for _, t in rows.values())
+    with capsys.disabled():
+        print("\nnotebook  named / slips with a misconception  (and slips with none)")
+        for notebook in sorted(rows):
+            named, count = rows[notebook]
+            print(f"{notebook:>8}  {named:>3} / {count:<3} {named / count:6.0%}  ({none[notebook]})")
+        print(f"{'overall':>8}  {total[0]:>3} / {total[1]:<3} {total[0] / total[1]:6.0%}  "
+              f"({sum(none.values())})")
+        print("\n".join(unnamed))
+    assert total[0] / total[1] >= NAMED_AT_LEAST, "\n".join(unnamed)
