@@ -410,7 +410,7 @@ def test_hints_escalate_one_level_per_wrong_try_and_start_again_when_right(capsy
 
 
 def test_a_frame_built_by_hand_names_the_slip_in_the_catalogue_s_words_not_a_byte_number():
-    from modbus_edu.exercises.misconceptions import frame_slip
+    from modbus_edu.exercises.frameslip import frame_slip
 
     messages = {key: exercises.evaluate(key, answer).message for key, answer in [
         ("02.1", "10 00 04 00 02 04 05 00 10 00"), ("03.2", "01 06 00 02 34 12 BE C7"),

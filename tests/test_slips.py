@@ -16,6 +16,7 @@ import pytest
 
 from modbus_edu import exercises
 from modbus_edu.exercises import build_slips, slips
+from modbus_edu.exercises.inventory import PRE
 from modbus_edu.exercises.misconceptions import CATALOGUE
 
 NAMED_AT_LEAST = 0.90
@@ -61,6 +62,10 @@ def test_every_exercise_has_five_slips_or_more_and_every_slip_says_what_the_newc
 @pytest.mark.parametrize("key, index", CASES, ids=[f"{k}-slip-{i}" for k, i in CASES])
 def test_each_slip_is_refused_with_a_message_that_reads_like_a_teacher(key, index):
     slip, message, _named = verdict(key, index)
+    if key == PRE:  # the pre-test records any 12 letters: it says nothing of which are wrong
+        assert message.startswith("Recorded:" if len(str(slip.answer)) == 12 else "Not yet:"), (key, message)
+        assert not [entry.label for entry in CATALOGUE.values() if entry.label.lower() in message.lower()]
+        return
     assert message.startswith("Not yet:"), f"{key} accepts the slip {slip.answer!r} ({slip.why})"
     assert not python_errors(message, slip.answer), f"{key}: {slip.answer!r} gets {message!r}"
     if slip.misconception is None:

@@ -36,7 +36,8 @@ from ..crc import crc16
 from ..errors import ModbusError
 from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
-from .misconceptions import CATALOGUE, diagnose, frame_slip
+from .frameslip import frame_slip
+from .misconceptions import CATALOGUE, diagnose
 from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...
@@ -480,7 +481,7 @@ def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
 def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | None = None) -> str | None:
     """Like :func:`compare_bytes` for an RTU frame, naming the slips of the catalogue: the two CRC bytes the
     wrong way round (``swapped``, when given, is added to that verdict), no CRC, a CRC over the PDU alone,
-    and a field written wrong (:func:`~.misconceptions.frame_slip`)."""
+    and a field written wrong (:func:`~.frameslip.frame_slip`)."""
     got = as_bytes(answer)
     named = diagnose("crc-swapped", got, expected)
     if named:
@@ -582,7 +583,7 @@ def rtu_request_diagnosis(answer: Any, expected: bytes) -> str | None:
 
 def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU", unit: int | None = None) -> str | None:
     """Like :func:`compare_bytes` for a PDU, naming the slips of giving the unit in front of it or a whole
-    frame instead, and a field written wrong (:func:`~.misconceptions.frame_slip`)."""
+    frame instead, and a field written wrong (:func:`~.frameslip.frame_slip`)."""
     got = as_bytes(answer)
     return (pdu_envelope_diagnosis(got, expected, unit) or request_field_diagnosis(got, expected, 0)
             or frame_slip(got, expected) or compare_bytes(got, expected, what))

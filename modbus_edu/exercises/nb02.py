@@ -25,7 +25,8 @@ from .core import (
     pdu_envelope_diagnosis,
     request_field_diagnosis,
 )
-from .misconceptions import diagnose, frame_slip, name
+from .frameslip import frame_slip
+from .misconceptions import diagnose, name
 
 
 @exercise("02.1", "build a Write Multiple Registers PDU",

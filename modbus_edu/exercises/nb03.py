@@ -19,7 +19,8 @@ from .core import (
     right_value_in_another_form,
     rtu_request_diagnosis,
 )
-from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_slip, name
+from .frameslip import frame_slip
+from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
 
 
 @exercise("03.1", "a CRC in wire order",

@@ -20,7 +20,8 @@ from .core import (
     line_after_tries,
     request_field_diagnosis,
 )
-from .misconceptions import diagnose, frame_slip, name
+from .frameslip import frame_slip
+from .misconceptions import diagnose, name
 
 
 @exercise("04.1", "an LRC by hand",

@@ -13,7 +13,8 @@ from ..pdu import ExceptionCode, ExceptionResponse
 from ..slave import Slave
 from .build import build_exercise
 from .core import as_bytes, compare_rtu_frame, exercise, field_diagnosis, pdu_envelope_diagnosis
-from .misconceptions import diagnose, frame_slip, name
+from .frameslip import frame_slip
+from .misconceptions import diagnose, name
 
 
 @exercise("07.1", "read an exception response",
