@@ -65,6 +65,7 @@ from .errors import (
     PduError,
     TransactionMismatchError,
     guard_numbers,
+    shown,
 )
 from .framing import decode_frame, make_frame
 from .links.base import Link
@@ -180,10 +181,10 @@ _POLL_SETTINGS = "interval, polls (the number of polls), function, unit, address
 def _check_seconds(name: str, value: Any) -> float:
     try:
         value = float(value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{name} must be a number of seconds, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ConfigError(f"{name} must be a number of seconds, got {shown(value)}") from None
     if not value >= 0:
-        raise ConfigError(f"{name} must be >= 0 s, got {value!r}")
+        raise ConfigError(f"{name} must be >= 0 s, got {shown(value)}")
     return value
 
 
@@ -307,10 +308,10 @@ class Master:
         if not hasattr(link, "send") or not hasattr(link, "receive"):
             raise ConfigError(f"Master needs a Link (send/receive), got {type(link).__name__}")
         if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
-            raise ConfigError(f"retries must be an integer >= 0, got {retries!r}")
+            raise ConfigError(f"retries must be an integer >= 0, got {shown(retries)}")
         if isinstance(transaction_id, bool) or not isinstance(transaction_id, int) \
                 or not 0 <= transaction_id <= 0xFFFF:
-            raise ConfigError(f"transaction_id must be 0..65535, got {transaction_id!r}")
+            raise ConfigError(f"transaction_id must be 0..65535, got {shown(transaction_id)}")
         self.link = link
         self.timeout = _check_seconds("timeout", timeout)
         self.retries = retries
@@ -484,7 +485,7 @@ class Master:
     def read_once(self, function: int, unit: int, address: int, count: int) -> list:
         """One read with function 1, 2, 3 or 4 (the robot test-tool paper's "read once" button)."""
         if function not in _READS:
-            raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {function!r}")
+            raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {shown(function)}")
         return self._read(function, unit, address, count)
 
     def poll(
@@ -525,13 +526,14 @@ class Master:
             polls, quantity = self._older_poll_spelling(polls, quantity, older)
         interval = _check_seconds("interval", interval)
         if isinstance(polls, bool) or not isinstance(polls, int) or polls < 0:
-            raise ConfigError(f"polls (the number of polls) must be a whole number >= 0, got {polls!r}")
+            raise ConfigError(f"polls (the number of polls) must be a whole number >= 0, got {shown(polls)}")
         if isinstance(quantity, bool) or not isinstance(quantity, int):
             raise ConfigError(
-                f"quantity (registers or coils read by each poll) must be a whole number, got {quantity!r}"
+                f"quantity (registers or coils read by each poll) must be a whole number, got "
+                f"{shown(quantity)}"
             )
         if function not in _READS:
-            raise ConfigError(f"poll reads with function 1, 2, 3 or 4, got {function!r}")
+            raise ConfigError(f"poll reads with function 1, 2, 3 or 4, got {shown(function)}")
         if self._is_broadcast(unit):
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
         _READS[function](address=address, count=quantity)  # a bad address or quantity: raise it now

@@ -16,7 +16,7 @@ from collections import deque
 from typing import Any
 
 from ..clock import Clock, RealClock
-from ..errors import ConfigError, LinkError, guard_numbers
+from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import splitter_for
 from ..platform import require_sockets
 from .base import Link
@@ -59,11 +59,12 @@ class TcpLink(Link):
     ) -> None:
         self.tls = check_context(tls, "client")
         if framing not in FRAMINGS:
-            raise ConfigError(f"framing must be one of {', '.join(FRAMINGS)}, got {framing!r}")
+            raise ConfigError(f"framing must be one of {', '.join(FRAMINGS)}, got {shown(framing)}")
         self.mode = framing
         _check_host(host, "connect to", "\"192.168.1.50\" (a device's IP address) or \"localhost\"")
         if not _is_int(port) or not 1 <= port <= 65535:
-            raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got {port!r}")
+            raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got "
+                              f"{shown(port)}")
         timeout = _positive_seconds("connect timeout", timeout, "(how long to wait for the server)")
         self.host = host
         self.port = port
