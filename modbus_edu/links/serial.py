@@ -44,7 +44,7 @@ from ..clock import RealClock
 from ..crc import crc16
 from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import ASCII_MAX_FRAME, RTU_MAX_FRAME, splitter_for
-from .base import Link
+from .base import READ_CHUNK, Link
 from .routing import normalize_slaves
 from .sockets import is_loopback_host
 from .wire import SerialTiming
@@ -133,8 +133,6 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
         raise LinkError(f"cannot open serial port {shown(url)}: {exc} - {hint}") from exc
 
 
-#: The most bytes one read takes before the caller looks at its deadline and its frames again.
-READ_CHUNK = 4096
 #: The longest a request spends dropping stale input: a peer still streaming is not waited out.
 DRAIN_SECONDS = 0.1
 DRAIN_CHUNK = 1 << 16

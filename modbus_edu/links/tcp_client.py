@@ -19,13 +19,12 @@ from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import splitter_for
 from ..platform import require_sockets
-from .base import Link
+from .base import READ_CHUNK, Link
 from .sockets import FRAMINGS, _check_host, _close_socket, _is_int, _positive_seconds
 from .tls import WOULD_BLOCK, SSLError, check_context, client_handshake, pending, tls_failure
 
 __all__ = ["TcpLink", "tcp_link"]
 
-_RECV_SIZE = 65536
 #: The longest a request spends dropping stale input before it is sent.
 DRAIN_SECONDS = 0.1
 _DRAIN_SIZE = 1 << 16
@@ -214,7 +213,7 @@ class TcpLink(Link):
                 else:
                     looked = True
                     sock.settimeout(0)  # TLS: what is readable may be a record without data (a ticket)
-                data = sock.recv(_RECV_SIZE)
+                data = sock.recv(READ_CHUNK)  # cut a little at a time: the deadline is looked at between
             except (TimeoutError, *WOULD_BLOCK):
                 return None
             except SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake
