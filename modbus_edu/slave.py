@@ -9,8 +9,10 @@ It never speaks first.  For each frame that reaches it, in this order (the order
 2. **Check the unit.**  A request for another unit is none of its business: silence
    (``counters.other_unit``).  On a serial bus every slave hears every frame, so this is normal.
    Unit 0 is the **broadcast** address of a serial line: every slave carries out the write (FC 5, 6,
-   15, 16, 21, 22, 23: :data:`~modbus_edu.codes.WRITE_FUNCTIONS`), and none answers
-   (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
+   15, 16, 21, 22: :data:`~modbus_edu.codes.BROADCAST_FUNCTIONS`, the table the master follows too),
+   and none answers (``counters.broadcasts``).  A broadcast of any other function (a read, FC 23
+   Read/Write Multiple Registers, FC 8 Diagnostics) has no meaning: it is counted, neither carried out
+   nor answered.
 3. **Carry out the request** on the bank and answer, or answer an **exception response** (the function
    code with its top bit set, and an exception code):
 
@@ -55,8 +57,8 @@ from functools import cache, lru_cache
 from typing import Any, ClassVar
 
 from . import pdu as _pdu
+from .codes import BROADCAST_FUNCTIONS
 from .codes import MBAP as _MBAP
-from .codes import WRITE_FUNCTIONS
 from .datamodel import DataBank, Table, table_kind
 from .errors import (
     AddressRangeError,
@@ -462,10 +464,11 @@ class Slave:
             counters.requests += 1
             if self.listen_only:  # the spec: messages are monitored, no action is taken
                 return None, None, "broadcast in listen-only mode (FC 8/04): heard, not carried out"
-            if pdu.function_code in WRITE_FUNCTIONS:
+            if pdu.function_code in BROADCAST_FUNCTIONS:
                 self.process(pdu)
                 return None, None, "broadcast: carried out, no answer"
-            return None, None, "broadcast read: ignored (a broadcast can only write)"
+            return None, None, (f"broadcast of FC {pdu.function_code}: ignored (a broadcast can only write, "
+                                "with FC 5, 6, 15, 16, 21 or 22)")
         if not direct and (not self.accepts(unit) or (unit > 247 and unit != self.unit and mode != "tcp")):
             counters.other_unit += 1  # a reserved serial address is answered only by a slave set to it
             return None, None, f"for unit {unit}: ignored"
