@@ -64,7 +64,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import CaptureError, MissingDependencyError, ModbusError
+from .errors import CaptureError, MissingDependencyError, ModbusError, shown
 from .framing import TcpSplitter, decode_frame
 from .pcapfile import MAGICS, MAX_PACKET, bad_magic, check_blocks, cut_short
 from .platform import BINDER, IN_BROWSER
@@ -187,12 +187,12 @@ def _entries(source: Any) -> list[Traffic]:
 
 def _check_entry(index: int, entry: Traffic) -> None:
     if entry.mode not in _MODES:
-        raise CaptureError(f"frame {index}: mode {entry.mode!r} is not one of 'rtu', 'ascii', 'tcp'")
+        raise CaptureError(f"frame {index}: mode {shown(entry.mode)} is not one of 'rtu', 'ascii', 'tcp'")
     time = entry.time
     if not isinstance(time, (int, float)) or isinstance(time, bool) or not math.isfinite(time) \
             or not 0 <= time <= _MAX_SECONDS:
         raise CaptureError(
-            f"frame {index}: time {time!r} cannot go in a pcap file, which counts seconds from 0 to "
+            f"frame {index}: time {shown(time)} cannot go in a pcap file, which counts seconds from 0 to "
             f"{_MAX_SECONDS} (a log's times are seconds on its link's clock)"
         )
     if len(entry.data) > _MAX_FRAME:
@@ -205,9 +205,10 @@ def _endpoint(value: Any, name: str) -> tuple[str, int]:
         host, port = value
         host = str(ipaddress.IPv4Address(host))
     except (TypeError, ValueError):
-        raise CaptureError(f"{name} must be (IPv4 address, port), e.g. {CLIENT}, got {value!r}") from None
+        raise CaptureError(f"{name} must be (IPv4 address, port), e.g. {CLIENT}, got "
+                           f"{shown(value)}") from None
     if not isinstance(port, int) or not 1 <= port <= 65535:
-        raise CaptureError(f"{name} port must be 1..65535, got {port!r}")
+        raise CaptureError(f"{name} port must be 1..65535, got {shown(port)}")
     return host, port
 
 
@@ -315,7 +316,7 @@ def read_pcap(path: str | os.PathLike[str], *, port: int | None = None) -> Traff
     size of the file.
     """
     if port is not None and (not isinstance(port, int) or isinstance(port, bool) or not 1 <= port <= 65535):
-        raise CaptureError(f"port must be a TCP port 1..65535 (or None), got {port!r}")
+        raise CaptureError(f"port must be a TCP port 1..65535 (or None), got {shown(port)}")
     records = _records(_path(path))
     reader = _Reader(port)
     for index, (time, linktype, data) in enumerate(records):

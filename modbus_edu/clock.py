@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from heapq import heappop, heappush
 from typing import Any, Protocol, runtime_checkable
 
-from .errors import ConfigError
+from .errors import ConfigError, guard_numbers, shown
 
 __all__ = ["Clock", "RealClock", "Timer", "VirtualClock"]
 
@@ -73,6 +73,7 @@ class VirtualClock:
     time at all.  Events due at the same virtual instant run in the order they were scheduled.
     """
 
+    @guard_numbers
     def __init__(self, start: float = 0.0) -> None:
         self._now = float(start)
         self._heap: list[tuple[float, int, Timer | None, Callable[..., Any] | None, tuple]] = []
@@ -122,7 +123,7 @@ class VirtualClock:
     def call_later(self, delay: float, callback: Callable[..., Any], *args: Any) -> Timer:
         """Run ``callback(*args)`` ``delay`` seconds from now (``delay`` >= 0)."""
         if delay < 0:
-            raise ConfigError(f"call_later: the delay must be >= 0 s, got {delay!r}")
+            raise ConfigError(f"call_later: the delay must be >= 0 s, got {shown(delay)}")
         return self.call_at(self._now + delay, callback, *args)
 
     def cancel(self, timer: Timer | None) -> None:
@@ -214,7 +215,7 @@ class VirtualClock:
     def advance(self, seconds: float) -> None:
         """Let ``seconds`` of virtual time pass, running whatever falls due."""
         if seconds < 0:
-            raise ConfigError(f"advance: cannot go back in time ({seconds!r} s)")
+            raise ConfigError(f"advance: cannot go back in time ({shown(seconds)} s)")
         self.run_until(self._now + seconds)
 
     def sleep(self, seconds: float) -> None:

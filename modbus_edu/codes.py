@@ -16,6 +16,7 @@ __all__ = [
     "ExceptionCode",
     "SERIAL_LINE_ONLY",
     "WRITE_FUNCTIONS",
+    "BROADCAST_FUNCTIONS",
     "exception_meaning",
     "function_title",
     "ROLES",
@@ -75,8 +76,22 @@ SERIAL_LINE_ONLY = frozenset({0x07, 0x08, 0x0B, 0x0C, 0x11})
 """Functions the specification defines for serial lines only (a gateway may still pass them on)."""
 
 WRITE_FUNCTIONS = frozenset({0x05, 0x06, 0x0F, 0x10, 0x15, 0x16, 0x17})
-"""Functions that write to the data model (FC 23 reads as well): the ones a broadcast carries out, and
-the ones a role's write grant covers."""
+"""Functions that write to the data model (FC 23 reads as well): the ones a role's write grant covers."""
+
+BROADCAST_FUNCTIONS = frozenset({0x05, 0x06, 0x0F, 0x10, 0x15, 0x16})
+"""The functions a broadcast (unit 0 on a serial line) may carry: the writes that answer nothing but an
+echo or an acknowledgement (FC 5, 6, 15, 16, 21 and 22).
+
+The *Modbus over Serial Line* guide (V1.02, section 2.1) says broadcast requests are necessarily writing
+commands, and no slave answers one.  So a read (FC 1, 2, 3, 4, 7, 11, 12, 17, 20, 24, 43) has no meaning
+as a broadcast: what it asks for could never come back.  Neither has FC 23, Read/Write Multiple
+Registers: its point is the registers it reads back in the same transaction, which a broadcast can
+never return, so a slave does not carry out its write half either.  FC 8, Diagnostics, is a
+conversation with one device (an echo, a counter, a mode) and is not a broadcast either.
+
+The master refuses to send a broadcast of any other function (:class:`~modbus_edu.errors.ConfigError`),
+and a slave that hears one neither acts on it nor answers.  The older Modicon guide (PI-MBUS-300)
+allows a broadcast of FC 5, 6, 15 and 16 only: a device built to it ignores a broadcast FC 21 or 22."""
 
 _TITLES = {0x11: "Report Server ID", 0x17: "Read/Write Multiple Registers", 0x18: "Read FIFO Queue"}
 

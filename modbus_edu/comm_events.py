@@ -19,7 +19,7 @@ Protocol Specification* V1.1b3, section 6.10).  The byte's top bits say what kin
 
 from __future__ import annotations
 
-from .errors import ValueRangeError
+from .errors import ValueRangeError, shown
 
 __all__ = ["describe_event"]
 
@@ -35,7 +35,7 @@ _SEND_BITS = {0: "read exception sent (exception 01-03)",
 def describe_event(event: int) -> str:
     """One FC 12 event byte in words (see the module's documentation)."""
     if isinstance(event, bool) or not isinstance(event, int) or not 0 <= event <= 0xFF:
-        raise ValueRangeError(f"an event is one byte, 0 to 255, got {event!r}")
+        raise ValueRangeError(f"an event is one byte, 0 to 255, got {shown(event)}")
     if event & 0x80:
         kind, bits = "message received", _RECEIVE_BITS
     elif event & 0x40:

@@ -121,7 +121,7 @@ def table_kind(kind_or_function: str | int) -> str:
         if name in PREFIXES:
             return name
         raise DataModelError(
-            f"unknown table {kind_or_function!r}: expected one of {', '.join(TABLE_KINDS)} "
+            f"unknown table {shown(kind_or_function)}: expected one of {', '.join(TABLE_KINDS)} "
             f"or a function code (1, 2, 3, 4, 5, 6, 15, 16)"
         )
     if isinstance(kind_or_function, int) and not isinstance(kind_or_function, bool):
@@ -129,12 +129,12 @@ def table_kind(kind_or_function: str | int) -> str:
             return _KIND_OF_FUNCTION[int(kind_or_function)]
         except KeyError:
             raise DataModelError(
-                f"function code {int(kind_or_function)} does not reach a data table: 1, 5, 15 reach "
+                f"function code {shown(int(kind_or_function))} does not reach a data table: 1, 5, 15 reach "
                 f"the coils, 2 the discrete inputs, 3, 6, 16 the holding registers, 4 the input registers"
             ) from None
     raise DataModelError(
         f"a table is named by a string such as 'holding_registers' or by a function code, "
-        f"not by {type(kind_or_function).__name__} {kind_or_function!r}"
+        f"not by {type(kind_or_function).__name__} {shown(kind_or_function)}"
     )
 
 
@@ -308,7 +308,7 @@ class Table:
                     continue
                 raise ValueRangeError(
                     f"{_SINGULAR[self.kind]} at address {address + i} takes a bit: True/False (or 1/0), "
-                    f"got {type(v).__name__} {v!r}"
+                    f"got {type(v).__name__} {shown(v)}"
                 )
             return bytearray(int(v) for v in values)  # pragma: no cover - e.g. numpy bools
         try:
@@ -357,7 +357,7 @@ class Table:
         """
         if isinstance(values, (int, str)) or not isinstance(values, Iterable):
             raise DataModelError(
-                f"write() takes a sequence of values, got {type(values).__name__} {values!r}; "
+                f"write() takes a sequence of values, got {type(values).__name__} {shown(values)}; "
                 f"to set one element use table[address] = value"
             )
         values = list(values)
@@ -373,7 +373,7 @@ class Table:
         stop = ADDRESS_SPACE if key.stop is None else key.stop
         start, _ = _check_address(self.kind, start, 0)
         if isinstance(stop, bool) or not isinstance(stop, int):
-            raise DataModelError(f"slice stop must be a whole number, got {stop!r}")
+            raise DataModelError(f"slice stop must be a whole number, got {shown(stop)}")
         if stop < start:
             raise DataModelError(f"slice [{start}:{stop}] runs backwards")
         return start, stop - start
@@ -483,7 +483,7 @@ class DataBank:
         """
         if not isinstance(values, Mapping):
             raise DataModelError(f"from_references() takes a mapping such as {{'40001': 5}}, "
-                                 f"got {type(values).__name__} {values!r}")
+                                 f"got {type(values).__name__} {shown(values)}")
         bank = cls(sparse=sparse)
         for ref, value in values.items():
             bank.add(ref, value)
@@ -560,13 +560,13 @@ class Reference:
     def __post_init__(self) -> None:
         if self.kind not in PREFIXES:
             raise ReferenceNumberError(
-                f"unknown table {self.kind!r}: expected one of {', '.join(TABLE_KINDS)}"
+                f"unknown table {shown(self.kind)}: expected one of {', '.join(TABLE_KINDS)}"
             )
         if isinstance(self.address, bool) or not isinstance(self.address, int):
-            raise ReferenceNumberError(f"address must be an int, got {self.address!r}")
+            raise ReferenceNumberError(f"address must be an int, got {shown(self.address)}")
         if not 0 <= self.address <= LAST_ADDRESS:
             raise ReferenceNumberError(
-                f"{_SINGULAR[self.kind]} address {self.address} is outside 0..65535"
+                f"{_SINGULAR[self.kind]} address {shown(self.address)} is outside 0..65535"
             )
 
     @property
@@ -715,12 +715,12 @@ def format_reference(kind: str | int, address: int, digits: int = 5, style: str 
         raise ReferenceNumberError(str(exc)) from None
     if isinstance(address, bool) or not isinstance(address, int) or not 0 <= address <= LAST_ADDRESS:
         raise ReferenceNumberError(
-            f"{_SINGULAR[kind]} address must be an int 0..65535, got {address!r}"
+            f"{_SINGULAR[kind]} address must be an int 0..65535, got {shown(address)}"
         )
     if digits not in (5, 6):
-        raise ReferenceNumberError(f"digits must be 5 or 6, got {digits!r}")
+        raise ReferenceNumberError(f"digits must be 5 or 6, got {shown(digits)}")
     if style not in ("plain", "x"):
-        raise ReferenceNumberError(f"style must be 'plain' or 'x', got {style!r}")
+        raise ReferenceNumberError(f"style must be 'plain' or 'x', got {shown(style)}")
     number = address + 1
     if digits == 5 and number > 9999:
         raise ReferenceNumberError(

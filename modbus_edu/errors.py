@@ -231,9 +231,16 @@ def require(module: str, user: str, extra: str = "course") -> Any:
 
 
 def shown(value: object, limit: int = 60) -> str:
-    """``repr(value)`` for a message, safe for any value: huge ints by size, long reprs cut."""
+    """``repr(value)`` for a message, safe for any value: huge ints by size, long reprs cut.
+
+    Every message that shows a value a learner gave goes through this: Python refuses to write an int
+    of more than 4300 digits (a ValueError of its own, not the mistake the learner made), and a message
+    that printed a smaller one whole would still be pages long.  An int beyond 64 bits is described by
+    its size instead (``an int of 16610 bits (about 5001 digits)``); a list or object whose repr cannot
+    be written (it holds such an int) by its type."""
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:
-        return f"an int of {value.bit_length()} bits"
+        bits = value.bit_length()
+        return f"an int of {bits} bits (about {int(bits * 0.30103) + 1} digits)"
     try:
         text = repr(value)
     except Exception:  # an object whose __repr__ fails: say what it is

@@ -10,7 +10,8 @@ What the client sees when the serial side fails (*Modbus Application Protocol* V
 * **0x0B gateway target device failed to respond** - the slave stayed silent (or only garbled
   answers came back) for the gateway's ``timeout`` on each of its ``retries + 1`` attempts;
 * **0x0A gateway path unavailable** - no path to that unit: unit 0 (a serial broadcast, which nobody
-  answers while the TCP client waits for an answer), units 248-255 (reserved on a serial line), the
+  answers while the TCP client waits for an answer; nothing is sent, so it is not 0x0B: no device was
+  asked and failed to respond), units 248-255 (reserved on a serial line), the
   serial port itself failing, or the gateway **overloaded**: more requests wait for the bus than it
   keeps (``max_queued_per_unit`` for one unit, ``max_queued`` in all), the case the *Modbus Messaging
   on TCP/IP Implementation Guide* (section 7) names for 0x0A; the client may ask again later.
@@ -64,6 +65,7 @@ from .errors import (
     ModbusTimeoutError,
     TransactionMismatchError,
     UnknownFunctionError,
+    shown,
 )
 from .framing import TcpFrame, encode_frame
 from .links.base import Link
@@ -426,12 +428,12 @@ class TcpGateway:
         for name, value in (("max_queued_per_unit", max_queued_per_unit), ("max_queued", max_queued)):
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ConfigError(f"{name} must be a whole number >= 1 (requests waiting for the bus), "
-                                  f"got {value!r}")
+                                  f"got {shown(value)}")
         if late_window is not None and (isinstance(late_window, bool)
                                         or not isinstance(late_window, (int, float))
                                         or not 0 <= late_window < float("inf")):
             raise ConfigError(f"late_window must be a number of seconds >= 0 (or None: the timeout), "
-                              f"got {late_window!r}")
+                              f"got {shown(late_window)}")
         self.link = link
         self._forwarder = _Forwarder(
             link, timeout=timeout, retries=retries, max_queued_per_unit=max_queued_per_unit,

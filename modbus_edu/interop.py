@@ -26,7 +26,7 @@ from typing import Any
 from pymodbus.framer import FramerType
 from pymodbus.server import ModbusTcpServer
 
-from .errors import LinkError
+from .errors import LinkError, shown
 from .platform import require_sockets
 
 
@@ -45,7 +45,7 @@ def pymodbus_server(device: Any, framer: str = "socket", host: str = "127.0.0.1"
         framer_type = FramerType(framer)
     except ValueError:
         names = ", ".join(repr(item.value) for item in FramerType)
-        raise LinkError(f"framer {framer!r} is not one of pymodbus's framers ({names})") from None
+        raise LinkError(f"framer {shown(framer)} is not one of pymodbus's framers ({names})") from None
     ready = threading.Event()
     state: dict[str, Any] = {}
 

@@ -34,13 +34,19 @@ as methods.  For each request it:
 Each attempt counts once in ``stats.requests`` and ends in exactly one of ``valid_responses``,
 ``exceptions``, ``timeouts``, ``checksum_errors``, ``bad_responses`` -- except a **broadcast** (unit 0
 on a serial line), which nobody answers: the master sends it, lets it leave the line (``link.flush()``),
-waits the turnaround delay and returns (``stats.broadcasts``).  A broadcast can only write: a read of
-unit 0 on a serial line raises :class:`~modbus_edu.errors.ConfigError`.
+waits the turnaround delay and returns (``stats.broadcasts``).  A broadcast can only write, with FC 5,
+6, 15, 16, 21 or 22 (:data:`~modbus_edu.codes.BROADCAST_FUNCTIONS`, the one table the slave follows too):
+any other function to unit 0 on a serial line (a read, FC 23 Read/Write Multiple Registers, FC 8
+Diagnostics) raises :class:`~modbus_edu.errors.ConfigError` before anything is sent.
 
 Modbus/TCP has no broadcast.  There unit 0, like the recommended 0xFF, means "the device at this IP
 address itself" (*Modbus Messaging on TCP/IP Implementation Guide* V1.0b, section 4.4.1.2): a request
-to unit 0 on a TCP link, read or write, waits for its answer like any other (a server that cannot route
-it, a gateway, answers exception 0x0B).
+to unit 0 on a TCP link, read or write, waits for its answer like any other.  A gateway to a serial
+line has no such device behind unit 0 (there it would be a broadcast, which nobody answers): it answers
+exception 0x0A, *gateway path unavailable*, at once, as it does for units 248 to 255.  It does not answer
+0x0B, *gateway target device failed to respond*: that code says a request went out to a device on the
+line and no answer came in time, and a request to unit 0 never goes out
+(:class:`~modbus_edu.gateway.TcpGateway`).
 
 Everything is timed on ``link.clock``: on a loopback link a ten-minute poll runs in a blink, and the
 latencies in ``stats.latencies`` are those of the simulated wire.
@@ -55,6 +61,7 @@ from functools import lru_cache
 from typing import Any
 
 from . import pdu as _pdu
+from .codes import BROADCAST_FUNCTIONS, function_title
 from .errors import (
     ChecksumError,
     ConfigError,
@@ -65,14 +72,12 @@ from .errors import (
     PduError,
     TransactionMismatchError,
     guard_numbers,
+    shown,
 )
 from .framing import decode_frame, make_frame
 from .links.base import Link
 from .pdu import ExceptionResponse, Pdu
 from .traffic import TrafficLog, pdu_note
-
-_NO_BROADCAST = frozenset({1, 2, 3, 4, 0x07, 0x08, 0x0B, 0x0C, 0x11, 0x14, 0x17, 0x18, 0x2B})
-"""Functions that read something back: a broadcast of them makes no sense (no slave answers one)."""
 
 MAX_LOG = 10_000
 """The most frames ``Master.log`` keeps (the newest): a poll left running overnight stays bounded."""
@@ -186,10 +191,10 @@ _POLL_SETTINGS = "interval, polls (the number of polls), function, unit, address
 def _check_seconds(name: str, value: Any) -> float:
     try:
         value = float(value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{name} must be a number of seconds, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ConfigError(f"{name} must be a number of seconds, got {shown(value)}") from None
     if not value >= 0:
-        raise ConfigError(f"{name} must be >= 0 s, got {value!r}")
+        raise ConfigError(f"{name} must be >= 0 s, got {shown(value)}")
     return value
 
 
@@ -313,10 +318,10 @@ class Master:
         if not hasattr(link, "send") or not hasattr(link, "receive"):
             raise ConfigError(f"Master needs a Link (send/receive), got {type(link).__name__}")
         if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
-            raise ConfigError(f"retries must be an integer >= 0, got {retries!r}")
+            raise ConfigError(f"retries must be an integer >= 0, got {shown(retries)}")
         if isinstance(transaction_id, bool) or not isinstance(transaction_id, int) \
                 or not 0 <= transaction_id <= 0xFFFF:
-            raise ConfigError(f"transaction_id must be 0..65535, got {transaction_id!r}")
+            raise ConfigError(f"transaction_id must be 0..65535, got {shown(transaction_id)}")
         self.link = link
         self.timeout = _check_seconds("timeout", timeout)
         self.retries = retries
@@ -443,6 +448,7 @@ class Master:
 
     def execute_no_answer(self, unit: int, request: Pdu) -> None:
         """Send a request that, by the spec, gets no answer (FC 8/04); count it, wait for nothing."""
+        self._check_broadcast(unit, request)
         link, clock, mode = self.link, self.link.clock, self.link.mode
         tid = self._next_tid() if mode == "tcp" else 0
         frame = make_frame(mode, unit, request, tid).encode()
@@ -470,17 +476,30 @@ class Master:
         self.execute(unit, _pdu.WriteFileRecordRequest(((file, record, tuple(values)),)))
 
     def _ask(self, unit: int, request: Pdu) -> Any:
-        if self._is_broadcast(unit):
-            raise ConfigError(f"{request.title} cannot be broadcast (unit 0): no slave answers a broadcast")
+        self._check_broadcast(unit, request)
         return self.execute(unit, request)
 
     def _is_broadcast(self, unit: int) -> bool:
         """Unit 0 on a serial line is a broadcast; on Modbus/TCP it is the device itself (no broadcast)."""
         return unit == 0 and self.link.mode != "tcp"
 
-    def _read(self, function: int, unit: int, address: int, count: int) -> list:
-        if self._is_broadcast(unit):
+    def _check_broadcast(self, unit: int, request: Pdu | int) -> None:
+        """Refuse a broadcast of a function that may not be broadcast
+        (:data:`~modbus_edu.codes.BROADCAST_FUNCTIONS`, the table the slave follows too)."""
+        if not self._is_broadcast(unit):
+            return
+        function = request if isinstance(request, int) else request.function_code
+        if function in BROADCAST_FUNCTIONS:
+            return
+        if function in _READS:
             raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
+        raise ConfigError(
+            f"{function_title(function)} (FC {function}) cannot be broadcast (unit 0): a broadcast may only "
+            "write, with FC 5, 6, 15, 16, 21 or 22, and no slave answers it"
+        )
+
+    def _read(self, function: int, unit: int, address: int, count: int) -> list:
+        self._check_broadcast(unit, function)
         request = _READS[function](address=address, count=count)
         response = self.execute(unit, request)
         if function in (1, 2):
@@ -490,7 +509,7 @@ class Master:
     def read_once(self, function: int, unit: int, address: int, count: int) -> list:
         """One read with function 1, 2, 3 or 4 (the robot test-tool paper's "read once" button)."""
         if function not in _READS:
-            raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {function!r}")
+            raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {shown(function)}")
         return self._read(function, unit, address, count)
 
     def poll(
@@ -531,15 +550,15 @@ class Master:
             polls, quantity = self._older_poll_spelling(polls, quantity, older)
         interval = _check_seconds("interval", interval)
         if isinstance(polls, bool) or not isinstance(polls, int) or polls < 0:
-            raise ConfigError(f"polls (the number of polls) must be a whole number >= 0, got {polls!r}")
+            raise ConfigError(f"polls (the number of polls) must be a whole number >= 0, got {shown(polls)}")
         if isinstance(quantity, bool) or not isinstance(quantity, int):
             raise ConfigError(
-                f"quantity (registers or coils read by each poll) must be a whole number, got {quantity!r}"
+                f"quantity (registers or coils read by each poll) must be a whole number, got "
+                f"{shown(quantity)}"
             )
         if function not in _READS:
-            raise ConfigError(f"poll reads with function 1, 2, 3 or 4, got {function!r}")
-        if self._is_broadcast(unit):
-            raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
+            raise ConfigError(f"poll reads with function 1, 2, 3 or 4, got {shown(function)}")
+        self._check_broadcast(unit, function)
         _READS[function](address=address, count=quantity)  # a bad address or quantity: raise it now
         clock = self.link.clock
         start = clock.now
@@ -594,8 +613,7 @@ class Master:
         """
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
-        if self._is_broadcast(unit) and request.function_code in _NO_BROADCAST:
-            raise ConfigError("a read cannot be broadcast (unit 0): no slave answers a broadcast")
+        self._check_broadcast(unit, request)
         error: ModbusError | None = None
         for attempt in range(self.retries + 1):
             if attempt:

@@ -83,7 +83,7 @@ class Point:
         return _TABLES[self.table]
 
     def __post_init__(self) -> None:
-        check_scale(self.scale, f"point {self.name!r}")
+        check_scale(self.scale, f"point {shown(self.name)}")
 
     def decode(self, registers: Sequence[int]) -> float | int:
         """The value in engineering units from the point's own registers."""
@@ -150,7 +150,7 @@ def datasheet_to_address(number: int, numbering: str = "1-based") -> int:
     is address 0), or ``"reference"`` (30001/40001 style: 40001 is address 0, 400001 likewise).
     """
     if isinstance(number, bool) or not isinstance(number, int):
-        raise RegisterMapError(f"register number must be an int, got {number!r}")
+        raise RegisterMapError(f"register number must be an int, got {shown(number)}")
     if numbering == "0-based":
         address = number
     elif numbering == "1-based":
@@ -167,11 +167,11 @@ def datasheet_to_address(number: int, numbering: str = "1-based") -> int:
             )
     else:
         raise RegisterMapError(
-            f"unknown numbering {numbering!r}: expected '0-based', '1-based' or 'reference'"
+            f"unknown numbering {shown(numbering)}: expected '0-based', '1-based' or 'reference'"
         )
     if not 0 <= address <= 65535:
         raise RegisterMapError(
-            f"register number {number} ({numbering}) gives address {address}, outside 0..65535"
+            f"register number {shown(number)} ({numbering}) gives address {shown(address)}, outside 0..65535"
         )
     return address
 
@@ -184,7 +184,7 @@ class RegisterMap:
         self.points: dict[str, Point] = {}
         for p in points:
             if p.name in self.points:
-                raise RegisterMapError(f"{name or 'map'}: point {p.name!r} is defined twice")
+                raise RegisterMapError(f"{name or 'map'}: point {shown(p.name)} is defined twice")
             self.points[p.name] = p
         _check_overlaps(self.points.values(), name or "map")
 
@@ -193,7 +193,7 @@ class RegisterMap:
             return self.points[name]
         except KeyError:
             raise RegisterMapError(
-                f"no point named {name!r} in {self.name or 'the map'}: it has {', '.join(self.points)}"
+                f"no point named {shown(name)} in {self.name or 'the map'}: it has {', '.join(self.points)}"
             ) from None
 
     def __iter__(self):
@@ -240,7 +240,7 @@ def _check_overlaps(points: Iterable[Point], where: str) -> None:
         for a, b in zip(ordered, ordered[1:]):
             if b.address < a.address + a.count:
                 raise RegisterMapError(
-                    f"{where}: {table} point {b.name!r} at address {b.address} overlaps {a.name!r} "
+                    f"{where}: {table} point {shown(b.name)} at address {b.address} overlaps {shown(a.name)} "
                     f"(addresses {a.address}-{a.address + a.count - 1})"
                 )
 
@@ -252,7 +252,7 @@ def plan_polls(points: Iterable[Point], max_gap: int = 0) -> list[Poll]:
     closed only when the next point would make it longer than 125 registers or leave too long a gap.
     """
     if isinstance(max_gap, bool) or not isinstance(max_gap, int) or max_gap < 0:
-        raise RegisterMapError(f"max_gap must be an int >= 0, got {max_gap!r}")
+        raise RegisterMapError(f"max_gap must be an int >= 0, got {shown(max_gap)}")
     polls: list[Poll] = []
     for table, function in _TABLES.items():
         ordered = sorted((p for p in points if p.table == table), key=lambda p: p.address)
@@ -312,7 +312,7 @@ def load_map(source: str | Path, numbering: str = "0-based", name: str | None = 
     header = [h.strip().lower() for h in header]
     for col in set(header):
         if header.count(col) > 1:
-            raise RegisterMapError(f"{where} line {header_line}: the column {col!r} appears twice")
+            raise RegisterMapError(f"{where} line {header_line}: the column {shown(col)} appears twice")
     for col in _REQUIRED:
         if col not in header:
             raise RegisterMapError(
@@ -321,7 +321,7 @@ def load_map(source: str | Path, numbering: str = "0-based", name: str | None = 
     for col in header:
         if col not in _COLUMNS:
             raise RegisterMapError(
-                f"{where} line {header_line}: unknown column {col!r} (expected {','.join(_COLUMNS)})"
+                f"{where} line {header_line}: unknown column {shown(col)} (expected {','.join(_COLUMNS)})"
             )
     points = []
     for line, row in rows[1:]:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ._optional import load_tqdm
-from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError
+from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError, shown
 from .links.base import Link
 from .master import Master
 
@@ -84,7 +84,8 @@ def scan(
     units = list(units)
     for u in units:
         if isinstance(u, bool) or not isinstance(u, int) or not 1 <= u <= 247:
-            raise ConfigError(f"scan units must be 1..247 (0 is broadcast, nobody answers it), got {u!r}")
+            raise ConfigError(f"scan units must be 1..247 (0 is broadcast, nobody answers it), got "
+                              f"{shown(u)}")
     if settings is None:
         settings = [{}]
     if isinstance(link, Link) and settings != [{}]:
@@ -93,7 +94,7 @@ def scan(
         raise ConfigError("no unit ids to scan: give at least one, e.g. range(1, 248)")
     for name, value in (("timeout", timeout), ("budget", budget)):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < math.inf:
-            raise ConfigError(f"{name} must be a number of seconds above 0 (and finite), got {value!r}")
+            raise ConfigError(f"{name} must be a number of seconds above 0 (and finite), got {shown(value)}")
     tqdm = load_tqdm()
 
     report = ScanReport()

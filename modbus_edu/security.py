@@ -45,7 +45,7 @@ from types import SimpleNamespace
 from typing import Any, NamedTuple
 
 from .codes import WRITE_FUNCTIONS
-from .errors import ConfigError, ModbusError, SecurityError
+from .errors import ConfigError, ModbusError, SecurityError, shown
 from .pdu import (
     MAX_FIFO_COUNT,
     ExceptionCode,
@@ -95,7 +95,7 @@ def role_extension_value(role: str) -> bytes:
     '0c 06 76 69 65 77 65 72'
     """
     if not isinstance(role, str) or not role:
-        raise ConfigError(f"a role is a non-empty text such as 'viewer', got {role!r}")
+        raise ConfigError(f"a role is a non-empty text such as 'viewer', got {shown(role)}")
     text = role.encode("utf-8")
     size = len(text)
     if size < 0x80:
@@ -225,7 +225,7 @@ class Pki:
             return self.roles[role]
         except (KeyError, TypeError):
             raise ConfigError(
-                f"this PKI has no client certificate for the role {role!r}; it has "
+                f"this PKI has no client certificate for the role {shown(role)}; it has "
                 f"{', '.join(sorted(self.roles))}"
             ) from None
 
@@ -302,9 +302,9 @@ def make_test_pki(directory: str | Path, *, roles: Iterable[str] = COURSE_ROLES,
     for role in roles:
         role_extension_value(role)
     if client_role not in roles:
-        raise ConfigError(f"client_role {client_role!r} must be one of the roles {roles}")
+        raise ConfigError(f"client_role {shown(client_role)} must be one of the roles {roles}")
     if isinstance(days, bool) or not isinstance(days, int) or not 1 <= days <= 36500:
-        raise ConfigError(f"days must be a whole number of days 1..36500, got {days!r}")
+        raise ConfigError(f"days must be a whole number of days 1..36500, got {shown(days)}")
     folder = Path(directory)
     try:
         folder.mkdir(parents=True, exist_ok=True)
@@ -475,7 +475,7 @@ class Grant:
             raise ConfigError(f"a Grant's functions are function codes 1..127, got {sorted(self.functions)}")
         if not isinstance(self.addresses, range) or self.addresses.step != 1:
             raise ConfigError(
-                f"a Grant's addresses are a range such as range(0, 100), got {self.addresses!r}")
+                f"a Grant's addresses are a range such as range(0, 100), got {shown(self.addresses)}")
         object.__setattr__(self, "functions", functions)
 
 
@@ -525,13 +525,13 @@ class RoleTable:
         table: dict[str, tuple[Grant, ...]] = {}
         for role, grants in self.rules.items():
             if not isinstance(role, str) or not role:
-                raise ConfigError(f"a role is a non-empty text, got {role!r}")
+                raise ConfigError(f"a role is a non-empty text, got {shown(role)}")
             grants = (grants,) if isinstance(grants, Grant) else tuple(grants)
             if not all(isinstance(g, Grant) for g in grants):
-                raise ConfigError(f"the rights of role {role!r} must be Grant objects")
+                raise ConfigError(f"the rights of role {shown(role)} must be Grant objects")
             table[role] = grants
         if self.default is not None and self.default not in table:
-            raise ConfigError(f"default role {self.default!r} is not in the table ({', '.join(table)})")
+            raise ConfigError(f"default role {shown(self.default)} is not in the table ({', '.join(table)})")
         self.rules = table
         self.log = deque(maxlen=max(1, int(self.log_size)))
         self._lock = threading.Lock()
@@ -624,8 +624,8 @@ def load_roles(path: str | Path) -> RoleTable:
     rules = {}
     for role, grants in data["roles"].items():
         if not isinstance(grants, list):
-            raise ConfigError(f"role {role!r} in {str(path)!r}: a list of grants such as "
-                              f"[{{\"functions\": [3]}}], got {grants!r}")
+            raise ConfigError(f"role {shown(role)} in {str(path)!r}: a list of grants such as "
+                              f"[{{\"functions\": [3]}}], got {shown(grants)}")
         rules[role] = [_grant(role, g, path) for g in grants]
     return RoleTable(rules, default=data.get("default"))
 
@@ -634,13 +634,13 @@ def _grant(role: str, entry: Any, path: Any) -> Grant:
     where = f"role {role!r} in {str(path)!r}"
     if not isinstance(entry, dict) or "functions" not in entry or set(entry) - {"functions", "addresses"}:
         raise ConfigError(f"{where}: a grant is {{\"functions\": [...], \"addresses\": [first, last]}}, "
-                          f"got {entry!r}")
+                          f"got {shown(entry)}")
     functions, span = entry["functions"], entry.get("addresses", [0, 65535])
     if not isinstance(functions, list):
-        raise ConfigError(f"{where}: \"functions\" is a list of function codes, got {functions!r}")
+        raise ConfigError(f"{where}: \"functions\" is a list of function codes, got {shown(functions)}")
     if (not isinstance(span, list) or len(span) != 2 or not all(type(a) is int for a in span)
             or not 0 <= span[0] <= span[1] <= 65535):
-        raise ConfigError(f"{where}: \"addresses\" is [first, last] within 0..65535, got {span!r}")
+        raise ConfigError(f"{where}: \"addresses\" is [first, last] within 0..65535, got {shown(span)}")
     return Grant(frozenset(functions), range(span[0], span[1] + 1))
 
 

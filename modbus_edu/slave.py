@@ -9,8 +9,10 @@ It never speaks first.  For each frame that reaches it, in this order (the order
 2. **Check the unit.**  A request for another unit is none of its business: silence
    (``counters.other_unit``).  On a serial bus every slave hears every frame, so this is normal.
    Unit 0 is the **broadcast** address of a serial line: every slave carries out the write (FC 5, 6,
-   15, 16, 21, 22, 23: :data:`~modbus_edu.codes.WRITE_FUNCTIONS`), and none answers
-   (``counters.broadcasts``; a broadcast read makes no sense and is ignored).
+   15, 16, 21, 22: :data:`~modbus_edu.codes.BROADCAST_FUNCTIONS`, the table the master follows too),
+   and none answers (``counters.broadcasts``).  A broadcast of any other function (a read, FC 23
+   Read/Write Multiple Registers, FC 8 Diagnostics) has no meaning: it is counted, neither carried out
+   nor answered.
 3. **Carry out the request** on the bank and answer, or answer an **exception response** (the function
    code with its top bit set, and an exception code):
 
@@ -55,8 +57,8 @@ from functools import cache, lru_cache
 from typing import Any, ClassVar
 
 from . import pdu as _pdu
+from .codes import BROADCAST_FUNCTIONS
 from .codes import MBAP as _MBAP
-from .codes import WRITE_FUNCTIONS
 from .datamodel import DataBank, Table, table_kind
 from .errors import (
     AddressRangeError,
@@ -69,6 +71,7 @@ from .errors import (
     PduError,
     UnknownFunctionError,
     guard_numbers,
+    shown,
 )
 from .framing import MODES, Frame, decode_frame, make_frame
 from .framing.tcp import is_one_frame
@@ -148,7 +151,7 @@ def _plain_tables(bank: DataBank) -> bool:
 
 def _check_mode(mode: str) -> str:
     if mode not in MODES:
-        raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
+        raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {shown(mode)}")
     return mode
 
 
@@ -210,28 +213,28 @@ class Slave:
         if unit is not None and (isinstance(unit, bool) or not isinstance(unit, int) or not 1 <= unit <= 255):
             raise ConfigError(
                 f"a slave's unit must be 1..247 (serial) or 1..255 (TCP), or None for 'any unit'; got "
-                f"{unit!r} (0 is the broadcast address: no slave owns it)"
+                f"{shown(unit)} (0 is the broadcast address: no slave owns it)"
             )
         try:
             processing_time = float(processing_time)
         except (TypeError, ValueError):
             raise ConfigError(
-                f"processing_time must be a number of seconds, got {processing_time!r}"
+                f"processing_time must be a number of seconds, got {shown(processing_time)}"
             ) from None
         if not processing_time >= 0:
-            raise ConfigError(f"processing_time must be >= 0 s, got {processing_time!r}")
+            raise ConfigError(f"processing_time must be >= 0 s, got {shown(processing_time)}")
         if bank is not None and not isinstance(bank, DataBank):
             raise ConfigError(
                 f"bank must be a DataBank (the four tables a master reads and writes) or None for a new "
-                f"dense one, got {type(bank).__name__} {bank!r}"
+                f"dense one, got {type(bank).__name__} {shown(bank)}"
             )
         for hook_name, hook in (("on_read", on_read), ("on_write", on_write)):
             if hook is not None and not callable(hook):
                 raise ConfigError(
-                    f"{hook_name} must be a function (or None), got {type(hook).__name__} {hook!r}"
+                    f"{hook_name} must be a function (or None), got {type(hook).__name__} {shown(hook)}"
                 )
         if name is not None and not isinstance(name, str):
-            raise ConfigError(f"name must be a text (or None), got {type(name).__name__} {name!r}")
+            raise ConfigError(f"name must be a text (or None), got {type(name).__name__} {shown(name)}")
         self.unit = unit
         self.bank = bank if bank is not None else DataBank()
         self.processing_time = processing_time
@@ -240,7 +243,7 @@ class Slave:
         self.name = name or (f"slave {unit}" if unit is not None else "slave (any unit)")
         if not isinstance(run_indicator, bool):  # None is what a decoder says of a device's own layout
             raise ConfigError(f"run_indicator must be True (0xFF, the device runs) or False (0x00), got "
-                              f"{run_indicator!r}")
+                              f"{shown(run_indicator)}")
         report = _pdu.ReportServerIdResponse(  # checks all three (a ValueRangeError)
             server_id if server_id is not None else f"modbus_edu {self.name}".encode(), run_indicator,
             additional_data)
@@ -461,10 +464,11 @@ class Slave:
             counters.requests += 1
             if self.listen_only:  # the spec: messages are monitored, no action is taken
                 return None, None, "broadcast in listen-only mode (FC 8/04): heard, not carried out"
-            if pdu.function_code in WRITE_FUNCTIONS:
+            if pdu.function_code in BROADCAST_FUNCTIONS:
                 self.process(pdu)
                 return None, None, "broadcast: carried out, no answer"
-            return None, None, "broadcast read: ignored (a broadcast can only write)"
+            return None, None, (f"broadcast of FC {pdu.function_code}: ignored (a broadcast can only write, "
+                                "with FC 5, 6, 15, 16, 21 or 22)")
         if not direct and (not self.accepts(unit) or (unit > 247 and unit != self.unit and mode != "tcp")):
             counters.other_unit += 1  # a reserved serial address is answered only by a slave set to it
             return None, None, f"for unit {unit}: ignored"
@@ -737,7 +741,7 @@ def _identity(objects: Any) -> dict[int, bytes]:
     checked = {}
     for object_id, value in objects.items():
         if isinstance(object_id, bool) or not isinstance(object_id, int) or not 0 <= object_id <= 0xFF:
-            raise ConfigError(f"identity object ids are 0..255, got {object_id!r}")
+            raise ConfigError(f"identity object ids are 0..255, got {shown(object_id)}")
         data = value.encode() if isinstance(value, str) else value
         if not isinstance(data, (bytes, bytearray)) or len(data) > _pdu.MAX_PDU_SIZE - 9:
             raise ConfigError(f"identity object {object_id} must be text or bytes of at most 244 bytes")

@@ -30,7 +30,7 @@ from typing import Any
 
 from . import pdu as _pdu
 from .codes import _hex
-from .errors import ConfigError, ModbusError
+from .errors import ConfigError, ModbusError, guard_numbers, shown
 from .explain import explain
 
 __all__ = ["Traffic", "TrafficLog", "pdu_note"]
@@ -77,7 +77,7 @@ class Traffic:
         duration: float = 0.0,
     ) -> None:
         if direction not in DIRECTIONS:
-            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {direction!r}")
+            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {shown(direction)}")
         # The entry is frozen (assigning to a field raises): its fields are written once, here, directly.
         self.__dict__.update(
             time=time, direction=direction, mode=mode, data=data if data.__class__ is bytes else bytes(data),
@@ -238,6 +238,7 @@ class TrafficLog:
     the newest entry.
     """
 
+    @guard_numbers
     def __init__(self, entries: list[Traffic] | None = None, maxlen: int | None = None) -> None:
         self._entries: deque[Traffic | _Row] = deque(entries or (), maxlen=maxlen)
         # record() keeps rows only when add() and append() are this class's own: a subclass that
@@ -283,7 +284,7 @@ class TrafficLog:
                      duration=duration)
             return
         if direction not in DIRECTIONS:
-            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {direction!r}")
+            raise ConfigError(f"Traffic direction must be 'tx' or 'rx', got {shown(direction)}")
         if data.__class__ is not bytes:
             data = bytes(data)
         self._entries.append((time, direction, mode, data, source, dest, note, role, duration))
@@ -315,7 +316,8 @@ class TrafficLog:
             return _entry(self._entries[index])
         except IndexError:
             raise ModbusError(
-                f"traffic log index {index} is out of range: the log holds {len(self._entries)} entries"
+                f"traffic log index {shown(index)} is out of range: the log holds "
+                f"{len(self._entries)} entries"
             ) from None
 
     def __repr__(self) -> str:

@@ -122,14 +122,14 @@ def _type_info(type: str) -> TypeInfo:
         info = TYPES.get(type.strip().lower())
         if info is not None:
             return info
-    raise ValueFormatError(f"unknown value type {type!r}: expected one of {', '.join(TYPES)}")
+    raise ValueFormatError(f"unknown value type {shown(type)}: expected one of {', '.join(TYPES)}")
 
 
 def _order(order: str) -> str:
     if isinstance(order, str) and order.strip().upper() in ORDERS:
         return order.strip().upper()
     raise ValueFormatError(
-        f"unknown order {order!r}: expected one of {', '.join(ORDERS)} "
+        f"unknown order {shown(order)}: expected one of {', '.join(ORDERS)} "
         f"(ABCD big-endian, CDAB word-swapped, BADC byte-swapped, DCBA little-endian)"
     )
 
@@ -142,7 +142,7 @@ def _check_registers(registers: Sequence[int], what: str = "registers") -> list[
     """The registers as a list of ints 0..65535, or a ValueFormatError naming the bad one."""
     if isinstance(registers, (int, str, bytes, bytearray)) or not hasattr(registers, "__iter__"):
         raise ValueFormatError(
-            f"{what} must be a list of 16-bit values, got {_type_name(registers)} {registers!r}"
+            f"{what} must be a list of 16-bit values, got {_type_name(registers)} {shown(registers)}"
         )
     out = []
     for i, r in enumerate(registers):
@@ -211,13 +211,13 @@ def encode_value(value: int | float, type: str = "uint16", order: str = "ABCD") 
                 value = float(value)  # e.g. numpy floats, Decimal
             except (TypeError, ValueError, OverflowError):
                 raise ValueFormatError(
-                    f"{info.name} holds a number, got {_type_name(value)} {value!r}"
+                    f"{info.name} holds a number, got {_type_name(value)} {shown(value)}"
                 ) from None
         try:
             data = struct.pack(">" + info.code, value)
         except (OverflowError, struct.error):
             raise ValueFormatError(
-                f"{value!r} is too large for {info.name} (largest finite value about 3.4e38); "
+                f"{shown(value)} is too large for {info.name} (largest finite value about 3.4e38); "
                 f"use float64"
             ) from None
     else:
@@ -228,7 +228,7 @@ def encode_value(value: int | float, type: str = "uint16", order: str = "ABCD") 
         except TypeError:
             hint = " (round it first, or use float32)" if isinstance(value, float) else ""
             raise ValueFormatError(
-                f"{info.name} holds a whole number, got {_type_name(value)} {value!r}{hint}"
+                f"{info.name} holds a whole number, got {_type_name(value)} {shown(value)}{hint}"
             ) from None
         assert info.minimum is not None and info.maximum is not None
         if not info.minimum <= number <= info.maximum:
@@ -284,13 +284,13 @@ def decode_values(registers: Sequence[int], type: str = "uint16", order: str = "
 # --- scaling ----------------------------------------------------------------------------------------------
 def _decimal(x: int | float | Decimal | str, what: str) -> Decimal:
     if isinstance(x, bool):
-        raise ValueFormatError(f"{what} must be a number, got {x!r}")
+        raise ValueFormatError(f"{what} must be a number, got {shown(x)}")
     try:
         d = x if isinstance(x, Decimal) else Decimal(str(x)) if isinstance(x, float) else Decimal(x)
     except (InvalidOperation, TypeError, ValueError):
-        raise ValueFormatError(f"{what} must be a number, got {x!r}") from None
+        raise ValueFormatError(f"{what} must be a number, got {shown(x)}") from None
     if not d.is_finite():
-        raise ValueFormatError(f"{what} must be a finite number, got {x!r}")
+        raise ValueFormatError(f"{what} must be a finite number, got {shown(x)}")
     return d
 
 
@@ -344,11 +344,11 @@ def text_to_registers(
     byte, as some devices do.  Characters outside ASCII (0..127) raise ValueFormatError.
     """
     if not isinstance(text, str):
-        raise ValueFormatError(f"text must be a str, got {_type_name(text)} {text!r}")
+        raise ValueFormatError(f"text must be a str, got {_type_name(text)} {shown(text)}")
     if not isinstance(pad, str) or len(pad) != 1 or not pad.isascii():
-        raise ValueFormatError(f"pad must be one ASCII character, got {pad!r}")
+        raise ValueFormatError(f"pad must be one ASCII character, got {shown(pad)}")
     if order not in ("AB", "BA"):
-        raise ValueFormatError(f"text order must be 'AB' (first character high) or 'BA', got {order!r}")
+        raise ValueFormatError(f"text order must be 'AB' (first character high) or 'BA', got {shown(order)}")
     for i, ch in enumerate(text):
         if not ch.isascii():
             raise ValueFormatError(
@@ -359,7 +359,7 @@ def text_to_registers(
     if length is not None:
         if isinstance(length, bool) or not isinstance(length, int) or not 0 <= length <= 0x10000:
             raise ValueFormatError(f"length is a number of registers, 0..65536 (a table holds 65536), "
-                                   f"got {length!r}")
+                                   f"got {shown(length)}")
         if needed > length:
             raise ValueFormatError(
                 f"{len(text)} characters need {needed} registers (2 per register), only {length} allowed"
@@ -379,7 +379,7 @@ def registers_to_text(registers: Sequence[int], order: str = "AB", strip: str = 
     :class:`~modbus_edu.errors.ValueFormatError` naming the register and the byte.
     """
     if order not in ("AB", "BA"):
-        raise ValueFormatError(f"text order must be 'AB' (first character high) or 'BA', got {order!r}")
+        raise ValueFormatError(f"text order must be 'AB' (first character high) or 'BA', got {shown(order)}")
     regs = _check_registers(registers)
     chars = []
     for i, r in enumerate(regs):
@@ -440,7 +440,7 @@ def _check_format(fmt: str) -> str:
             name = f"{t.lower()}_{o.upper()}"
             if name in FORMATS:
                 return name
-    raise ValueFormatError(f"unknown display format {fmt!r}: expected one of {', '.join(FORMATS)}")
+    raise ValueFormatError(f"unknown display format {shown(fmt)}: expected one of {', '.join(FORMATS)}")
 
 
 @guard_numbers
@@ -488,11 +488,11 @@ def parse_formatted(text: str, fmt: str = "unsigned") -> list[int]:
     """
     fmt = _check_format(fmt)
     if not isinstance(text, str):
-        raise ValueFormatError(f"cell text must be a str, got {_type_name(text)} {text!r}")
+        raise ValueFormatError(f"cell text must be a str, got {_type_name(text)} {shown(text)}")
     s = text.strip()
 
     def bad(expected: str) -> ValueFormatError:
-        return ValueFormatError(f"{text!r} is not a {fmt} value: expected {expected}")
+        return ValueFormatError(f"{shown(text)} is not a {fmt} value: expected {expected}")
 
     try:
         if fmt == "hex":
@@ -534,7 +534,7 @@ def parse_formatted(text: str, fmt: str = "unsigned") -> list[int]:
     except ValueFormatError as exc:
         if str(exc).startswith(repr(text)):
             raise
-        raise ValueFormatError(f"{text!r} as {fmt}: {exc}") from None
+        raise ValueFormatError(f"{shown(text)} as {fmt}: {exc}") from None
 
 
 def _parse_int(s: str, error: ValueFormatError) -> int:

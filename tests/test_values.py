@@ -451,5 +451,24 @@ def test_integer_types_refuse_a_bool() -> None:
 
 @pytest.mark.parametrize("huge", [10**5000, -(10**5000), 2**70], ids=["10**5000", "-10**5000", "2**70"])
 def test_decode_values_names_a_huge_register_without_leaking_python_errors(huge):
-    with pytest.raises(ModbusError, match="registers\\[1\\] = an int of \\d+ bits is outside 0..65535"):
+    words = "registers\\[1\\] = an int of \\d+ bits \\(about \\d+ digits\\) is outside 0..65535"
+    with pytest.raises(ModbusError, match=words):
         decode_values([1, huge], "uint16")
+
+
+@pytest.mark.parametrize("length", [10**5000, -(10**5000), 2**70], ids=["10**5000", "-10**5000", "2**70"])
+def test_text_to_registers_refuses_a_huge_length_by_its_size(length):
+    with pytest.raises(ValueFormatError, match="length is a number of registers, 0..65536") as caught:
+        text_to_registers("\x00", length)
+    assert "an int of" in str(caught.value) and len(str(caught.value)) < 200
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(19, 20_000), st.sampled_from([1, -1]), st.integers(0, 9))
+def test_text_to_registers_and_decode_values_name_any_huge_int_in_a_short_message(digits, sign, tail):
+    huge = sign * (10**digits + tail)
+    for call in (lambda: text_to_registers("AB", huge), lambda: decode_values([huge], "uint16"),
+                 lambda: registers_to_text([65, huge])):
+        with pytest.raises(ValueFormatError) as caught:
+            call()
+        assert len(str(caught.value)) < 300

@@ -12,7 +12,7 @@ from typing import Any, NoReturn, TextIO
 from .. import pdu as _pdu
 from .. import security
 from ..codes import _hex
-from ..errors import ConfigError, ModbusError
+from ..errors import ConfigError, ModbusError, shown
 from ..explain import explain
 from ..framing import parse_hex
 from ..links.serial import serial_link
@@ -47,7 +47,7 @@ def parse_endpoint(text: str, default_host: str = DEFAULT_HOST) -> tuple[str, in
     if text.startswith("["):
         end = text.find("]")
         if end == -1 or not text[end + 1 :].startswith(":"):
-            raise ConfigError(f"bad address {text!r}: write an IPv6 address as [::1]:5020")
+            raise ConfigError(f"bad address {shown(text)}: write an IPv6 address as [::1]:5020")
         host, port_text = text[1:end], text[end + 2 :]
     elif ":" in text:
         host, _, port_text = text.rpartition(":")
@@ -56,7 +56,7 @@ def parse_endpoint(text: str, default_host: str = DEFAULT_HOST) -> tuple[str, in
     try:
         port = int(port_text)
     except ValueError:
-        raise ConfigError(f"bad address {text!r}: expected HOST:PORT such as 127.0.0.1:5020") from None
+        raise ConfigError(f"bad address {shown(text)}: expected HOST:PORT such as 127.0.0.1:5020") from None
     if not 0 <= port <= 65535:
         raise ConfigError(f"bad port {port}: a TCP port is 0..65535")
     return host, port
@@ -66,7 +66,7 @@ def _int(text: str, what: str, low: int = 0, high: int = 65535) -> int:
     try:
         value = int(text, 0)
     except (TypeError, ValueError):
-        raise ConfigError(f"{what} must be a whole number (decimal or 0x hex), got {text!r}") from None
+        raise ConfigError(f"{what} must be a whole number (decimal or 0x hex), got {shown(text)}") from None
     if not low <= value <= high:
         raise ConfigError(f"{what} must be {low}..{high}, got {value}")
     return value
@@ -83,7 +83,7 @@ def _bit(text: str, what: str = "coil value") -> bool:
         return True
     if key in _FALSE:
         return False
-    raise ConfigError(f"{what} must be on/off (1/0, true/false, FF00/0000), got {text!r}")
+    raise ConfigError(f"{what} must be on/off (1/0, true/false, FF00/0000), got {shown(text)}")
 
 
 def _baud(text: str) -> int:
@@ -92,7 +92,7 @@ def _baud(text: str) -> int:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"baud rate must be a whole number such as 9600, got {text!r}"
+            f"baud rate must be a whole number such as 9600, got {shown(text)}"
         ) from None
     if not 50 <= value <= 4_000_000:
         raise argparse.ArgumentTypeError(
@@ -120,7 +120,8 @@ def _function(text: str) -> int:
         if key in names:
             return names[key]
         raise ConfigError(
-            f"unknown function {text!r}: give a code (1, 2, 3, 4, 5, 6, 7, 15, 16, 17, 22, 23) or a name "
+            f"unknown function {shown(text)}: give a code (1, 2, 3, 4, 5, 6, 7, 15, 16, 17, 22, 23) "
+            f"or a name "
             f"such as read_holding_registers"
         ) from None
     if code not in _pdu.REQUEST_CLASSES:

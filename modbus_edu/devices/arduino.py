@@ -65,7 +65,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..datamodel import DataBank, Reference, ReferenceLike, parse_reference
-from ..errors import ConfigError, ModbusTimeoutError
+from ..errors import ConfigError, ModbusTimeoutError, shown
 from ..links.loopback import loopback_serial
 from ..master import Master
 from ..pdu import Pdu
@@ -120,21 +120,21 @@ _ADC_MAX = 1023  # the Uno's 10-bit analog inputs
 
 def _check_number(name: str, value: Any, low: float = 0.0) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ConfigError(f"{name} must be a number of seconds, got {value!r}")
+        raise ConfigError(f"{name} must be a number of seconds, got {shown(value)}")
     if value < low:
-        raise ConfigError(f"{name} must be >= {low:g}, got {value!r}")
+        raise ConfigError(f"{name} must be >= {low:g}, got {shown(value)}")
     return float(value)
 
 
 def check_serial_settings(baudrate: Any, parity: Any, stopbits: Any) -> tuple[int, str, int]:
     """Validate serial settings; return ``(baudrate, "N" | "E" | "O", 1 | 2)`` or raise ConfigError."""
     if isinstance(baudrate, bool) or not isinstance(baudrate, int) or not 50 <= baudrate <= 4_000_000:
-        raise ConfigError(f"baud rate must be a whole number such as 9600 or 19200, got {baudrate!r}")
+        raise ConfigError(f"baud rate must be a whole number such as 9600 or 19200, got {shown(baudrate)}")
     key = parity.strip().upper() if isinstance(parity, str) else None
     if key not in _PARITIES:
-        raise ConfigError(f"parity must be 'N' (none), 'E' (even) or 'O' (odd), got {parity!r}")
+        raise ConfigError(f"parity must be 'N' (none), 'E' (even) or 'O' (odd), got {shown(parity)}")
     if stopbits not in (1, 2) or isinstance(stopbits, bool):
-        raise ConfigError(f"stop bits must be 1 or 2, got {stopbits!r}")
+        raise ConfigError(f"stop bits must be 1 or 2, got {shown(stopbits)}")
     return baudrate, _PARITIES[key], int(stopbits)
 
 
@@ -179,14 +179,14 @@ class ArduinoSlave(Slave):
         **kwargs: Any,
     ) -> None:
         if isinstance(unit, bool) or not isinstance(unit, int) or not 1 <= unit <= 247:
-            raise ConfigError(f"an Arduino slave's id must be 1..247 (0 is broadcast), got {unit!r}")
+            raise ConfigError(f"an Arduino slave's id must be 1..247 (0 is broadcast), got {shown(unit)}")
         self.baudrate, self.parity, self.stopbits = check_serial_settings(baudrate, parity, stopbits)
         self.loop_time = _check_number("loop_time", loop_time)
         self.jitter = _check_number("jitter", jitter)
         if self.jitter >= 1:
-            raise ConfigError(f"jitter is a fraction of the loop time, 0 <= jitter < 1; got {jitter!r}")
+            raise ConfigError(f"jitter is a fraction of the loop time, 0 <= jitter < 1; got {shown(jitter)}")
         if isinstance(seed, bool) or not isinstance(seed, int):
-            raise ConfigError(f"seed must be an int, got {seed!r}")
+            raise ConfigError(f"seed must be an int, got {shown(seed)}")
         self.seed = seed
         self.simulate_inputs = bool(simulate_inputs)
         kwargs.setdefault("name", f"arduino {unit}")
@@ -448,7 +448,7 @@ def loop_time_trial(
     gives the same polls.  Everything runs on the wire's virtual clock: no real waiting.
     """
     if isinstance(requests, bool) or not isinstance(requests, int) or requests < 1:
-        raise ConfigError(f"requests must be a whole number >= 1, got {requests!r}")
+        raise ConfigError(f"requests must be a whole number >= 1, got {shown(requests)}")
     timeout = _check_number("timeout", timeout)
     if timeout <= 0:
         raise ConfigError("timeout must be more than 0 s")

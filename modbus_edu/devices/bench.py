@@ -29,7 +29,7 @@ from importlib import resources
 from typing import Any
 
 from ..datamodel import DataBank
-from ..errors import ConfigError
+from ..errors import ConfigError, shown
 from ..master import _check_seconds
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu
 from ..registermap import RegisterMap, load_map
@@ -116,17 +116,17 @@ class BenchMeter(Slave):
         :data:`BENCH_BAUDRATES`, ``parity`` ``"N"``/``"E"``/``"O"`` (or ``"none"``, ``"even"``, ``"odd"``)."""
         if address is not None:
             if isinstance(address, bool) or not isinstance(address, int) or not 1 <= address <= 247:
-                raise ConfigError(f"the meter's Addr menu offers 1 ... 247, got {address!r}")
+                raise ConfigError(f"the meter's Addr menu offers 1 ... 247, got {shown(address)}")
             self.address = self.unit = address
         if baudrate is not None:
             if baudrate not in BENCH_BAUDRATES or isinstance(baudrate, bool):
                 raise ConfigError(f"the meter's bAud menu offers {', '.join(map(str, BENCH_BAUDRATES))}, "
-                                  f"got {baudrate!r}")
+                                  f"got {shown(baudrate)}")
             self.baudrate = int(baudrate)
         if parity is not None:
             key = str(parity).upper()
             if key not in _PARITIES:
-                raise ConfigError(f"the meter's PAr menu offers nonE, EvEn and odd, got {parity!r}")
+                raise ConfigError(f"the meter's PAr menu offers nonE, EvEn and odd, got {shown(parity)}")
             self.parity = _PARITIES[key]
 
     @property

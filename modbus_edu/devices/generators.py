@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..datamodel import Table
-from ..errors import ConfigError
+from ..errors import ConfigError, shown
 
 __all__ = [
     "Generator",
@@ -61,16 +61,16 @@ def _steps(t: float, period: float) -> int:
 
 def _number(name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ConfigError(f"{name} must be a number, got {type(value).__name__} {value!r}")
+        raise ConfigError(f"{name} must be a number, got {type(value).__name__} {shown(value)}")
     if not math.isfinite(value):
-        raise ConfigError(f"{name} must be finite, got {value!r}")
+        raise ConfigError(f"{name} must be finite, got {shown(value)}")
     return value
 
 
 def _positive(name: str, value: Any) -> float:
     value = _number(name, value)
     if value <= 0:
-        raise ConfigError(f"{name} must be more than 0 seconds, got {value!r}")
+        raise ConfigError(f"{name} must be more than 0 seconds, got {shown(value)}")
     return value
 
 
@@ -80,7 +80,7 @@ def _register_bound(name: str, value: Any) -> int:
             raise TypeError
         v = operator.index(value)
     except TypeError:
-        raise ConfigError(f"{name} must be a whole number 0..65535, got {value!r}") from None
+        raise ConfigError(f"{name} must be a whole number 0..65535, got {shown(value)}") from None
     if not 0 <= v <= REGISTER_MAX:
         raise ConfigError(f"{name} must be within 0..65535 (a register), got {v}")
     return v
@@ -98,7 +98,7 @@ def _rng(seed: Any) -> random.Random:
         return seed
     if seed is None or isinstance(seed, (bool, float)) or not isinstance(seed, (int, str, bytes)):
         raise ConfigError(
-            f"seed must be an int (or str, or a random.Random), got {seed!r}: the same seed gives "
+            f"seed must be an int (or str, or a random.Random), got {shown(seed)}: the same seed gives "
             f"the same data on every run"
         )
     return random.Random(seed)
@@ -151,7 +151,7 @@ class Constant(Generator):
 def _time(t: Any) -> float:
     """A time in seconds, checked: a finite number (the clocks' ``now``)."""
     if isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t):
-        raise ConfigError(f"a generator's time is a finite number of seconds (a clock's now), got {t!r}")
+        raise ConfigError(f"a generator's time is a finite number of seconds (a clock's now), got {shown(t)}")
     return float(t)
 
 
@@ -225,7 +225,7 @@ class Noise(Generator):
         if not isinstance(self.base, Generator):
             _number("base", self.base)
         if _number("sigma", self.sigma) < 0:
-            raise ConfigError(f"sigma (the standard deviation) must not be negative, got {self.sigma!r}")
+            raise ConfigError(f"sigma (the standard deviation) must not be negative, got {shown(self.sigma)}")
         _rng(self.seed)
 
     def raw(self, t: float, channel: int = 0) -> float:
@@ -259,14 +259,14 @@ class Uniform(Generator):
 def _check_table(table: Any) -> Table:
     if not isinstance(table, Table):
         raise ConfigError(
-            f"expected a table such as bank.holding_registers, got {type(table).__name__} {table!r}"
+            f"expected a table such as bank.holding_registers, got {type(table).__name__} {shown(table)}"
         )
     return table
 
 
 def _count(count: Any) -> int:
     if isinstance(count, bool) or not isinstance(count, int) or count < 0:
-        raise ConfigError(f"count must be a whole number 0 or more, got {count!r}")
+        raise ConfigError(f"count must be a whole number 0 or more, got {shown(count)}")
     return count
 
 
@@ -303,7 +303,7 @@ def increment_fill(table: Table, address: int, count: int, start: int = 0, step:
     count = _count(count)
     for name, v in (("start", start), ("step", step)):
         if isinstance(v, bool) or not isinstance(v, int):
-            raise ConfigError(f"{name} must be a whole number, got {v!r}")
+            raise ConfigError(f"{name} must be a whole number, got {shown(v)}")
     raw = [(start + i * step) & REGISTER_MAX for i in range(count)]
     values: list = [bool(v & 1) for v in raw] if table.is_bits else raw
     table.write(address, values)
@@ -352,7 +352,7 @@ class AutoFill:
         else:
             raise ConfigError(
                 f"generator must be a Generator (Ramp, Sine, Noise, Uniform, ...) or a list of them, "
-                f"got {self.generator!r}"
+                f"got {shown(self.generator)}"
             )
         self.table.read(self.address, self.count)  # the range must exist: fail now, not at the first tick
 

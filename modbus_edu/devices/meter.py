@@ -53,7 +53,7 @@ from importlib import resources
 from typing import Any
 
 from ..datamodel import DataBank, format_reference
-from ..errors import ConfigError
+from ..errors import ConfigError, shown
 from ..pdu import ExceptionCode, ExceptionResponse, FunctionCode, Pdu
 from ..registermap import load_map
 from ..slave import Slave
@@ -320,9 +320,10 @@ class PowerMeter(Slave):
         self, unit: int = 1, trial: int = 1, live: bool = False, seed: int = 0, **kwargs: Any
     ) -> None:
         if trial not in TRIALS or isinstance(trial, bool):
-            raise ConfigError(f"trial must be 1 or 2 (the two trials of the meter's readings), got {trial!r}")
+            raise ConfigError(f"trial must be 1 or 2 (the two trials of the meter's readings), got "
+                              f"{shown(trial)}")
         if isinstance(seed, bool) or not isinstance(seed, int):
-            raise ConfigError(f"seed must be an int, got {seed!r}")
+            raise ConfigError(f"seed must be an int, got {shown(seed)}")
         kwargs.setdefault("name", f"power meter {unit}")
         super().__init__(unit, DataBank(sparse=True), **kwargs)
         self.trial = trial

@@ -55,7 +55,8 @@ def _as_bytes(data: object, what: str) -> bytes:
             f"parse_hex(), e.g. parse_hex('01 03 00 00 00 01 84 0A')"
         )
     if isinstance(data, int):  # bytes(5) would quietly make five zero bytes
-        raise FrameError(f"{what} expects bytes, got the number {data!r}; bytes([{data!r}]) is one byte")
+        raise FrameError(f"{what} expects bytes, got the number {shown(data)}; "
+                         f"bytes([{shown(data)}]) is one byte")
     try:
         return bytes(data)  # type: ignore[call-overload]
     except (TypeError, ValueError):
@@ -65,7 +66,7 @@ def _as_bytes(data: object, what: str) -> bytes:
 def _check_mode(mode: object) -> str:
     if isinstance(mode, str) and mode.lower() in MODES:
         return mode.lower()
-    raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {mode!r}")
+    raise ConfigError(f"mode must be one of {', '.join(MODES)}, got {shown(mode)}")
 
 
 def _check_unit(unit: object, highest: int, mode: str) -> int:

@@ -51,7 +51,8 @@ class TcpFrame:
             raise MbapError(f"transaction_id {shown(tid)} does not fit the MBAP's two bytes: "
                             "expected 0..65535")
         if self.protocol_id != 0:
-            raise MbapError(f"protocol_id {self.protocol_id!r}: the MBAP protocol identifier of Modbus is 0")
+            raise MbapError(f"protocol_id {shown(self.protocol_id)}: the MBAP protocol identifier "
+                            f"of Modbus is 0")
         _check_unit(self.unit, 255, "TCP")
         _check_pdu(self.pdu, "TcpFrame")
 

@@ -40,7 +40,14 @@ from types import TracebackType
 from ..clock import Clock
 from ..errors import LinkError
 
-__all__ = ["Link"]
+__all__ = ["Link", "READ_CHUNK"]
+
+READ_CHUNK = 4096
+"""The most bytes a link reads and cuts into frames before it looks at its deadline again.
+
+Cutting costs time in proportion to the bytes (a run of junk is tried byte by byte), so a peer that
+never stops sending could otherwise hold a read past its deadline for as long as one large read takes to
+cut: 64 KiB of junk is tens of milliseconds, and many times that on a busy machine."""
 
 
 class Link(ABC):

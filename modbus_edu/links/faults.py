@@ -40,7 +40,7 @@ import random
 from collections import Counter
 from dataclasses import dataclass
 
-from ..errors import ConfigError
+from ..errors import ConfigError, shown
 
 __all__ = ["Faults", "WireFault"]
 
@@ -49,7 +49,7 @@ TARGETS = ("request", "response", "any")
 
 def _check_target(target: str) -> str:
     if target not in TARGETS:
-        raise ConfigError(f"target must be 'request', 'response' or 'any', got {target!r}")
+        raise ConfigError(f"target must be 'request', 'response' or 'any', got {shown(target)}")
     return target
 
 
@@ -57,9 +57,9 @@ def _check_rate(name: str, value: float) -> float:
     try:
         value = float(value)
     except (TypeError, ValueError):
-        raise ConfigError(f"{name} must be a probability between 0 and 1, got {value!r}") from None
+        raise ConfigError(f"{name} must be a probability between 0 and 1, got {shown(value)}") from None
     if not 0.0 <= value <= 1.0:
-        raise ConfigError(f"{name} must be a probability between 0 and 1, got {value!r}")
+        raise ConfigError(f"{name} must be a probability between 0 and 1, got {shown(value)}")
     return value
 
 
@@ -145,36 +145,36 @@ class Faults:
     def flip_bits(self, bits: int = 1, *, target: str = "any") -> None:
         """Flip ``bits`` data bits (different ones, seeded-random places) in the next ``target`` frame."""
         if not isinstance(bits, int) or bits < 1:
-            raise ConfigError(f"flip_bits: bits must be a positive integer, got {bits!r}")
+            raise ConfigError(f"flip_bits: bits must be a positive integer, got {shown(bits)}")
         self.pending.append(WireFault("flip", _check_target(target), bits))
 
     def drop_bytes(self, count: int = 1, *, target: str = "any") -> None:
         """Remove ``count`` bytes (seeded-random places) from the next ``target`` frame."""
         if not isinstance(count, int) or count < 1:
-            raise ConfigError(f"drop_bytes: count must be a positive integer, got {count!r}")
+            raise ConfigError(f"drop_bytes: count must be a positive integer, got {shown(count)}")
         self.pending.append(WireFault("drop", _check_target(target), count))
 
     def insert_gap(self, at_byte: int, chars: float, *, target: str = "any") -> None:
         """Make the next ``target`` frame pause ``chars`` character times before its byte ``at_byte``."""
         if not isinstance(at_byte, int) or at_byte < 1:
             raise ConfigError(
-                f"insert_gap: at_byte must be 1 or more (a gap inside a frame), got {at_byte!r}"
+                f"insert_gap: at_byte must be 1 or more (a gap inside a frame), got {shown(at_byte)}"
             )
         try:
             chars = float(chars)
         except (TypeError, ValueError):
             raise ConfigError(
-                f"insert_gap: chars must be a number of character times, got {chars!r}"
+                f"insert_gap: chars must be a number of character times, got {shown(chars)}"
             ) from None
         if not chars > 0:
-            raise ConfigError(f"insert_gap: chars must be > 0, got {chars!r}")
+            raise ConfigError(f"insert_gap: chars must be > 0, got {shown(chars)}")
         self.pending.append(WireFault("gap", _check_target(target), chars, at_byte))
 
     # -- slave faults -----------------------------------------------------------------------------
     def delay(self, unit: int, seconds: float, *, requests: int | None = None) -> None:
         """Slave ``unit`` answers ``seconds`` later (for the next ``requests`` requests, or until cleared)."""
         if not seconds >= 0:
-            raise ConfigError(f"delay: seconds must be >= 0, got {seconds!r}")
+            raise ConfigError(f"delay: seconds must be >= 0, got {shown(seconds)}")
         self._delays[unit] = _SlaveFault(float(seconds), requests)
 
     def silence(self, unit: int, *, requests: int | None = None) -> None:
@@ -184,7 +184,7 @@ class Faults:
     def answer_as(self, unit: int, other_unit: int, *, requests: int | None = None) -> None:
         """Slave ``unit`` puts ``other_unit`` in the address field of its responses."""
         if not isinstance(other_unit, int) or not 0 <= other_unit <= 255:
-            raise ConfigError(f"answer_as: other_unit must be 0..255, got {other_unit!r}")
+            raise ConfigError(f"answer_as: other_unit must be 0..255, got {shown(other_unit)}")
         self._answer_as[unit] = _SlaveFault(other_unit, requests)
 
     def swap_ab(self, unit: int, swapped: bool = True) -> None:
@@ -194,7 +194,7 @@ class Faults:
         the idle line as 0 and every bit inverted.  Nothing is damaged, nothing answers.
         """
         if isinstance(unit, bool) or not isinstance(unit, int) or not 0 <= unit <= 255:
-            raise ConfigError(f"swap_ab: unit must be 0..255, got {unit!r}")
+            raise ConfigError(f"swap_ab: unit must be 0..255, got {shown(unit)}")
         if swapped:
             self._swapped.add(unit)
         else:
@@ -212,7 +212,7 @@ class Faults:
     @echo.setter
     def echo(self, value: bool) -> None:
         if not isinstance(value, bool):
-            raise ConfigError(f"echo must be True or False, got {value!r}")
+            raise ConfigError(f"echo must be True or False, got {shown(value)}")
         self._echo = value
 
     def clear(self) -> None:

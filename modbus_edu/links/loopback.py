@@ -29,7 +29,7 @@ from functools import partial
 
 from ..clock import VirtualClock
 from ..crc import crc16, lrc
-from ..errors import ConfigError, LinkError, guard_numbers
+from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import TcpSplitter
 from ..slave import Slave
 from ..traffic import TrafficLog
@@ -54,17 +54,17 @@ def _slave_list(slaves: Slave | Iterable[Slave] | None) -> list[Slave]:
         raise ConfigError(f"expected a Slave or a list of Slaves, got {type(slaves).__name__}") from None
     for s in result:
         if not isinstance(s, Slave):
-            raise ConfigError(f"expected Slave objects, got {type(s).__name__} {s!r}")
+            raise ConfigError(f"expected Slave objects, got {type(s).__name__} {shown(s)}")
     return result
 
 
 def _check_timeout(timeout: float) -> float:
     try:
         timeout = float(timeout)
-    except (TypeError, ValueError):
-        raise ConfigError(f"timeout must be a number of seconds, got {timeout!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ConfigError(f"timeout must be a number of seconds, got {shown(timeout)}") from None
     if not timeout >= 0:
-        raise ConfigError(f"timeout must be >= 0 s, got {timeout!r}")
+        raise ConfigError(f"timeout must be >= 0 s, got {shown(timeout)}")
     return timeout
 
 
@@ -170,7 +170,7 @@ class LoopbackSerialLink(_LoopbackLink):
         ascii_timeout: float = 1.0,
     ) -> None:
         if mode not in ("rtu", "ascii"):
-            raise ConfigError(f"a serial line carries 'rtu' or 'ascii' frames, got mode {mode!r}")
+            raise ConfigError(f"a serial line carries 'rtu' or 'ascii' frames, got mode {shown(mode)}")
         if bytesize is None:
             bytesize = 8 if mode == "rtu" else 7
         super().__init__(mode, clock, seed)
@@ -222,7 +222,7 @@ class LoopbackSerialLink(_LoopbackLink):
             get = settings.get
         except AttributeError:
             raise ConfigError(f"{slave.name}: serial_settings must be a mapping such as "
-                              f"{{'baudrate': 9600, 'parity': 'N', 'stopbits': 1}}, got {settings!r}"
+                              f"{{'baudrate': 9600, 'parity': 'N', 'stopbits': 1}}, got {shown(settings)}"
                               ) from None
         key = (get("baudrate", line.baudrate), get("parity", line.parity), get("stopbits", line.stopbits),
                get("bytesize", line.bytesize))
@@ -344,10 +344,10 @@ class LoopbackTcpLink(_LoopbackLink):
         super().__init__("tcp", clock, seed)
         try:
             latency = float(latency)
-        except (TypeError, ValueError):
-            raise ConfigError(f"latency must be a number of seconds, got {latency!r}") from None
+        except (TypeError, ValueError, OverflowError):
+            raise ConfigError(f"latency must be a number of seconds, got {shown(latency)}") from None
         if not latency >= 0:
-            raise ConfigError(f"latency must be >= 0 s, got {latency!r}")
+            raise ConfigError(f"latency must be >= 0 s, got {shown(latency)}")
         self.latency = latency
         self._server_splitter = TcpSplitter()
         self._client_splitter = TcpSplitter()

@@ -42,9 +42,9 @@ from typing import Any
 
 from ..clock import RealClock
 from ..crc import crc16
-from ..errors import ConfigError, LinkError, guard_numbers
+from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import ASCII_MAX_FRAME, RTU_MAX_FRAME, splitter_for
-from .base import Link
+from .base import READ_CHUNK, Link
 from .routing import normalize_slaves
 from .sockets import is_loopback_host
 from .wire import SerialTiming
@@ -76,7 +76,8 @@ def _is_network_url(url: str) -> bool:
 def _timing(baudrate: Any, parity: Any, stopbits: Any, mode: Any, bytesize: Any) -> SerialTiming:
     if mode not in ("rtu", "ascii"):
         raise ConfigError(
-            f"a serial line carries 'rtu' or 'ascii' frames, got mode {mode!r} (Modbus/TCP: use tcp_link)"
+            f"a serial line carries 'rtu' or 'ascii' frames, got mode {shown(mode)} (Modbus/TCP: "
+            f"use tcp_link)"
         )
     if bytesize is None:
         bytesize = 8 if mode == "rtu" else 7
@@ -118,9 +119,9 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
         port.open()
         return port
     except ValueError as exc:  # pyserial: a setting the port does not support
-        raise ConfigError(f"serial port {url!r} rejects the settings {timing}: {exc}") from exc
+        raise ConfigError(f"serial port {shown(url)} rejects the settings {timing}: {exc}") from exc
     except _OS_REFUSALS as exc:  # termios.error: the driver refused a setting (a pty and 7 data bits)
-        raise LinkError(f"the operating system refused the settings {timing} for {url!r}: {exc} - the "
+        raise LinkError(f"the operating system refused the settings {timing} for {shown(url)}: {exc} - the "
                         "port or adapter may not support this number of data bits, parity or baud rate"
                         ) from exc
     except (serial.SerialException, OSError) as exc:
@@ -129,11 +130,9 @@ def open_serial(url: str, timing: SerialTiming, *, write_timeout: float | None =
             else "is the name right (COM3, /dev/ttyUSB0), is the adapter plugged in, "
                  "is another program using the port, may you open it (on Linux: the dialout group)?"
         )
-        raise LinkError(f"cannot open serial port {url!r}: {exc} - {hint}") from exc
+        raise LinkError(f"cannot open serial port {shown(url)}: {exc} - {hint}") from exc
 
 
-#: The most bytes one read takes before the caller looks at its deadline and its frames again.
-READ_CHUNK = 4096
 #: The longest a request spends dropping stale input: a peer still streaming is not waited out.
 DRAIN_SECONDS = 0.1
 DRAIN_CHUNK = 1 << 16
@@ -404,7 +403,7 @@ def serial_link(
     """
     timing = _timing(baudrate, parity, stopbits, mode, bytesize)
     if not isinstance(url, str) or not url:
-        raise ConfigError(f"url must be a port name or a pyserial URL such as 'loop://', got {url!r}")
+        raise ConfigError(f"url must be a port name or a pyserial URL such as 'loop://', got {shown(url)}")
     gap = _frame_gap(url, timing, latency)
     port = open_serial(url, timing, write_timeout=timeout)
     return SerialLink(port, timing, role=role, frame_gap=gap, name=url)
@@ -425,7 +424,7 @@ def _frame_gap(url: str | None, timing: SerialTiming, latency: float | None) -> 
     else:
         allowance = float(latency)
         if not allowance >= 0:
-            raise ConfigError(f"latency must be >= 0 s, got {latency!r}")
+            raise ConfigError(f"latency must be >= 0 s, got {shown(latency)}")
     return timing.t35 + allowance
 
 

@@ -11,7 +11,7 @@ import ipaddress
 import socket
 from typing import Any
 
-from ..errors import ConfigError
+from ..errors import ConfigError, shown
 
 #: The framings a TCP socket can carry: Modbus/TCP's MBAP, or RTU/ASCII frames (a serial device server).
 FRAMINGS = ("tcp", "rtu", "ascii")
@@ -46,10 +46,10 @@ def _positive_seconds(name: str, value: Any, hint: str) -> float:
     """``value`` as a number of seconds > 0, or a ConfigError naming the setting."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ConfigError(
-            f"{name} must be a positive number of seconds {hint}, got {type(value).__name__} {value!r}"
+            f"{name} must be a positive number of seconds {hint}, got {type(value).__name__} {shown(value)}"
         )
     if not value > 0:  # also refuses NaN
-        raise ConfigError(f"{name} must be a positive number of seconds {hint}, got {value!r}")
+        raise ConfigError(f"{name} must be a positive number of seconds {hint}, got {shown(value)}")
     return float(value)
 
 

@@ -16,16 +16,15 @@ from collections import deque
 from typing import Any
 
 from ..clock import Clock, RealClock
-from ..errors import ConfigError, LinkError, guard_numbers
+from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import splitter_for
 from ..platform import require_sockets
-from .base import Link
+from .base import READ_CHUNK, Link
 from .sockets import FRAMINGS, _check_host, _close_socket, _is_int, _positive_seconds
 from .tls import WOULD_BLOCK, SSLError, check_context, client_handshake, pending, tls_failure
 
 __all__ = ["TcpLink", "tcp_link"]
 
-_RECV_SIZE = 65536
 #: The longest a request spends dropping stale input before it is sent.
 DRAIN_SECONDS = 0.1
 _DRAIN_SIZE = 1 << 16
@@ -59,11 +58,12 @@ class TcpLink(Link):
     ) -> None:
         self.tls = check_context(tls, "client")
         if framing not in FRAMINGS:
-            raise ConfigError(f"framing must be one of {', '.join(FRAMINGS)}, got {framing!r}")
+            raise ConfigError(f"framing must be one of {', '.join(FRAMINGS)}, got {shown(framing)}")
         self.mode = framing
         _check_host(host, "connect to", "\"192.168.1.50\" (a device's IP address) or \"localhost\"")
         if not _is_int(port) or not 1 <= port <= 65535:
-            raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got {port!r}")
+            raise ConfigError(f"TCP port must be an integer 1..65535 (Modbus/TCP's own is 502), got "
+                              f"{shown(port)}")
         timeout = _positive_seconds("connect timeout", timeout, "(how long to wait for the server)")
         self.host = host
         self.port = port
@@ -213,7 +213,7 @@ class TcpLink(Link):
                 else:
                     looked = True
                     sock.settimeout(0)  # TLS: what is readable may be a record without data (a ticket)
-                data = sock.recv(_RECV_SIZE)
+                data = sock.recv(READ_CHUNK)  # cut a little at a time: the deadline is looked at between
             except (TimeoutError, *WOULD_BLOCK):
                 return None
             except SSLError as exc:  # TLS 1.3: the server refuses our certificate after the handshake

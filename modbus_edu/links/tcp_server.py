@@ -40,7 +40,7 @@ from typing import Any
 
 from ..clock import RealClock
 from ..codes import MBAP_HEADER_SIZE
-from ..errors import ConfigError, LinkError, guard_numbers
+from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import TcpSplitter, splitter_for
 from ..framing.tcp import is_one_frame
 from ..pdu import REQUEST_CLASSES
@@ -167,13 +167,13 @@ class TcpServer:
         if framing not in FRAMINGS:
             raise ConfigError(
                 f"framing must be one of {', '.join(FRAMINGS)} (tcp: MBAP; rtu/ascii: serial frames over "
-                f"TCP, as a serial device server speaks them), got {framing!r}"
+                f"TCP, as a serial device server speaks them), got {shown(framing)}"
             )
         self.framing = framing
         _check_host(host, "listen on", "\"127.0.0.1\" (this computer only) or \"0.0.0.0\" (every interface)")
         if not _is_int(port) or not 0 <= port <= 65535:
             raise ConfigError(
-                f"TCP port must be an integer 0..65535 (0: let the system choose), got {port!r}"
+                f"TCP port must be an integer 0..65535 (0: let the system choose), got {shown(port)}"
             )
         if idle_timeout is not None:
             idle_timeout = _positive_seconds(
@@ -184,7 +184,7 @@ class TcpServer:
         if not _is_int(max_connections) or max_connections < 1:
             raise ConfigError(
                 "max_connections must be a whole number >= 1 (the clients served at once), "
-                f"got {max_connections!r}"
+                f"got {shown(max_connections)}"
             )
         if logger is not None and not isinstance(logger, (logging.Logger, logging.LoggerAdapter)):
             raise ConfigError(f"logger must be a logging.Logger or None, got {type(logger).__name__}")

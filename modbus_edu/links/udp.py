@@ -22,7 +22,7 @@ from collections import deque
 from typing import Any
 
 from ..clock import Clock, RealClock
-from ..errors import ConfigError, LinkError
+from ..errors import ConfigError, LinkError, shown
 from ..framing.modes import _looks_like_mbap
 from ..platform import require_sockets
 from .base import Link
@@ -83,7 +83,7 @@ class UdpServer:
         require_sockets("a Modbus/UDP server (UdpServer)")
         _check_host(host, "listen on", '"127.0.0.1"')
         if not _is_int(port) or not 0 <= port <= 65535:
-            raise ConfigError(f"UDP port must be an integer 0..65535 (0 = any free port), got {port!r}")
+            raise ConfigError(f"UDP port must be an integer 0..65535 (0 = any free port), got {shown(port)}")
         self.slaves = normalize_slaves(slaves)
         self.log = logging.getLogger("modbus_edu.udp")
         self.lock = threading.Lock()
@@ -202,7 +202,8 @@ class UdpLink(Link):
     def __init__(self, host: str, port: int = 502, *, clock: Clock | None = None) -> None:
         _check_host(host, "send to", '"192.168.1.50" or "localhost"')
         if not _is_int(port) or not 1 <= port <= 65535:
-            raise ConfigError(f"UDP port must be an integer 1..65535 (Modbus's own is 502), got {port!r}")
+            raise ConfigError(f"UDP port must be an integer 1..65535 (Modbus's own is 502), got "
+                              f"{shown(port)}")
         self.host = host
         self.port = port
         self.clock = clock if clock is not None else RealClock()

@@ -79,9 +79,9 @@ _EPS = 1e-9  # one nanosecond: tolerance when comparing silences computed in flo
 
 
 def _parity(parity: str) -> str:
-    value = str(parity).upper()[:1]
+    value = str(parity).upper()[:1] if not isinstance(parity, int) else ""  # no int is a parity
     if value not in PARITIES:
-        raise ConfigError(f"parity must be 'N' (none), 'E' (even) or 'O' (odd), got {parity!r}")
+        raise ConfigError(f"parity must be 'N' (none), 'E' (even) or 'O' (odd), got {shown(parity)}")
     return value
 
 
@@ -114,15 +114,15 @@ class SerialTiming:
                               f"got {shown(self.baudrate)}")
         object.__setattr__(self, "parity", _parity(self.parity))
         if self.stopbits not in (1, 1.5, 2):
-            raise ConfigError(f"stopbits must be 1, 1.5 or 2, got {self.stopbits!r}")
+            raise ConfigError(f"stopbits must be 1, 1.5 or 2, got {shown(self.stopbits)}")
         if self.mode not in ("rtu", "ascii"):
-            raise ConfigError(f"a serial line carries 'rtu' or 'ascii' frames, got mode {self.mode!r}")
+            raise ConfigError(f"a serial line carries 'rtu' or 'ascii' frames, got mode {shown(self.mode)}")
         if self.bytesize not in (7, 8):
-            raise ConfigError(f"bytesize must be 7 or 8 data bits, got {self.bytesize!r}")
+            raise ConfigError(f"bytesize must be 7 or 8 data bits, got {shown(self.bytesize)}")
         if self.mode == "rtu" and self.bytesize != 8:
             raise ConfigError("RTU needs 8 data bits: every byte of the frame is sent as it is")
         if not self.ascii_timeout > 0:
-            raise ConfigError(f"ascii_timeout must be > 0 s, got {self.ascii_timeout!r}")
+            raise ConfigError(f"ascii_timeout must be > 0 s, got {shown(self.ascii_timeout)}")
 
     @cached_property
     def bits_per_char(self) -> float:

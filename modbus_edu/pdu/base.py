@@ -106,7 +106,7 @@ def _check_sequence(values: Any, name: str, what: str) -> None:
     """A mapping or a set is iterable but has no order of values: refuse it, as a plain value."""
     if isinstance(values, (Mapping, AbstractSet, str, bytes)) or not isinstance(values, Iterable):
         raise ValueRangeError(f"{name} must be a sequence (list or tuple) of {what}, "
-                              f"got {type(values).__name__} {values!r}")
+                              f"got {type(values).__name__} {shown(values)}")
 
 
 def _check_bits(values: Any, name: str) -> tuple[bool, ...]:
@@ -114,10 +114,10 @@ def _check_bits(values: Any, name: str) -> tuple[bool, ...]:
     try:
         items = tuple(values)
     except TypeError:
-        raise ValueRangeError(f"{name} must be a sequence of booleans, got {values!r}") from None
+        raise ValueRangeError(f"{name} must be a sequence of booleans, got {shown(values)}") from None
     for index, item in enumerate(items):
         if item not in (0, 1) or not isinstance(item, (bool, int)):
-            raise ValueRangeError(f"{name}[{index}] is {item!r}, expected True/False (or 1/0)")
+            raise ValueRangeError(f"{name}[{index}] is {shown(item)}, expected True/False (or 1/0)")
     return tuple(bool(item) for item in items)
 
 
@@ -127,7 +127,7 @@ def _check_registers(values: Any, name: str) -> tuple[int, ...]:
     try:
         items = tuple(values)
     except TypeError:
-        raise ValueRangeError(f"{name} must be a sequence of integers, got {values!r}") from None
+        raise ValueRangeError(f"{name} must be a sequence of integers, got {shown(values)}") from None
     if all(type(item) is int and 0 <= item <= 0xFFFF for item in items):
         return items
     return tuple(_check_register(item, index) for index, item in enumerate(items))
@@ -165,7 +165,7 @@ def _pdu_bytes(data: Any, offset: int) -> bytes:
         raise PduError(f"a PDU is bytes, got the text {data[:30]!r}: turn hex text into bytes first, "
                        f"e.g. bytes.fromhex('03 00 00 00 01')")
     if isinstance(data, int):  # bytes(5) would be five zero bytes, not the byte 5
-        raise PduError(f"a PDU is bytes, got the number {data!r}: write bytes([{data}]) for one byte")
+        raise PduError(f"a PDU is bytes, got the number {shown(data)}: write bytes([{data}]) for one byte")
     try:
         data = bytes(data)
     except (TypeError, ValueError):
@@ -431,7 +431,7 @@ class _WriteMultipleResponse(_AddressQuantity):
 def _check_role(role: object) -> str:
     """The role, checked: ``"request"`` or ``"response"``."""
     if role not in ROLES:
-        raise ConfigError(f"role must be 'request' or 'response', got {role!r}")
+        raise ConfigError(f"role must be 'request' or 'response', got {shown(role)}")
     return role  # type: ignore[return-value]
 
 

@@ -12,6 +12,7 @@ from ..errors import (
     ByteCountError,
     QuantityError,
     ValueRangeError,
+    shown,
 )
 from .base import (
     MAX_READ_BITS,
@@ -185,7 +186,7 @@ class _WriteSingleCoil(Pdu):
     def __post_init__(self) -> None:
         object.__setattr__(self, "address", _check_address(self.address))
         if self.value not in (0, 1) or not isinstance(self.value, (bool, int)):
-            raise ValueRangeError(f"coil value {self.value!r} must be True (ON) or False (OFF)")
+            raise ValueRangeError(f"coil value {shown(self.value)} must be True (ON) or False (OFF)")
         object.__setattr__(self, "value", bool(self.value))
 
     def encode(self) -> bytes:

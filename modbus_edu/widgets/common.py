@@ -103,7 +103,7 @@ def parse_int(text: str | int, name: str) -> int:
     here: the library checks it and says what is allowed.
     """
     if isinstance(text, bool):
-        raise ValueFormatError(f"{name}: expected a whole number, got {text!r}")
+        raise ValueFormatError(f"{name}: expected a whole number, got {shown_value(text)}")
     if isinstance(text, int):
         return text
     s = str(text).strip().replace("_", "")

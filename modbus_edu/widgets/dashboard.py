@@ -12,7 +12,7 @@ import ipywidgets as W
 
 from ..clock import VirtualClock
 from ..devices.meter import METER_MAP, MeterRegister, PowerMeter, read_meter
-from ..errors import ConfigError, MissingDependencyError, ModbusError, ModbusTimeoutError
+from ..errors import ConfigError, MissingDependencyError, ModbusError, ModbusTimeoutError, shown
 from ..links.loopback import loopback_serial
 from ..master import Master
 from ..platform import require_plotting
@@ -202,7 +202,7 @@ class MeterDashboard(StaticView, W.VBox):
         """Read ``n`` times, one every ``interval`` seconds of the link's clock (instant on a virtual
         line)."""
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
-            self.message.error(ConfigError(f"run(n): n must be a whole number >= 0, got {n!r}"))
+            self.message.error(ConfigError(f"run(n): n must be a whole number >= 0, got {shown(n)}"))
             return []
         out: list[dict[str, float] | None] = []
         if self.master is None:

@@ -70,7 +70,7 @@ class ConfigMixin:
             except Exception as exc:  # a widget refused a value (TraitError): put everything back
                 self._restore(before)
                 why = str(exc) if isinstance(exc, ConfigError) else f"{type(exc).__name__}: {exc}"
-                raise ConfigError(f"bad value for {key!r}: {shown(why, 160)}") from None
+                raise ConfigError(f"bad value for {shown(key)}: {shown(why, 160)}") from None
         except ModbusError as exc:
             self.message.error(exc)
             return False

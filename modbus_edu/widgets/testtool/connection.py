@@ -8,7 +8,7 @@ from typing import Any
 
 from ...clock import VirtualClock
 from ...datamodel import Table
-from ...errors import ConfigError, ModbusError, ModbusTimeoutError
+from ...errors import ConfigError, ModbusError, ModbusTimeoutError, shown
 from ...links.loopback import loopback_serial, loopback_tcp
 from ...links.serial import SerialServer, serial_link
 from ...links.tcp_client import tcp_link
@@ -310,7 +310,7 @@ class ConnectionMixin:
         about ``n * interval`` seconds (use *start* for polling in the background).
         """
         if isinstance(n, bool) or not isinstance(n, int) or n < 0:
-            self.message.error(ConfigError(f"run_polls(n): n must be a whole number >= 0, got {n!r}"))
+            self.message.error(ConfigError(f"run_polls(n): n must be a whole number >= 0, got {shown(n)}"))
             return []
         results = []
         clock = self.clock

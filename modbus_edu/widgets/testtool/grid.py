@@ -6,7 +6,7 @@ import ipywidgets as W
 
 from ...datamodel import Table
 from ...devices.generators import AutoFill, Uniform, increment_fill, random_fill
-from ...errors import ConfigError, ModbusError
+from ...errors import ConfigError, ModbusError, shown
 from ...values import FORMATS, format_registers, parse_formatted
 from ..common import MONO, guarded, parse_bit_list
 from .controls import COLUMNS, MAX_CELLS
@@ -101,7 +101,7 @@ class GridMixin:
             if table.is_bits:
                 bits = parse_bit_list(str(text), f"cell {address}")
                 if len(bits) != 1:
-                    raise ConfigError(f"cell {address}: one bit (1 or 0), got {text!r}")
+                    raise ConfigError(f"cell {address}: one bit (1 or 0), got {shown(text)}")
                 new: list = bits
             else:
                 new = parse_formatted(str(text), self.display.value) if not isinstance(text, int) \
