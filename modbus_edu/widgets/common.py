@@ -334,12 +334,11 @@ def mark_invalid(widget: W.DOMWidget, invalid: bool, message: W.DOMWidget | None
         widget.add_class("mbe-invalid")
     else:
         widget.remove_class("mbe-invalid")
-    if message is not None:
-        token = message.model_id
-        message.add_class(f"mbe-says-{token}")
-        for cls in [c for c in widget._dom_classes if c.startswith("mbe-described-")]:
-            widget.remove_class(cls)
-        widget.add_class(f"mbe-described-{token}")
+    described = f"mbe-described-{message.model_id}" if message is not None else None
+    if message is not None and described not in widget._dom_classes:  # once: no message to the page after
+        message.add_class(f"mbe-says-{message.model_id}")
+        widget._dom_classes = tuple(c for c in widget._dom_classes if not c.startswith("mbe-described-")) + (
+            described,)
     widget.layout.border = "2px solid #c92a2a" if invalid else None
 
 
