@@ -51,7 +51,7 @@ VIEWPORT = {"width": 1400, "height": 900}
 RUN_ALL_TIMEOUT_S = 240  # one notebook's Restart & Run All on two shared cores, generous but absolute
 
 sys.path.insert(0, str(HERE))
-from browser import axe, lab_driver, panels  # noqa: E402
+from browser import a11y, axe, lab_driver, panels  # noqa: E402
 from browser.jupyter_harness import JupyterLab, copy_notebook  # noqa: E402
 
 FIGURES: dict = {"panels": [], "typing_latency_ms": {}}
@@ -581,4 +581,197 @@ def test_the_panel_works_from_the_keyboard_alone(panels_page, name):
         tabs[0].click()
     FIGURES.setdefault("keyboard", {})[name] = results
     _keyboard_action(page, name, panel)
+    assert not console.errors, console.errors
+
+
+# --- beyond axe-core: the keys stay in the panel, a screen reader is told what changes ----------------
+def _focused(page, selector: str) -> bool:
+    return page.evaluate("sel => !!document.activeElement && !!document.activeElement.closest(sel)", selector)
+
+
+def test_a_panel_keeps_its_keys_from_the_notebook(panels_page):
+    """JupyterLab's command-mode keys do not reach a panel's controls: ↓ on a dropdown chooses the next
+    function (the active cell stays), "m" on a button leaves the cell code and the panel on screen, and
+    the arrow keys scroll a scroll box instead of moving to another cell."""
+    page, console = panels_page
+    before = a11y.notebook_state(page)
+    assert before["panels"] == 4 and "code" in before["types"]
+
+    function = page.locator(".mbe-framebuilder .mbe-field-function select")
+    function.focus()
+    active = a11y.notebook_state(page)["active"]
+    first = function.input_value()
+    page.keyboard.press("ArrowDown")
+    select = function.element_handle()
+    page.wait_for_function("([el, v]) => el.value !== v", arg=[select, first], timeout=5_000)
+    assert _focused(page, ".mbe-field-function"), "↓ took the focus away from the dropdown"
+    assert a11y.notebook_state(page)["active"] == active, "↓ moved to another cell"
+    page.keyboard.press("ArrowUp")
+    page.wait_for_function("([el, v]) => el.value === v", arg=[select, first], timeout=5_000)
+    assert a11y.notebook_state(page)["active"] == active, "an arrow key moved to another cell"
+
+    read = page.locator(".mbe-role-rtu_master .mbe-tt-read")
+    read.focus()
+    for key in ("m", "r", "a", "b"):  # to Markdown, to raw, insert a cell above, below
+        page.keyboard.press(key)
+    page.wait_for_timeout(300)
+    after = a11y.notebook_state(page)
+    assert after["types"] == before["types"], "a letter on a panel's button changed the notebook's cells"
+    assert after["panels"] == before["panels"] and read.is_visible()
+    assert _focused(page, ".mbe-tt-read")
+
+    # the dashboard's table of values (its second tab) scrolls with ↓ once Tab (here: focus) is on it
+    dash = page.locator(".mbe-meterdashboard")
+    dash.locator(".lm-TabBar-tab").nth(1).click()
+    table = dash.locator(".mbe-md-table")
+    table.wait_for(state="visible")
+    assert table.evaluate("el => el.scrollHeight > el.clientHeight"), "the table does not overflow: no test"
+    table.focus()
+    active = a11y.notebook_state(page)["active"]
+    for _ in range(3):
+        page.keyboard.press("ArrowDown")
+    page.wait_for_function("el => el.scrollTop > 0", arg=table.element_handle(), timeout=5_000)
+    assert a11y.notebook_state(page)["active"] == active and _focused(page, ".mbe-md-table")
+    dash.locator(".lm-TabBar-tab").nth(0).click()
+
+    # the test tool's TX log scrolls sideways with →
+    master = page.locator(".mbe-role-rtu_master")
+    master.locator(".lm-TabBar-tab", has_text="traffic").click()
+    log = master.locator(".mbe-tt-tx-log")
+    log.wait_for(state="visible")
+    log.evaluate("el => { el.style.width = '120px'; }")  # narrower than its lines, whatever the font
+    log.focus()
+    active = a11y.notebook_state(page)["active"]
+    for _ in range(3):
+        page.keyboard.press("ArrowRight")
+    page.wait_for_function("el => el.scrollLeft > 0", arg=log.element_handle(), timeout=5_000)
+    log.evaluate("el => { el.style.width = ''; el.scrollLeft = 0; }")
+    assert a11y.notebook_state(page)["active"] == active
+    master.locator(".lm-TabBar-tab").nth(0).click()
+    assert not console.errors, console.errors
+
+
+def test_the_grid_s_head_stays_over_its_columns_and_is_no_scroll_box(panels_page):
+    """Ten columns are wider than the RTU slave's grid: the grid scrolls, head and rows together; the
+    head row neither clips "+9" nor scrolls on its own (a scroll box with nothing to focus, which
+    axe-core calls serious: scrollable-region-focusable)."""
+    page, console = panels_page
+    slave = page.locator(".mbe-testtool.mbe-role-rtu_slave")
+    slave.scroll_into_view_if_needed()
+    length = slave.get_by_label("length", exact=True)
+    length.fill("12")
+    length.press("Enter")
+    slave.locator(".lm-TabBar-tab", has_text="data").click()
+    page.wait_for_function("() => { const h = document.querySelector("
+                           "'.mbe-role-rtu_slave .mbe-tt-grid-head');"
+                           " return !!h && h.innerText.includes('+9'); }", timeout=15_000)
+    grid = slave.locator(".mbe-tt-grid")
+    shape = grid.evaluate("""grid => {
+      const head = grid.querySelector('.mbe-tt-grid-head'), last = [...head.children].pop();
+      const cells = [...grid.querySelectorAll('.mbe-tt-cell')];
+      const rows = [...grid.children].filter(r => r.classList.contains('widget-hbox'));
+      const h = last.getBoundingClientRect(), c = cells[9].getBoundingClientRect();
+      return {wide: grid.scrollWidth > grid.clientWidth, head: last.innerText.trim(),
+              aligned: Math.abs((h.left + h.right) / 2 - (c.left + c.right) / 2),
+              rowScrolls: rows.filter(r => r.scrollWidth > r.clientWidth + 1
+                                      && getComputedStyle(r).overflowX !== 'visible').length};
+    }""")
+    assert shape["rowScrolls"] == 0, f"a row of the grid scrolls on its own: {shape}"
+    assert shape["wide"], f"ten columns fit: the test shows nothing ({shape})"
+    assert shape["head"] == "+9" and shape["aligned"] < 2, shape
+    found = axe.run_axe(page, slave, [])
+    assert not [v for v in found if v["rule"] == "scrollable-region-focusable"], axe.describe(found)
+    slave.locator(".lm-TabBar-tab").nth(0).click()
+    length.fill("4")
+    length.press("Enter")
+    assert not console.errors, console.errors
+
+
+def test_a_screen_reader_hears_names_states_and_changes(panels_page):
+    """In chromium's accessibility tree: button names are words (no icon glyph), the CRC method's
+    buttons say which one is pressed in a group named "method", the scroll boxes are named regions, the
+    message lines are live regions, and a field that does not read is invalid and described by its
+    error."""
+    page, console = panels_page
+    for name, selector in AXE_PANELS.items():
+        buttons = a11y.nodes(page, selector, role="button")
+        assert buttons or name in ("frame builder", "frame decoder"), name
+        glyphs = {b["name"]: a11y.icon_glyphs(b["name"]) for b in buttons if a11y.icon_glyphs(b["name"])}
+        assert not glyphs, f"{name}: icon glyphs in button names: {glyphs}"
+        if name != "test tool (RTU slave)":
+            status = a11y.nodes(page, selector, role="status")
+            assert status and all(s.get("live") == "polite" for s in status), (name, status)
+    assert {"read once", "start", "stop", "clear history"} <= {
+        b["name"] for b in a11y.nodes(page, ".mbe-meterdashboard", role="button")}
+
+    method = a11y.nodes(page, ".mbe-crcexplorer .mbe-crc-method", role="button")
+    assert [m["pressed"] for m in method].count("true") == 1 and len(method) >= 3, method
+    group = a11y.nodes(page, ".mbe-crcexplorer", role="group", name="method")
+    assert group, "the method's buttons are no group named by their label"
+    page.locator(".mbe-crcexplorer .mbe-crc-method button").nth(1).click()
+    page.wait_for_function("() => document.querySelector('.mbe-crc-method button:nth-child(2)')"
+                           ".getAttribute('aria-pressed') === 'true'", timeout=10_000)
+    method = a11y.nodes(page, ".mbe-crcexplorer .mbe-crc-method", role="button")
+    assert [m["pressed"] for m in method].index("true") == 1, method
+    page.locator(".mbe-crcexplorer .mbe-crc-method button").nth(0).click()
+
+    master, dash = page.locator(".mbe-role-rtu_master"), page.locator(".mbe-meterdashboard")
+    master.locator(".lm-TabBar-tab", has_text="traffic").click()
+    dash.locator(".lm-TabBar-tab", has_text="values").click()
+    page.wait_for_timeout(300)
+    regions = {r["name"] for r in a11y.nodes(page, ".mbe-testtool.mbe-role-rtu_master", role="region")}
+    assert {"TX log: the frames sent (scrolls)", "RX log: the frames received (scrolls)"} <= regions
+    assert a11y.nodes(page, ".mbe-meterdashboard", role="region")
+    for panel in (master, dash):
+        panel.locator(".lm-TabBar-tab").nth(0).click()
+    assert a11y.nodes(page, ".mbe-crcexplorer", role="region", name="the current step (scrolls)")
+
+    # a bad field: invalid, described by its error, which came in a live region
+    count = page.locator(".mbe-framebuilder .mbe-field-count input")
+    count.click()
+    page.keyboard.press("Control+A")
+    page.keyboard.type("126", delay=40)
+    page.locator(".mbe-field-error-count").wait_for(state="visible", timeout=15_000)
+    page.wait_for_function("() => document.querySelector('.mbe-field-count input')"
+                           ".getAttribute('aria-invalid') === 'true'", timeout=10_000)
+    field = [n for n in a11y.nodes(page, ".mbe-framebuilder .mbe-field-count", role="textbox")]
+    assert field and field[0].get("invalid") == "true", field
+    assert "quantity of registers is 126" in field[0]["description"], field
+    said = [s for s in a11y.nodes(page, ".mbe-framebuilder", role="status")
+            if "quantity of registers is 126" in s["name"] or "126" in json.dumps(s)]
+    errors = page.locator(".mbe-field-error-count .widget-html-content")
+    assert errors.get_attribute("role") == "status" and errors.get_attribute("aria-live") == "polite", said
+    page.keyboard.press("Control+A")
+    page.keyboard.type("1", delay=40)
+    page.locator(".mbe-field-error-count").wait_for(state="hidden", timeout=15_000)
+    page.wait_for_function("() => !document.querySelector('.mbe-field-count input')"
+                           ".hasAttribute('aria-invalid')", timeout=10_000)
+    assert not console.errors, console.errors
+
+
+def test_a_button_that_greys_itself_out_hands_the_focus_on(panels_page):
+    """"run to end" (greyed at the end) leaves the focus on "back"; "start" on "stop" and back: never
+    on the page's body."""
+    page, console = panels_page
+    crc = page.locator(".mbe-crcexplorer")
+    if crc.locator(".mbe-crc-run-to-end").is_disabled():
+        crc.locator(".mbe-crc-reset").click()
+        page.wait_for_function("() => !document.querySelector('.mbe-crc-run-to-end').disabled",
+                               timeout=10_000)
+    crc.locator(".mbe-crc-run-to-end").focus()
+    page.keyboard.press("Enter")
+    page.wait_for_function("() => document.querySelector('.mbe-crc-run-to-end').disabled", timeout=10_000)
+    page.wait_for_function("() => !!document.activeElement.closest('.mbe-crc-back')", timeout=10_000)
+    page.keyboard.press("Enter")  # back one step: the focus can go on stepping
+    page.wait_for_function("() => !document.querySelector('.mbe-crc-run-to-end').disabled", timeout=10_000)
+
+    master = page.locator(".mbe-role-rtu_master")
+    master.locator(".mbe-tt-start").focus()
+    page.keyboard.press("Enter")
+    page.wait_for_function("() => !!document.activeElement.closest('.mbe-role-rtu_master .mbe-tt-stop')",
+                           timeout=10_000)
+    page.keyboard.press("Enter")
+    page.wait_for_function("() => !!document.activeElement.closest('.mbe-role-rtu_master .mbe-tt-start')",
+                           timeout=10_000)
+    lab_driver.wait_kernel_idle(page)
     assert not console.errors, console.errors

@@ -5,6 +5,7 @@ text).  The browser test (tests/test_browser.py) runs axe-core and the keyboard 
 
 from __future__ import annotations
 
+import html
 import re
 
 import ipywidgets as W
@@ -15,9 +16,12 @@ from modbus_edu.widgets.common import (
     PALETTE,
     PANEL_CLASSES,
     PANEL_CSS,
+    PANEL_SCRIPT,
+    MessageLine,
     frame_html,
     legend_html,
     message_html,
+    panel_style,
     stale_html,
 )
 from modbus_edu.widgets.testtool.controls import ROLES
@@ -126,9 +130,25 @@ def test_every_control_says_what_it_is(name):
 def test_every_panel_carries_the_focus_ring_stylesheet_hidden_from_its_picture(name):
     panel = _panels()[name]
     styles = [w for w in _walk(panel) if isinstance(w, W.HTML) and "mbe-panel-style" in w._dom_classes]
-    assert len(styles) == 1 and styles[0].value == PANEL_CSS and styles[0].layout.display == "none"
+    assert len(styles) == 1 and styles[0].value.startswith(PANEL_CSS) and styles[0].layout.display == "none"
     assert any(c in panel._dom_classes for c in PANEL_CLASSES)
-    assert "outline" not in panel.static_html()  # the picture leaves the stylesheet out
+    picture = panel.static_html()
+    assert "outline" not in picture  # the picture leaves the stylesheet out, and the script
+    assert "onerror" not in picture and "mbe-panel-script" not in picture
+
+
+def test_the_panel_script_rides_on_an_image_that_never_loads_and_finds_every_kind_of_panel():
+    value = panel_style().value
+    hooks = re.findall(r'<img class="mbe-panel-script" alt="" src="data:," onerror="([^"]+)">', value)
+    assert len(hooks) == 1
+    script = html.unescape(hooks[0])
+    assert script == PANEL_SCRIPT.strip().replace("__PANELS__", ", ".join(f".{c}" for c in PANEL_CLASSES))
+    for cls in PANEL_CLASSES:
+        assert f".{cls}" in script
+    # keys without a modifier stop at the panel (JupyterLab's shortcuts listen on the document)
+    assert "stopPropagation" in script and "e.ctrlKey" in script and "'Escape'" in script
+    for attribute in ("aria-hidden", "aria-pressed", "aria-live", "aria-invalid", "aria-describedby"):
+        assert attribute in script
 
 
 def test_the_stylesheet_draws_a_focus_ring_in_every_panel_and_darkens_the_tab_titles():
@@ -143,6 +163,62 @@ def test_boxes_that_scroll_can_be_reached_with_the_keyboard_and_say_what_they_ho
     for box in (master.tx_log, master.rx_log, crc.step_view, dash.table):
         assert isinstance(box, W.HTML) and box.tabbable is True and box.tooltip
         assert box.layout.overflow == "auto"
+        assert "mbe-scroll" in box._dom_classes  # the page names it (a region) by its tooltip
+
+
+@pytest.mark.parametrize("name", list(_panels()))
+def test_what_comes_to_say_something_is_a_live_region(name):
+    """Every message line, and the views whose change is news (a field's error, the CRC's step and
+    result), are live regions in the page; logs and tables are not (they would talk without end)."""
+    panel = _panels()[name]
+    lines = [w for w in _walk(panel) if isinstance(w, MessageLine)]
+    assert lines and all("mbe-live" in w._dom_classes for w in lines)
+    live_views = [w for w in _walk(panel) if "mbe-live" in getattr(w, "_dom_classes", ())]
+    if isinstance(panel, CrcExplorer):
+        assert panel.result_view in live_views and panel.step_view in live_views
+    if isinstance(panel, FrameBuilder):
+        assert all(label in live_views for label in panel._error_labels.values())
+    if isinstance(panel, TestTool):
+        assert panel.tx_log not in live_views and panel.rx_log not in live_views
+
+
+def test_a_field_that_does_not_read_is_described_by_the_view_that_says_why():
+    fb = FrameBuilder(mode="rtu", unit=1, function=3, address=0, count=126)
+    box, label = fb.count, fb._error_labels["count"]
+    assert "mbe-invalid" in box._dom_classes and "quantity of registers is 126" in label.value
+    assert f"mbe-described-{label.model_id}" in box._dom_classes
+    assert f"mbe-says-{label.model_id}" in label._dom_classes
+    fb.count.value = "1"
+    assert "mbe-invalid" not in box._dom_classes
+    described = [c for c in box._dom_classes if c.startswith("mbe-described-")]
+    assert described == [f"mbe-described-{label.model_id}"]  # one, and kept: valid, it describes nothing
+    decoder = FrameDecoder("01 0")
+    assert "mbe-invalid" in decoder.text._dom_classes
+    assert f"mbe-described-{decoder.message.model_id}" in decoder.text._dom_classes
+
+
+def test_a_button_greyed_out_by_a_click_in_the_page_hands_the_focus_on():
+    crc = CrcExplorer("01 03")
+    focused = []
+    crc.back.focus = lambda: focused.append("back")
+    crc.next_bit.focus = lambda: focused.append("next bit")
+    crc.run_to_end.click()  # from code: the learner may be typing elsewhere, no focus moves
+    assert crc.run_to_end.disabled and focused == []
+    crc.reset.click()
+    crc.run_to_end._handle_custom_msg({"event": "click"}, [])  # the click as the page sends it
+    assert crc.run_to_end.disabled and focused == ["back"]
+    crc.back._handle_custom_msg({"event": "click"}, [])  # one step back: still enabled, focus stays
+    assert not crc.back.disabled and focused == ["back"]
+    crc.reset._handle_custom_msg({"event": "click"}, [])
+    assert crc.reset.disabled and focused == ["back", "next bit"]
+
+
+def test_the_grid_rows_scroll_together_not_each_on_its_own():
+    slave = TestTool(role="rtu_slave", unit=1, length=12)
+    rows = [r for r in slave.grid.children if isinstance(r, W.HBox)]
+    assert len(rows) == 3 and "mbe-tt-grid-head" in rows[0]._dom_classes
+    assert all(r.layout.overflow == "visible" and r.layout.flex == "0 0 auto" for r in rows)
+    assert slave.grid.layout.overflow == "auto"
 
 
 def test_the_plot_has_a_text_alternative_that_says_what_it_shows():

@@ -26,7 +26,10 @@ __all__ = [
     "PANEL_CLASSES",
     "PANEL_CSS",
     "panel_style",
+    "PANEL_SCRIPT",
     "scroll_box",
+    "live",
+    "focus_after_click",
     "PlotImage",
     "FIELD_NUMBER_STYLE",
     "ROLE_COLOURS",
@@ -206,6 +209,7 @@ class MessageLine(W.HTML):
         self.text = ""
         self.kind = "info"
         self.add_class("mbe-message-line")
+        live(self)
 
     def show(self, text: str, kind: str = "info") -> None:
         self.text = text
@@ -320,12 +324,21 @@ def stale_html(content: str) -> str:
             f'style="{STALE_STYLE}">{content}</div>')
 
 
-def mark_invalid(widget: W.DOMWidget, invalid: bool) -> None:
-    """Mark an input red (class ``mbe-invalid``) while what it holds does not read, unmark it after."""
+def mark_invalid(widget: W.DOMWidget, invalid: bool, message: W.DOMWidget | None = None) -> None:
+    """Mark an input red (class ``mbe-invalid``) while what it holds does not read, unmark it after.
+
+    In the page the input is then ``aria-invalid``, and ``message`` (the view that says what is wrong)
+    is its ``aria-describedby``: a screen reader says "invalid" and the reason, not only a red border
+    (:data:`PANEL_SCRIPT` sets the attributes, which ipywidgets cannot set from Python)."""
     if invalid:
         widget.add_class("mbe-invalid")
     else:
         widget.remove_class("mbe-invalid")
+    described = f"mbe-described-{message.model_id}" if message is not None else None
+    if message is not None and described not in widget._dom_classes:  # once: no message to the page after
+        message.add_class(f"mbe-says-{message.model_id}")
+        widget._dom_classes = tuple(c for c in widget._dom_classes if not c.startswith("mbe-described-")) + (
+            described,)
     widget.layout.border = "2px solid #c92a2a" if invalid else None
 
 
@@ -355,20 +368,127 @@ PANEL_CSS = (
 )
 
 
+#: What a panel needs in the page that ipywidgets 8.1 cannot say from Python (its controls carry no ARIA
+#: attribute, and a widget sets no attribute of its own on its element).  It runs once per view of the
+#: panel, on the panel's outermost element, and again whenever the panel's DOM changes:
+#:
+#: * the panel keeps its keys: a key pressed in it without Ctrl, Alt or Meta (and not Escape) goes no
+#:   further than the panel, so JupyterLab's command-mode shortcuts (Lumino's keymap listens on the
+#:   document, in the bubbling phase) never see it: ↓ changes a dropdown and scrolls a log instead of
+#:   moving to the next cell, and "m" on a button does not turn the panel's cell into Markdown.  The
+#:   control's own handling and the browser's default action still happen; Ctrl+S and the other
+#:   shortcuts with a modifier still work.  (Lumino's ``data-lm-suppress-shortcuts`` would have to sit on
+#:   every focused control itself -- the keymap matches the notebook's ``... :focus`` selector on the
+#:   control before it reaches an ancestor -- and it would silence Ctrl+S too.);
+#: * ``aria-hidden`` on the FontAwesome ``<i>`` of a button (its glyph, U+F0xx, is not a word: without
+#:   it a button is named "\uf019 read once");
+#: * ``aria-pressed`` on each button of a ToggleButtons (from its ``mod-active`` class), and the group
+#:   ``role=group`` named by its description;
+#: * ``role=region`` and a name (the tooltip) on each :func:`scroll_box`;
+#: * ``role=status`` (``aria-live=polite``) on each :func:`live` view, so that a result or an error
+#:   that appears is read out;
+#: * ``aria-invalid`` and ``aria-describedby`` on the input of a field :func:`mark_invalid` marks.
+#:
+#: It rides on an ``<img>`` that never loads (its ``onerror``): ipywidgets writes an HTML widget's value
+#: as ``innerHTML``, where a ``<script>`` does not run but an event attribute does.
+PANEL_SCRIPT = r"""
+(function (img) {
+  var sel = '__PANELS__', tries = 0;
+  function ids(el) {
+    if (!el.id) { window.mbeIds = (window.mbeIds || 0) + 1; el.id = 'mbe-a11y-' + window.mbeIds; }
+    return el.id;
+  }
+  function set(el, name, value) {
+    if (value === null) { if (el.hasAttribute(name)) el.removeAttribute(name); }
+    else if (el.getAttribute(name) !== value) el.setAttribute(name, value);
+  }
+  function each(root, css, fn) { root.querySelectorAll(css).forEach(fn); }
+  function label(panel) {
+    each(panel, 'i.fa', function (i) { set(i, 'aria-hidden', 'true'); });
+    each(panel, '.widget-toggle-buttons', function (g) {
+      set(g, 'role', 'group');
+      var l = g.querySelector(':scope > .widget-label');
+      if (l && l.textContent.trim()) set(g, 'aria-labelledby', ids(l));
+    });
+    each(panel, '.widget-toggle-button', function (b) {
+      set(b, 'aria-pressed', String(b.classList.contains('mod-active')));
+    });
+    each(panel, '.mbe-scroll', function (w) {  // the widget's element scrolls and takes the focus
+      var l = w.querySelector(':scope > .widget-label');
+      set(w, 'role', 'region');
+      set(w, 'aria-label', l && l.title ? l.title : null);
+    });
+    each(panel, '.mbe-live > .widget-html-content', function (c) {
+      if (!c.parentElement.classList.contains('mbe-scroll')) set(c, 'role', 'status');  // else a region
+      set(c, 'aria-live', 'polite'); set(c, 'aria-atomic', 'true');
+    });
+    each(panel, '[class*="mbe-described-"]', function (w) {
+      var input = w.querySelector('input, textarea, select');
+      if (!input) return;
+      var bad = w.classList.contains('mbe-invalid'), token = null;
+      w.classList.forEach(function (c) { if (c.indexOf('mbe-described-') === 0) token = c.slice(14); });
+      var says = token && panel.querySelector('.mbe-says-' + token + ' > .widget-html-content');
+      set(input, 'aria-invalid', bad ? 'true' : null);
+      set(input, 'aria-describedby', bad && says ? ids(says) : null);
+    });
+  }
+  function keep() {
+    var panel = img.closest(sel);
+    if (!panel) { if (tries++ < 200) setTimeout(keep, 50); return; }
+    label(panel);
+    if (panel.mbeObserver) return;
+    panel.addEventListener('keydown', function (e) {
+      if (!e.ctrlKey && !e.altKey && !e.metaKey && e.key !== 'Escape') e.stopPropagation();
+    });
+    panel.mbeObserver = new MutationObserver(function () { label(panel); });
+    panel.mbeObserver.observe(panel, {subtree: true, childList: true, attributes: true,
+                                      attributeFilter: ['class', 'title']});
+  }
+  keep();
+})(this)
+"""
+
+
 def panel_style() -> W.HTML:
-    """The panels' stylesheet as a hidden child of a panel (hidden: the picture leaves it out)."""
-    style = W.HTML(PANEL_CSS, layout=W.Layout(display="none"))
+    """The panels' stylesheet and :data:`PANEL_SCRIPT`, as a hidden child of a panel (hidden: the
+    picture leaves it out)."""
+    script = PANEL_SCRIPT.replace("__PANELS__", ", ".join(f".{c}" for c in PANEL_CLASSES))
+    hook = f'<img class="mbe-panel-script" alt="" src="data:," onerror="{html.escape(script.strip())}">'
+    style = W.HTML(PANEL_CSS + hook, layout=W.Layout(display="none"))
     style.add_class("mbe-panel-style")
     return style
 
 
 def scroll_box(widget: W.DOMWidget, name: str) -> W.DOMWidget:
-    """Make a view that scrolls reachable with the keyboard (Tab to it, then the arrow keys scroll it);
-    ``name`` is its tooltip, what it holds.  An HTML view, not a Box: ipywidgets 8.1 makes no Box
-    tabbable and draws none with a tooltip."""
+    """Make a view that scrolls reachable with the keyboard (Tab to it, then the arrow keys scroll it:
+    the panel keeps its keys from the notebook, see :data:`PANEL_SCRIPT`); ``name`` is its tooltip,
+    what it holds, which the page also gives it as its name (a region a screen reader announces).
+    An HTML view, not a Box: ipywidgets 8.1 makes no Box tabbable and draws none with a tooltip."""
     widget.tabbable = True
     widget.tooltip = name
+    widget.add_class("mbe-scroll")
     return widget
+
+
+def live(widget: W.DOMWidget) -> W.DOMWidget:
+    """Make an HTML view a polite live region (``role=status``, set in the page by
+    :data:`PANEL_SCRIPT`): a screen reader reads what it comes to say -- a result, an error -- without
+    the learner moving there.  For short views whose change is news; not for logs or tables."""
+    widget.add_class("mbe-live")
+    return widget
+
+
+def focus_after_click(button: W.Button, then: W.DOMWidget) -> None:
+    """When a click from the page leaves ``button`` disabled ("run to end" at the end, "start" while
+    running), move the keyboard focus to ``then`` (the control that comes next, say "stop"): a disabled
+    button drops the focus to the page's body and a keyboard user loses their place.  A click made from
+    code (``button.click()``) moves no focus: the learner may be typing in another cell."""
+
+    def moved(_widget: W.Widget, content: dict[str, Any], _buffers: Any) -> None:
+        if content.get("event") == "click" and button.disabled and not getattr(then, "disabled", False):
+            then.focus()
+
+    button.on_msg(moved)  # after the Button's own handler, which ran the click
 
 
 class PlotImage(W.HTML):

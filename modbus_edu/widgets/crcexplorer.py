@@ -24,8 +24,10 @@ from .common import (
     MessageLine,
     Typing,
     esc,
+    focus_after_click,
     guarded,
     hex_text,
+    live,
     mark_invalid,
     panel_style,
     scroll_box,
@@ -118,9 +120,9 @@ class CrcExplorer(StaticView, W.VBox):
         self.bytes_view = W.HTML()
         self.bytes_view.add_class("mbe-crc-bytes")
         self.step_view = W.HTML(layout=W.Layout(overflow="auto"))  # long lines scroll, never clip
-        scroll_box(self.step_view, "the current step (scrolls)")
+        live(scroll_box(self.step_view, "the current step (scrolls)"))
         self.step_view.add_class("mbe-crc-step")
-        self.result_view = W.HTML()
+        self.result_view = live(W.HTML())
         self.result_view.add_class("mbe-crc-result")
         self.history_view = W.HTML()
         self.children = [
@@ -145,6 +147,10 @@ class CrcExplorer(StaticView, W.VBox):
         self.back.on_click(guarded(self.message, lambda _b: self.step(-1)))
         self.reset.on_click(guarded(self.message, lambda _b: self.goto(0)))
         self.run_to_end.on_click(guarded(self.message, lambda _b: self.goto(len(self.steps))))
+        for forward in (self.next_bit, self.next_byte, self.run_to_end):
+            focus_after_click(forward, self.back)  # at the end these three go grey: step back from there
+        for backward in (self.back, self.reset):
+            focus_after_click(backward, self.next_bit)  # at the start these two go grey: step on
         self._load()
 
     # -- state ---------------------------------------------------------------------------------------
@@ -179,7 +185,7 @@ class CrcExplorer(StaticView, W.VBox):
             data = parse_hex(self.text.value) if self.text.value.strip() else b""
         except ModbusError as exc:
             self.message.error(exc)  # right under the bytes field, which is marked red
-            mark_invalid(self.text, True)
+            mark_invalid(self.text, True, self.message)
             self._render(stale=True)
             return
         method = self.method.value
@@ -189,10 +195,10 @@ class CrcExplorer(StaticView, W.VBox):
             self.message.show(f"{len(data):,} bytes are too many to follow {how}: at most {limit:,}. "
                               "Shorten them" + (", or choose 'by table'." if method == "bitwise" else "."),
                               "error")
-            mark_invalid(self.text, True)
+            mark_invalid(self.text, True, self.message)
             self._render(stale=True)
             return
-        mark_invalid(self.text, False)
+        mark_invalid(self.text, False, self.message)
         self.data = data
         if method == "bitwise":
             self.steps = list(crc16_trace(data))

@@ -17,7 +17,7 @@ from ..links.loopback import loopback_serial
 from ..master import Master
 from ..platform import require_plotting
 from ..slave import Slave
-from .common import MONO, MessageLine, PlotImage, esc, guarded, panel_style, scroll_box
+from .common import MONO, MessageLine, PlotImage, esc, focus_after_click, guarded, panel_style, scroll_box
 from .picture import StaticView
 
 __all__ = ["MeterDashboard"]
@@ -136,6 +136,8 @@ class MeterDashboard(StaticView, W.VBox):
         self.read_button.on_click(g(self.message, lambda _b: self.read_once()))
         self.start_button.on_click(g(self.message, lambda _b: self.start()))
         self.stop_button.on_click(g(self.message, lambda _b: self.stop()))
+        focus_after_click(self.start_button, self.stop_button)
+        focus_after_click(self.stop_button, self.start_button)
         self.clear_button.on_click(g(self.message, lambda _b: self.clear()))
         self.plot_group.observe(g(self.message, lambda _c: self._render_plot()), names="value")
 

@@ -22,6 +22,7 @@ from .common import (
     guarded,
     hex_text,
     legend_html,
+    live,
     mark_invalid,
     panel_style,
     parse_bit_list,
@@ -297,7 +298,7 @@ class FrameBuilder(StaticView, W.VBox):
         return box
 
     def _row(self, name: str, box: W.DOMWidget) -> W.HBox:
-        label = W.HTML(layout=W.Layout(margin="0 0 0 8px"))
+        label = live(W.HTML(layout=W.Layout(margin="0 0 0 8px")))
         label.add_class("mbe-field-error")
         label.add_class(f"mbe-field-error-{name.replace('_', '-')}")
         self._error_labels[name] = label
@@ -326,7 +327,7 @@ class FrameBuilder(StaticView, W.VBox):
             else:
                 label.value = ""
             shown(label, bool(text or note))
-            mark_invalid(box, bool(text))
+            mark_invalid(box, bool(text), label)
 
     def _field_of(self, exc: ModbusError, needed: dict[str, W.DOMWidget]) -> str | None:
         """The field an error of the library is about: the first shown field its message names (in

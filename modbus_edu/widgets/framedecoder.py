@@ -97,7 +97,7 @@ class FrameDecoder(StaticView, W.VBox):
         """Parse and dissect the text (called on every change)."""
         self.frame, self.dissection, self.error = b"", None, None
         if not self.text.value.strip():
-            mark_invalid(self.text, False)
+            mark_invalid(self.text, False, self.message)
             self.frame_view.value = ""
             self.dissection_view.value = ""
             self.message.show("paste a frame above (hex bytes, or an ASCII frame starting with ':')")
@@ -107,11 +107,11 @@ class FrameDecoder(StaticView, W.VBox):
         except ModbusError as exc:  # under the field, which is marked; the last good frame greyed out
             self.error = exc
             self.message.error(exc)
-            mark_invalid(self.text, True)
+            mark_invalid(self.text, True, self.message)
             self.frame_view.value = stale_html(self.frame_view.value)
             self.dissection_view.value = stale_html(self.dissection_view.value)
             return
-        mark_invalid(self.text, False)
+        mark_invalid(self.text, False, self.message)
         self.frame = data
         mode = None if self.mode.value == "auto" else self.mode.value
         role = None if self.role.value == "auto" else self.role.value

@@ -60,9 +60,13 @@ class GridMixin:
 
     def _build_grid(self, address: int, n: int) -> None:
         cells = []
+        # the rows never scroll (nor clip) on their own: the grid scrolls them all together, both ways, so
+        # that the head stays above its column and a head with no control in it is no scroll box
+        row_layout = {"overflow": "visible", "flex": "0 0 auto"}
         rows = [W.HBox([W.HTML(f'<div style="width:70px;{MONO};color:#5c636a">address</div>')] +
                        [W.HTML(f'<div style="width:84px;text-align:center;{MONO};color:#5c636a">+{c}</div>')
-                        for c in range(min(COLUMNS, n))])]
+                        for c in range(min(COLUMNS, n))], layout=W.Layout(**row_layout))]
+        rows[0].add_class("mbe-tt-grid-head")
         for start in range(0, n, COLUMNS):
             row = [W.HTML(f'<div style="width:70px;{MONO}">{address + start}</div>')]
             for i in range(start, min(start + COLUMNS, n)):
@@ -76,7 +80,7 @@ class GridMixin:
                              names="value")
                 cells.append(cell)
                 row.append(cell)
-            rows.append(W.HBox(row))
+            rows.append(W.HBox(row, layout=W.Layout(**row_layout)))
         more = len(self.table.read(address, self.length.value)) - n if self.length.value > n else 0
         if more:
             rows.append(W.HTML(f"<i>... and {more} more (the grid shows the first {MAX_CELLS})</i>"))

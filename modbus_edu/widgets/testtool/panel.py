@@ -24,7 +24,7 @@ from ...errors import ConfigError, ModbusError
 from ...master import Master
 from ...slave import Slave
 from ...traffic import TrafficLog
-from ..common import MessageLine, esc, guarded, panel_style, scroll_box, shown
+from ..common import MessageLine, esc, focus_after_click, guarded, panel_style, scroll_box, shown
 from ..picture import StaticView
 from ..throttle import Throttle
 from .config import ConfigMixin
@@ -232,6 +232,8 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         self.read_button.on_click(g(self.message, lambda _b: self.poll_once()))
         self.start_button.on_click(g(self.message, lambda _b: self.start()))
         self.stop_button.on_click(g(self.message, lambda _b: self.stop()))
+        focus_after_click(self.start_button, self.stop_button)
+        focus_after_click(self.stop_button, self.start_button)
         self.reset_button.on_click(g(self.message, lambda _b: self.reset_counters()))
 
         # -- data grid -------------------------------------------------------------------------------------
@@ -280,6 +282,8 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         self.fill_button.on_click(g(self.message, lambda _b: self.fill_increment()))
         self.auto_start_button.on_click(g(self.message, lambda _b: self.auto_fill_start()))
         self.auto_stop_button.on_click(g(self.message, lambda _b: self.auto_fill_stop()))
+        focus_after_click(self.auto_start_button, self.auto_stop_button)
+        focus_after_click(self.auto_stop_button, self.auto_start_button)
 
         # -- logs ------------------------------------------------------------------------------------------
         self.newest_on_top = W.Checkbox(value=True, description="newest on top", indent=False,
