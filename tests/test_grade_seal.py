@@ -265,7 +265,10 @@ def _grade_class(base: Path, scratch: Path) -> dict:
     for path in host:  # the old seal left them: clean up, the test reports them
         path.unlink()
     return {"runs": runs, "windows": windows, "scratch": scratch, "base": base, "left_on_host": host,
-            "rooms": sorted(p.name for p in scratch.iterdir()), "processes": _learners_processes()}
+            # what is left of the learners in the grader's scratch (the clean rooms' copies of the library,
+            # "rooms", are the grading run's, removed with the scratch by grade())
+            "rooms": sorted(p.name for p in scratch.iterdir() if p.name != "rooms"),
+            "processes": _learners_processes()}
 
 
 def _learners_processes() -> set[int]:
