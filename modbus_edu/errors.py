@@ -47,6 +47,7 @@ __all__ = [
     "ConfigError",
     "NumberError",
     "BrowserError",
+    "ReferenceUnavailable",
     "shown",
     "guard_numbers",
 ]
@@ -275,3 +276,16 @@ class BrowserError(OneLineError):
     A web page cannot listen on a port, and it cannot open a TCP or UDP connection to a device: servers,
     gateways and links to real devices need a local Python or Binder.
     """
+
+
+class ReferenceUnavailable(ModbusError):
+    """The library's own answer to a build exercise, called where the grader judges that exercise.
+
+    The grader runs a learner's function in a clean room whose copy of the library has, in place of the
+    code that answers the exercise (``mb.crc16`` for the CRC exercise), a body that raises this error;
+    so a function that only calls the library, however wrapped, is told so instead of being credited.
+    ``name`` is how the learner would write what was called (``"mb.crc16"``)."""
+
+    def __init__(self, name: str) -> None:
+        self.name = str(name)
+        super().__init__(f"calls {self.name}, the library's own answer to this exercise; write your own")

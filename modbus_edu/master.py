@@ -96,6 +96,13 @@ MAX_MISMATCH_NOTES = 3
 __all__ = ["Master", "MasterStats", "Verdict", "classify_response"]
 
 
+def _counted(number: int, noun: str) -> str:
+    """``number`` and ``noun`` in the number it asks for: "1 timeout", "2 timeouts"; a noun written
+    ``"mismatch:es"`` takes "es" in the plural."""
+    noun, _, ending = noun.partition(":")
+    return f"{number} {noun}{'' if number == 1 else ending or 's'}"
+
+
 @dataclass
 class MasterStats:
     """A master's statistics (the counters of the robot test-tool paper's tool, and a few more).
@@ -144,17 +151,16 @@ class MasterStats:
                 for f in fields(self)}
 
     def summary(self) -> str:
-        """One line: ``10 requests: 9 valid, 0 exceptions, 1 timeouts, ...``."""
+        """One line: ``10 requests: 9 valid, 0 exceptions, 1 timeout, ...`` (each noun in the number its
+        count asks for)."""
         lat = ""
         if self.latencies:
             lat = (f"; latency min {min(self.latencies) * 1000:.2f} ms, "
                    f"max {max(self.latencies) * 1000:.2f} ms")
-        return (
-            f"{self.requests} requests: {self.valid_responses} valid, {self.exceptions} exceptions, "
-            f"{self.timeouts} timeouts, {self.checksum_errors} checksum errors, "
-            f"{self.bad_responses} bad responses, {self.mismatches} mismatches, "
-            f"{self.broadcasts} broadcasts{lat}"
-        )
+        counts = ", ".join(_counted(getattr(self, name), noun) for name, noun in (
+            ("exceptions", "exception"), ("timeouts", "timeout"), ("checksum_errors", "checksum error"),
+            ("bad_responses", "bad response"), ("mismatches", "mismatch:es"), ("broadcasts", "broadcast")))
+        return f"{_counted(self.requests, 'request')}: {self.valid_responses} valid, {counts}{lat}"
 
     def __str__(self) -> str:
         return self.summary()

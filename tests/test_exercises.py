@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import ast
 import re
 import threading
 import time
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -15,6 +17,8 @@ from modbus_edu import exercises
 from modbus_edu.exercises import core
 from modbus_edu.exercises.build import build_exercise
 from modbus_edu.exercises.misconceptions import crc16_reflected, crc16_unreflected
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture
@@ -321,26 +325,86 @@ def test_a_refusal_table_may_only_name_catalogued_misconceptions():
 
 
 # --- checkers that teach, hints that do not tell ----------------------------------------------------------
-def test_a_build_exercise_s_hint_gives_the_idea_and_its_line_comes_after_two_wrong_tries(capsys):
-    assert {"02.5", "04.5", "14.2"} <= set(core.LINES)
-    for key, line in core.LINES.items():
-        item = exercises.EXERCISES[key]
-        assert item.kind == "build"
-        code = re.sub(r"^return ", "", line)
-        assert code not in item.hint and "to_bytes" not in item.hint and "& 0xFF" not in item.hint, key
-    key, line = "04.5", core.LINES["04.5"]
+def _code(text: str) -> str:
+    """``text`` as code compares: no spaces, one kind of quote."""
+    return re.sub(r"\s+", "", text).replace('"', "'")
+
+
+def _skeleton(text: str) -> str:
+    """The calls and names of ``text`` without their values (numbers, or ``...`` left to fill in): what a
+    line hands out whatever its numbers."""
+    return re.sub(r"[^A-Za-z_.(]", "", text.replace("...", ""))
+
+
+def _expressions(line: str) -> list[str]:
+    """The innermost bracketed expressions of ``line`` that compute something (an operator inside)."""
+    found = [_code(inner) for inner in re.findall(r"\(([^()]*)\)", line)]
+    return [inner for inner in found if len(inner) >= 8 and re.search(r"[&|^~+*/-]", inner)]
+
+
+def solution_lines(key: str) -> list[str]:
+    """The lines of exercise ``key``'s worked solution that do its work: the value given as the answer (a
+    call or an expression, not a bare name or literal), what its functions return, and the body of a loop
+    at the top of the file."""
+    source = (ROOT / "notebooks" / exercises.EXERCISES[key].solution).read_text()
+    lines = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "answer" for t in node.targets):
+            if not isinstance(node.value, (ast.Name, ast.Constant)):
+                lines.append(ast.get_source_segment(source, node.value))
+        elif isinstance(node, ast.Return) and node.value is not None \
+                and not isinstance(node.value, (ast.Name, ast.Constant)):
+            lines.append(ast.get_source_segment(source, node.value))
+        elif isinstance(node, ast.For) and node.col_offset == 0:
+            lines += [ast.get_source_segment(source, statement) for statement in node.body]
+    return [line for line in lines if len(_code(line)) >= 12]
+
+
+def test_no_hint_level_holds_a_worked_solution_s_line():
+    """Hints escalate from the idea to the step to a worked example on other numbers: no level holds an
+    exercise's own line, and the idea (the first level) holds neither its call with the numbers left out
+    nor the line of another exercise of the course."""
+    keys = sorted(exercises.EXERCISES)
+    lines = {key: solution_lines(key) for key in keys}
+    assert sum(map(len, lines.values())) > 60 and lines["00.3"] and lines["09.2"] and lines["14.2"]
+    for key in keys:
+        idea = exercises.EXERCISES[key].hint
+        levels = [idea, *core.LINES.get(key, ())]
+        for other in keys:
+            for line in lines[other]:
+                for level in levels:
+                    assert _code(line) not in _code(level), (key, other, line)
+        for line in lines[key]:
+            if "(" in line and len(_skeleton(line)) >= 12:
+                assert _skeleton(line) not in _skeleton(idea), (key, line)
+        for other in (k for k in keys if k[:2] == key[:2]):  # nor an expression of its notebook's lines
+            for line in lines[other]:
+                for expression in _expressions(line):
+                    assert expression not in _code(idea), (key, other, expression)
+
+
+def test_hints_escalate_one_level_per_wrong_try_and_start_again_when_right(capsys):
+    assert {"00.3", "02.5", "04.5", "07.2", "09.2", "12.3", "14.2", "17.2"} <= set(core.LINES)
+    for key, levels in core.LINES.items():
+        assert levels and all(isinstance(level, str) and level for level in levels), key
+        assert exercises.EXERCISES[key].hint not in levels
+    key = "04.5"
+    step, example = core.LINES[key]
     core.wrong_tries.pop(key, None)
     wrong = exercises.EXERCISES[key].wrong
     first = exercises.check(key, wrong)
-    assert first.ok is False and "Hint:" in first.message and line not in first.message
+    assert first.ok is False and "Hint:" in first.message and step not in first.message
     second = exercises.check(key, wrong)
-    assert second.message.endswith(f"After 2 tries, the line itself: {line}")
-    assert line in capsys.readouterr().out
+    assert second.message.endswith(f"After 2 tries, the next step: {step}") and example not in second.message
+    third = exercises.check(key, wrong)
+    assert third.message.endswith(f"After 2 tries, the next step: {step}\n"
+                                  f"After 3 tries, the same idea on other numbers: {example}")
+    assert example in capsys.readouterr().out
     def lrc(data: bytes) -> int:  # a learner's own, right LRC (the library's own function is refused)
         return -sum(data) & 0xFF
 
     assert exercises.check(key, lrc).ok is True and key not in core.wrong_tries  # right: counted afresh
-    assert line not in exercises.check(key, wrong).message
+    assert step not in exercises.check(key, wrong).message
     assert exercises.evaluate(key, wrong).message == first.message  # evaluate counts nothing
     core.wrong_tries.pop(key, None)
 
@@ -383,3 +447,19 @@ def test_counterexamples_are_written_the_way_the_exercise_writes_its_inputs():
 def test_a_list_of_one_frame_is_one_frame():
     message = exercises.evaluate("16.2", ["01 04 00 00 00 02 71 CB"]).message
     assert "you give 1 frame;" in message
+
+
+def test_the_catalogue_states_each_silence_with_its_limit_and_each_reason_for_silence_apart():
+    timers = ("one-character-for-t35", "t15-forgotten", "silences-forgotten", "fixed-silence-ignored",
+              "t15-for-t35")
+    for key in timers:  # character times hold at 19200 baud or below; fixed times above
+        assert "19200 baud" in CATALOGUE[key].sentence and "ms" in CATALOGUE[key].sentence, key
+    assert "processing time" in CATALOGUE["silences-forgotten"].sentence
+    refusal = CATALOGUE["illegal-function-for-address"].sentence
+    assert "state" in refusal and "role" in refusal  # exception 01 is more than "not implemented"
+    damaged, other = CATALOGUE["answer-to-damaged-request"], CATALOGUE["answer-to-another-unit"]
+    assert "another unit" not in damaged.sentence and "CRC" not in other.sentence
+    assert "another unit" in exercises.evaluate("07.3", dict.fromkeys(
+        ("request for a unit nobody has", "one bit flipped in the request", "one bit flipped in the response",
+         "read of an address the slave does not have", "response carries another unit id"),
+        "exception")).message

@@ -26,7 +26,7 @@ def _class(tmp_path: Path, monkeypatch) -> list[Path]:
 def test_a_stopped_worker_costs_only_its_notebook(tmp_path, monkeypatch):
     paths = _class(tmp_path, monkeypatch)
     monkeypatch.setattr(runner, "backstop", lambda timeout: 25.0)  # the grader gives up on 03 first
-    runs = runner.run_isolated(paths, 300, 1024, KERNEL, "seed", tmp_path / "grader")
+    runs = runner.run_isolated(paths, 300, 1024, KERNEL, tmp_path / "grader")
     assert [run.notebook for run in runs] == [path.name for path in paths]
     assert [record["ok"] for record in runs[0].records] == [True]
     assert runs[1].records == [] and runs[1].problems == [
@@ -47,6 +47,6 @@ def test_one_worker_runs_every_notebook_in_order(tmp_path, monkeypatch):
         return original(*args)
 
     monkeypatch.setattr(runner, "_one_worker", counted)
-    runs = runner.run_isolated(paths, 60, 1024, KERNEL, "seed", tmp_path / "grader")
+    runs = runner.run_isolated(paths, 60, 1024, KERNEL, tmp_path / "grader")
     assert seen == [["01_data_model.ipynb", "05_tcp_and_mbap.ipynb"]]  # one worker for both
     assert [[record["key"] for record in run.records] for run in runs] == [["01.1"], ["05.1"]]

@@ -5,22 +5,25 @@ columns and gain table built from synthetic runs (no kernel)."""
 from __future__ import annotations
 
 import csv
+import json
 import random
+import re
 import runpy
 from pathlib import Path
 
 import pytest
 
-from modbus_edu.course.reports import _write_csv, _write_summary
+from modbus_edu.course.reports import _write_csv, _write_summary, gain_shown
 from modbus_edu.course.runner import NotebookRun, judged
 from modbus_edu.course.verdicts import course_keys, inventory_marks, verdicts
 from modbus_edu.errors import ModbusError
-from modbus_edu.exercises import EXERCISES, evaluate, inventory, verdict
+from modbus_edu.exercises import EXERCISES, check, evaluate, inventory, verdict
 from modbus_edu.exercises.misconceptions import CATALOGUE
 from modbus_edu.exercises.plain import plain, revive
 
 ROOT = Path(__file__).resolve().parents[1]
 PRE, POST = inventory.PRE, inventory.POST
+LETTERS = inventory.LETTERS
 N = len(inventory.QUESTIONS)
 
 
@@ -80,28 +83,74 @@ def test_reading_letters_a_dict_and_question_marks():
         assert evaluate(PRE, bad).ok is False
 
 
-def test_the_pre_test_says_how_many_are_right_and_never_which():
+@pytest.fixture(autouse=True)
+def kept_answers(tmp_path, monkeypatch):
+    """Each test keeps the pre-test's letters in a folder of its own, never in the real home."""
+    monkeypatch.setattr(inventory, "RECORD", tmp_path / "home" / "inventory.json")
+    return inventory.RECORD
+
+
+def test_the_pre_test_records_the_answers_and_says_nothing_of_which_are_right():
     rng = random.Random(5)
+    messages = set()
     for _ in range(30):
         right = {qid for qid in inventory.BY_ID if rng.random() < 0.5}
-        if len(right) == N:
-            continue
-        message = evaluate(PRE, letters_for(PRE, right, rng)).message
-        assert message.startswith(f"Not yet: {len(right)} of {N} right.")
-        for q in inventory.QUESTIONS:  # no label, no question number, no letter of a choice
-            assert CATALOGUE[q.probes].label.lower() not in message.lower()
-        assert not any(ch.isdigit() for ch in message.split("right.", 1)[1].replace("17", ""))
-    one_wrong = inventory._wrong_at(PRE, "crc-order")
-    other_wrong = inventory._wrong_at(PRE, "mbap-length")
-    strip = {evaluate(PRE, one_wrong).message, evaluate(PRE, other_wrong).message}
-    assert len(strip) == 1  # which question is wrong changes nothing in what the learner reads
+        result = evaluate(PRE, letters_for(PRE, right, rng))
+        assert result.ok is True and result.message.startswith(f"Recorded: your {N} answers")
+        assert "right" not in result.message.split("Which are right", 1)[0]
+        for q in inventory.QUESTIONS:  # no label, no count of right answers
+            assert CATALOGUE[q.probes].label.lower() not in result.message.lower()
+        messages.add(re.sub(r"\(\d+ marked \?\)", "", result.message))
+    assert len(messages) == 1  # how many are right, and which, changes nothing in what the learner reads
 
 
-def test_the_post_test_names_the_misconception_of_each_wrong_answer():
-    message = evaluate(POST, inventory._wrong_at(POST, "crc-order")).message
-    number = inventory.ORDER_POST.index("crc-order") + 1
-    assert f"{N - 1} of {N} right" in message and f"question {number} (swapped CRC bytes)" in message
-    assert evaluate(POST, inventory.key_letters(POST)).ok is True
+def test_check_keeps_the_pre_test_and_the_post_test_shows_which_were_right_before(kept_answers, capsys):
+    assert not kept_answers.exists()
+    missing = check(POST, inventory.key_letters(POST)).message
+    assert "not kept on this computer" in missing and "00.0" in missing
+    evaluate(PRE, inventory.key_letters(PRE))
+    assert not kept_answers.exists()  # evaluate (and the grader) judge only; check keeps
+    pre = {qid: inventory.BY_ID[qid].right for qid in ("crc-order", "mbap-length")}
+    letters = "".join(pre.get(qid, "?") for qid in inventory.ORDER_PRE)
+    assert check(PRE, letters).ok is True
+    assert json.loads(kept_answers.read_text())[PRE] == letters
+    after = check(POST, inventory._wrong_at(POST, "reference"))
+    numbers = sorted(inventory.ORDER_POST.index(qid) + 1 for qid in pre)
+    assert after.ok is False and after.message.endswith(
+        f"Before the course (exercise 00.0) you had 2 of {N} right: questions {numbers[0]}, {numbers[1]} "
+        f"(numbered as here).")
+    assert "Before the course" in capsys.readouterr().out
+    check(PRE, "?" * N)
+    assert check(POST, inventory.key_letters(POST)).message.endswith(f"you had 0 of {N} right.")
+
+
+def test_every_wrong_choice_names_the_misconception_it_stands_for():
+    for q in inventory.QUESTIONS:
+        assert set(q.wrong) == set(LETTERS) - {q.right} and set(q.wrong.values()) <= set(CATALOGUE), q.id
+        number = inventory.ORDER_POST.index(q.id) + 1
+        for letter, key in q.wrong.items():
+            letters = list(inventory.key_letters(POST))
+            letters[number - 1] = letter
+            message = evaluate(POST, "".join(letters)).message
+            assert f"question {number} ({CATALOGUE[key].label})" in message, (q.id, letter)
+    frame_end = inventory.BY_ID["frame-end"]
+    assert CATALOGUE[frame_end.wrong["a"]].label != CATALOGUE["one-character-for-t35"].label  # CR LF
+    assert frame_end.choices[0] == "CR LF"
+
+
+def test_the_notebooks_ask_the_questions_the_inventory_scores():
+    import nbformat
+
+    for quiz, notebook in ((PRE, "00_welcome.ipynb"), (POST, "17_captures_and_security.ipynb")):
+        cells = nbformat.read(ROOT / "notebooks" / notebook, as_version=4).cells
+        assert any(cell.source.endswith(inventory.markdown(quiz)) for cell in cells), notebook
+
+
+def test_no_keyed_choice_stands_out_by_its_length():
+    for q in inventory.QUESTIONS:
+        lengths = sorted(len(choice) for choice in q.choices)
+        keyed = len(q.choices[LETTERS.index(q.right)])
+        assert keyed < lengths[-1] or lengths[-1] - lengths[-2] <= 10, q.id
 
 
 @pytest.mark.parametrize("answer", [inventory.key_letters(PRE), {n: c for n, c in
@@ -174,9 +223,9 @@ def test_the_gradebook_reports_each_learners_scores_and_the_class_gain_per_quest
         rows = {row["learner"]: row for row in csv.DictReader(stream)}
     for name, (pre, post) in answers.items():
         expected_pre = sum(inventory.score(inventory.read(pre, PRE)).values())
-        assert rows[name]["inventory pre"] == f"{expected_pre}/{N}"
+        assert (rows[name]["inventory pre"], rows[name]["inventory questions"]) == (str(expected_pre), str(N))
         right_after = None if post is None else sum(inventory.score(inventory.read(post, POST)).values())
-        expected_post = "" if post is None else f"{right_after}/{N}"
+        expected_post = "" if post is None else str(right_after)
         assert rows[name]["inventory post"] == expected_post
 
     summary = _write_summary(tmp_path, table, exercises, flags, marks=marks)
@@ -185,8 +234,10 @@ def test_the_gradebook_reports_each_learners_scores_and_the_class_gain_per_quest
     assert summary["inventory"] == [*expected, overall]
     assert "10 learners answered the twelve questions" in page
     for row in expected:
-        assert (f"<td>{row.question}</td><td>{CATALOGUE[inventory.BY_ID[row.question].probes].label}</td>"
-                f"<td>{row.pre:.0%}</td><td>{row.post:.0%}</td><td>{row.shown}</td>") in page
+        numbers = " / ".join(str(order.index(row.question) + 1)
+                             for order in (inventory.ORDER_PRE, inventory.ORDER_POST))
+        assert (f"<td>{numbers}</td><td>{CATALOGUE[inventory.BY_ID[row.question].probes].label}</td>"
+                f"<td>{row.pre:.0%}</td><td>{row.post:.0%}</td><td>{gain_shown(row)}</td>") in page
     assert "<td>—</td>" in page and f"Overall normalised gain: g = {overall.g:.2f}." in page
     assert "<b>eve</b>" not in page
 

@@ -405,10 +405,20 @@ def test_poll_bad_settings_raise_before_the_first_poll(kwargs, error, message):
     assert master.stats.requests == 0
 
 
+def test_the_summary_counts_in_words_one_and_many():
+    one = MasterStats(requests=1, exceptions=1, timeouts=1, checksum_errors=1, bad_responses=1,
+                      mismatches=1, broadcasts=1).summary()
+    assert one == ("1 request: 0 valid, 1 exception, 1 timeout, 1 checksum error, 1 bad response, "
+                   "1 mismatch, 1 broadcast")
+    two = MasterStats(requests=2, mismatches=2, bad_responses=2).summary()
+    assert "2 requests:" in two and "2 mismatches" in two and "2 bad responses" in two
+
+
 def test_stats_reset_summary_and_repr():
     master = Master(loopback_serial(Slave(unit=1)))
     master.read_coils(1, 0, 1)
-    assert "1 requests: 1 valid" in master.stats.summary() and "latency" in str(master.stats)
+    assert master.stats.summary().startswith("1 request: 1 valid, 0 exceptions, 0 timeouts")
+    assert "latency" in str(master.stats)
     assert "Master on virtual serial line" in repr(master)
     master.stats.reset()
     assert master.stats == MasterStats() and master.stats.success_rate == 0.0

@@ -251,6 +251,15 @@ def test_the_class_copys_makefile_offers_only_what_works_there_and_it_has_a_giti
             assert (tmp_path / path).exists(), (target, path)
     ignored = (tmp_path / ".gitignore").read_text(encoding="utf-8").split()
     assert {".venv/", "__pycache__/", ".ipynb_checkpoints/"} <= set(ignored)
+    # what belongs to the full repository only stays behind: the test tools' pins, and in `make clean`
+    # the caches, the offline site and the release folder that the class copy never makes
+    assert not (tmp_path / "binder" / "requirements-test.txt").exists()
+    assert (tmp_path / "binder" / "requirements.txt").exists()
+    dry = subprocess.run(["make", "--no-print-directory", "-n", "clean"], capture_output=True, text=True,
+                         cwd=tmp_path, timeout=60)
+    for artefact in (".pytest_cache", ".hypothesis", ".ruff_cache", ".coverage", "_site", "lite/", "release"):
+        assert artefact not in dry.stdout, artefact
+    assert ".venv" in dry.stdout
 
 
 # --- slow: packages, virtual environments, the class copy, a hub's base image ------------------------------

@@ -17,7 +17,8 @@ from pymodbus.simulator import DataType, SimData, SimDevice
 import modbus_edu as mb
 from modbus_edu import exercises, platform
 from modbus_edu.exercises import misconceptions
-from modbus_edu.exercises.build import build_exercise, run_within
+from modbus_edu.exercises.build import build_exercise
+from modbus_edu.exercises.calls import run_within
 from modbus_edu.interop import pymodbus_server
 
 

@@ -1,40 +1,56 @@
 """The instructor's gradebook: ``modbus-edu grade SUBMISSIONS... --out DIR``.
 
-A class's notebooks come as one folder per learner (``class/ada/03_rtu_and_crc.ipynb``) or as files named
-by learner (``ada_03_rtu_and_crc.ipynb``, or ``ada.ipynb``).  Every notebook runs from the top in a fresh
-kernel, with a time limit per notebook.
+A class's notebooks come as Moodle, Canvas or nbgrader hand them over (their downloads, zipped or not),
+as one folder per learner (``class/ada/03_rtu_and_crc.ipynb``) or as files named by learner
+(``ada_03_rtu_and_crc.ipynb``, or ``ada.ipynb``): :mod:`.submissions`.  Every notebook runs from the top
+in a fresh kernel, with a time limit per notebook.
 
 **The kernel submits, the grader judges.**  Inside the kernel ``check`` judges nothing: it sends the
 answer as plain data over the kernel's own message channel, and the grader computes every verdict in its
-own process, with its own checkers (:mod:`.runner`).  For a build exercise the grader draws inputs from a
-seed of its own for each learner, has the kernel call the learner's function on them, and compares the
-outputs itself.  Verdicts never come from the outputs stored in the file, nor from anything the learner's
-code could reach: patching the checkers, ``json`` or ``check`` in the kernel changes nothing, and an
-always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
+own process, with its own checkers (:mod:`.runner`).  For a build exercise the grader takes the learner's
+function, with what it uses, from the handed-in notebook, runs it in a clean room where the library's own
+answer is not available (:mod:`.cleanroom`), on inputs drawn from a seed of its own for each learner, and
+compares the outputs itself.  Verdicts never come from the outputs stored in the file, nor from anything
+the learner's code could reach: patching the checkers, ``json`` or ``check`` in the kernel changes nothing,
+and an always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
 
 **Each learner sealed off** (:mod:`.sandbox`, its level said in one line at the start): under a user id of
-its own, in PID and mount namespaces, with a private copy of only its own notebooks, the class and the
-output folder out of reach, memory (``--memory``) and processes limited for the learner as a whole, and
-every process killed when the learner is done.  Without root or namespaces: a process group and
+its own, in PID, mount, network, IPC and UTS namespaces, reached by the grader only through Unix sockets
+in its own room (a private tmpfs holding a copy of only its own notebooks), the class, the output folder
+and the checkout around the library out of reach, everything but its room read-only, memory
+(``--memory``) and processes limited for the learner as a whole, and every process killed and every file
+it wrote gone when the learner is done.  Without root or namespaces: a process group and
 per-process limits; with ``--container IMAGE``: a docker or podman container per kernel.
 
 A notebook that hangs, kills its kernel, floods memory or prints megabytes is reported as such; its
-exercises that did not run are "errored", and the other notebooks and learners go on.
+exercises that did not run are "errored", and the other notebooks and learners go on.  So is an answer
+the grader's checker fails on: that exercise is errored, with a flag, and the grading goes on.
 
 One learner is one row however the files were named (:mod:`.submissions`); of several copies of one
-notebook, the one with the most answers counts, then the newest; the columns are the course's exercises
+notebook (copies, resubmissions), only the newest :data:`MAX_COPIES` run (a flag names the others), and
+of those the platform's newest resubmission counts, else the one with the most answers, then the newest;
+a notebook not named after a course notebook (``Untitled.ipynb``) counts only for notebooks the learner did
+not hand in; the columns are the course's exercises
 that the class's notebooks check, and a key the course does not have is a flag (:mod:`.verdicts`).
+
+**Time.** A notebook's cells get ``--timeout`` seconds in all, then each of its own build exercises
+:data:`~.runner.TRACE_TIMEOUT` seconds to be traced, besides the kernel's start; so a learner takes at
+most :data:`MAX_COPIES` x ``--timeout`` (plus those) per notebook handed in (its copies counted once),
+however many copies, answers or made-up keys the notebooks hold; judging a notebook's answers stops after
+:data:`~.runner.JUDGE_SECONDS` seconds.
 
 The grader writes ``gradebook.csv`` (learner x exercise, then totals, the concept inventory's scores
 before and after, and flags), ``learners/NAME.html``
 (each exercise's verdict and the checker's feedback) and ``summary.html`` / ``summary.csv`` (each
-exercise's success rate, the slips the checkers named, by the catalogue's names, with the learners who
-made them, the class's normalised gain per question of the concept inventory, the notebooks to look at,
-and how the submissions were read), all escaped (:mod:`.reports`).
+exercise's success rate among the learners who handed its notebook in, the slips the checkers named, by
+the catalogue's names, with the learners who made them, the class's normalised gain per question of the
+concept inventory, the notebooks to look at, and how the submissions were read), all escaped
+(:mod:`.reports`); ``--export moodle|canvas`` adds the platform's grade import (:mod:`.export`).
 """
 
 from __future__ import annotations
 
+import functools
 import os
 import secrets
 import shutil
@@ -45,10 +61,11 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
-from .reports import _write_csv, _write_learner, _write_summary, page_name
+from .cleanroom import trace_built
+from .reports import _counts, _write_csv, _write_learner, _write_summary, page_name
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .sandbox import MARKER, Sandbox, Seal, detect
-from .submissions import Submission, collect, find_submissions
+from .submissions import Found, Submission, collect, find_submissions
 from .verdicts import (
     ERRORED,
     NOT_ANSWERED,
@@ -57,32 +74,67 @@ from .verdicts import (
     Verdict,
     concerns,
     course_keys,
+    handed_in,
     inventory_marks,
     misconception,
     pick_copies,
     verdicts,
 )
 
+MAX_COPIES = 2
+"""The most copies of one notebook run for one learner: the newest ones."""
+
 __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_keys",
            "find_submissions", "grade", "instrument", "misconception", "rebinds_check", "verdicts"]
 
 
 def _hidden(paths: list[Path], out: Path) -> list[Path]:
-    """The folders a learner's kernel must not see: the class's and the output (not one holding the
-    library or Python itself, which the kernel needs)."""
-    needed = [Path(sys.prefix).resolve(), Path(__file__).resolve().parents[2]]
-    folders = {(p if p.is_dir() else p.parent).resolve() for p in [*paths, out]}
-    return sorted(f for f in folders if not any(n == f or f in n.parents for n in needed))
+    """The folders a learner's kernel must not see: the class's and the output (when it exists), wherever
+    they lie, inside the checkout that holds the library too: the seal covers each of them and binds back
+    only the folders a kernel needs (:func:`.sandbox.covered_paths`)."""
+    folders = {(p if p.is_dir() else p.parent).resolve() for p in paths}
+    if out.is_dir():
+        folders.add(out.resolve())
+    return sorted(folders)
+
+
+def newest_copies(tasks: list[Submission]) -> tuple[list[Submission], list[str]]:
+    """A learner's submissions with at most :data:`MAX_COPIES` of each notebook (the newest: the platform's
+    latest resubmission first, then by time; the others not run), and one line per notebook whose copies
+    were cut."""
+    groups: dict[str, list[Submission]] = {}
+    for task in tasks:
+        groups.setdefault(task.notebook, []).append(task)
+    kept: list[Submission] = []
+    lines = []
+    for notebook, copies in groups.items():
+        copies.sort(key=lambda task: (task.version, task.mtime, task.path.name), reverse=True)
+        kept += copies[:MAX_COPIES]
+        if len(copies) > MAX_COPIES:
+            left = ", ".join(repr(task.path.name) for task in copies[MAX_COPIES:MAX_COPIES + 3])
+            more = f" and {len(copies) - MAX_COPIES - 3} more" if len(copies) > MAX_COPIES + 3 else ""
+            lines.append(f"{notebook}: {len(copies)} copies handed in, the newest {MAX_COPIES} graded; not "
+                         f"run: {left}{more}")
+    chosen = set(kept)
+    return [task for task in tasks if task in chosen], lines
 
 
 def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch: Path, hide: list[Path],
                    timeout: float, memory_mb: int, token: str) -> list[NotebookRun]:
-    """Run one learner's notebooks in a seal of its own; every process of the learner ends with it."""
-    seal = Seal.open(sandbox, index, scratch, notebooks, hide, memory_mb, f"{token}-{index}")
+    """Run one learner's notebooks in a seal of its own; every process of the learner ends with it.
+
+    Its build exercises run in clean rooms sealed the same way, on copies of the library made once per
+    grading run in ``scratch/rooms`` (which a room reads, and nothing else of the grader's folder)."""
+    rooms = scratch / "rooms"
+    rooms.mkdir(exist_ok=True)
+    seal = Seal.open(sandbox, index, scratch, notebooks, hide, memory_mb, f"{token}-{index}", reads=[rooms])
     seed = secrets.token_hex(8)
     runs = []
     try:
-        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), seed, scratch)
+        builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms,
+                                    seal=seal.command_argv) for original in notebooks]
+        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), scratch,
+                            builds=builds)
         for original, run in zip(notebooks, runs):
             run.notebook = original.name
     finally:
@@ -95,20 +147,34 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
 
 def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int = 1024,
           jobs: int | None = None, progress: bool = True, container: str | None = None) -> dict:
-    """Grade a class; write the gradebook, the learners' pages and the summary into ``out``."""
-    tqdm = load_tqdm()
-
+    """Grade a class; write the gradebook, the learners' pages and the summary into ``out``; the summary
+    also holds each learner's (right, out of) exercises and identity on the platform (for an export)."""
     found = collect(paths)
+    try:
+        return _grade(found, paths, out, timeout=timeout, memory_mb=memory_mb, jobs=jobs, progress=progress,
+                      container=container)
+    finally:
+        found.cleanup()
+
+
+def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory_mb: int, jobs: int | None,
+           progress: bool, container: str | None) -> dict:
+    tqdm = load_tqdm()
     by_learner: dict[str, list[Submission]] = {}
     for task in found.submissions:
         by_learner.setdefault(task.learner, []).append(task)
+    capped: dict[str, list[str]] = {}
+    for learner, tasks in by_learner.items():
+        by_learner[learner], lines = newest_copies(tasks)
+        if lines:
+            capped[learner] = lines
     sandbox = detect(container)
     print(sandbox.note, file=sys.stderr)
     jobs = jobs or max(1, min(len(by_learner), os.cpu_count() or 1))
     start = time.monotonic()
     token = f"{os.getpid()}-{secrets.token_hex(4)}"
     scratch = Path(tempfile.mkdtemp(prefix="modbus-edu-grade-"))
-    hide = _hidden(paths, out)
+    hide = _hidden(paths + ([found.scratch] if found.scratch else []), out)
     graded: list[tuple[Submission, NotebookRun]] = []
     try:
         with ThreadPoolExecutor(jobs) as pool, tqdm(total=len(by_learner), unit="learner",
@@ -128,6 +194,7 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
     flags = {learner: sorted({f"{run.notebook}: {problem}" for run in runs.get(learner, [])
                               for problem in run.problems}) + found.refused.get(learner, [])
              + ([foreign[learner]] if learner in foreign else []) + choices.get(learner, [])
+             + found.flags.get(learner, []) + capped.get(learner, [])
              for learner in learners}
     look_at = {learner: [f"{run.notebook}: {concern}" for run in runs.get(learner, [])
                          for concern in concerns(run)] + found.refused.get(learner, [])
@@ -140,7 +207,10 @@ def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int 
         _write_learner(out / "learners" / page_name(learner), learner, table[learner], exercises,
                        flags[learner])
     notes = found.notes + [f"{learner}: {choice}" for learner, made in choices.items() for choice in made]
-    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks)
+    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks, handed_in(chosen))
+    summary["scores"] = {learner: (_counts(table[learner], exercises)[RIGHT], len(exercises))
+                         for learner in learners}
+    summary["identities"] = dict(found.identities)
     summary["seconds"] = time.monotonic() - start
     summary["isolation"] = sandbox.note
     return summary

@@ -20,9 +20,19 @@ from .execute import course_notebooks
 #: solutions, the instructor's guide) stays behind.  Its Makefile is :func:`class_makefile`'s.
 SHIPPED = ["modbus_edu", "binder", "pyproject.toml", "LICENSE", "LICENSE-COURSE", "CITATION.cff"]
 
+#: Files of the shipped folders that belong to the full repository only: the test tools' pins.
+LEFT_BEHIND = ["requirements-test.txt"]
+
 #: The Makefile targets that work in the class copy (the others need the tests, the benchmarks, the
 #: solutions or the instructor's tools, which stay behind).
 CLASS_TARGETS = ("help", "lab", "notebooks", "clean")
+
+#: What ``make clean`` removes in a class copy: the environment ``make lab`` builds and what installing
+#: the course there writes (the full repository's caches, site and release folder are not there).
+CLASS_CLEAN = """\
+## clean: remove the virtual environment and what installing the course wrote
+clean:
+	rm -rf $(VENV) .venv-* build dist *.egg-info"""
 
 CLASS_MAKEFILE_HEADER = """\
 # The course for a class: `make lab` builds its own virtual environment in .venv from the learner's pins
@@ -112,16 +122,19 @@ def strip_notebook(path: Path) -> int:
 
 def class_makefile(makefile: str) -> str:
     """The course's Makefile cut to the targets that work in a class copy (:data:`CLASS_TARGETS`): each
-    target's block (its ``## name:`` help and its rule) kept or left out whole, the header written for
-    a class, and every environment built from the learner's pins."""
+    target's block (its ``## name:`` help and its rule) kept or left out whole (``clean`` written for
+    the copy: :data:`CLASS_CLEAN`), the header written for a class, and every environment built from the
+    learner's pins."""
     kept = [CLASS_MAKEFILE_HEADER.rstrip("\n")]
     for block in makefile.split("\n\n")[1:]:
         target = re.search(r"^## ([\w-]+):", block, re.M)
         if target and target.group(1) not in CLASS_TARGETS:
             continue
+        if target and target.group(1) == "clean":
+            block = CLASS_CLEAN
         block = re.sub(r"^\.PHONY:.*$", ".PHONY: " + " ".join(CLASS_TARGETS), block, flags=re.M)
         kept.append(block.replace("$(call venv,$(TEST_PINS))", "$(call venv,$(LEARNER_PINS))"))
-    text = "\n\n".join(kept)
+    text = "\n\n".join(kept).rstrip("\n") + "\n"
     unused = [name for name in re.findall(r"^([A-Z_]+)\s*[?:]?=", text, re.M) if f"$({name})" not in text]
     return re.sub(rf"^(?:{'|'.join(unused)})\s*[?:]?=.*\n", "", text, flags=re.M) if unused else text
 
@@ -133,7 +146,7 @@ def release(root: Path | str, destination: Path | str) -> list[Path]:
     if destination.exists() and any(destination.iterdir()):
         raise FileExistsError(f"{destination} is not empty: give a new folder (make release RELEASE=...)")
     destination.mkdir(parents=True, exist_ok=True)
-    ignore = shutil.ignore_patterns("__pycache__", "*.pyc", ".ipynb_checkpoints")
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc", ".ipynb_checkpoints", *LEFT_BEHIND)
     for name in SHIPPED:
         source = root / name
         if source.is_dir():

@@ -2,9 +2,11 @@
 
 Everything in them that a learner wrote (a name, a folder's name, an exercise key, a checker's feedback
 quoting an answer, a flag) is data, never markup or a formula: every HTML cell is escaped, and every CSV
-cell that a spreadsheet would read as a formula (one starting with ``=``, ``+``, ``-``, ``@``, a tab or a
-carriage return) starts with a single quote, as OWASP advises.  :func:`printable` does the same for a
-terminal.
+cell of text that a spreadsheet would read as a formula (one starting with ``=``, ``+``, ``-``, ``@``, a
+tab or a carriage return), a number or a date (an exercise ``03.1``, a learner ``6/12``) starts with a
+single quote, as OWASP advises for formulas.  Scores are numbers, in columns of their own (right, then
+out of how many), never a fraction a spreadsheet takes for a date.  :func:`printable` does the same for
+a terminal.
 """
 
 from __future__ import annotations
@@ -21,14 +23,27 @@ from ..exercises import inventory
 from .verdicts import ERRORED, NOT_ANSWERED, RIGHT, WRONG, Verdict, feedback, slip
 
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+MONTH = r"(?:jan|feb|mar|apr|may|jun|jul|aug|sep|oct|nov|dec)[a-z]*\.?"
+LOOKS_LIKE_DATA = re.compile(rf"""\s*(?:
+    [(]?[$€£]?[\d.,' ]*\d[\d.,' ]*(?:e[-+]?\d+)?\s*%?[)]?            # 3, 03.1, 1,5, 1 000, 1e5, 50%
+  | \d{{1,4}}\s*[-/.]\s*\d{{1,4}}(?:\s*[-/.]\s*\d{{1,4}})?(?:[ t].*)?   # 6/12, 2024-01-05, 1.2.3
+  | \d{{1,2}}:\d{{2}}(?::\d{{2}})?\s*(?:[ap]\.?m\.?)?                    # 10:30, 10:30 pm
+  | \d{{1,4}}[-/ ]*{MONTH}(?:[-/ ,]*\d{{1,4}})?                       # 5-May, 5 may 2024
+  | {MONTH}[-/ ,]*\d{{1,4}}(?:[-/ ,]+\d{{1,4}})?                       # May-5, March 2024
+  | true | false
+)\s*""", re.IGNORECASE | re.VERBOSE)
+"""Text a spreadsheet turns into a number, a date, a time or a truth value when it opens a CSV."""
 SLIPS_SHOWN = 3
 """Slips the summary names per exercise (the most frequent)."""
 
 
 def csv_cell(value: object) -> str:
-    """A CSV cell a spreadsheet shows as text: a leading formula character is neutralised with ``'``."""
+    """A CSV cell as a spreadsheet should read it: a number (int, float) as itself; text that starts like
+    a formula, or that a spreadsheet would turn into a number or a date, after a ``'``."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return str(value)
     text = str(value)
-    return "'" + text if text.startswith(FORMULA_START) else text
+    return "'" + text if text.startswith(FORMULA_START) or LOOKS_LIKE_DATA.fullmatch(text) else text
 
 
 def _csv(path: Path, rows: list[list]) -> None:
@@ -59,22 +74,31 @@ def _counts(row: dict, exercises: list[str]) -> Counter:
     return Counter(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises)
 
 
-def inventory_score(marks: dict[str, bool] | None) -> str:
-    """A learner's score on one concept-inventory quiz, "7/12", or "" when not answered."""
-    return "" if marks is None else f"{sum(marks.values())}/{len(marks)}"
+def inventory_score(marks: dict[str, bool] | None) -> int | str:
+    """A learner's right answers on one concept-inventory quiz (a number), or "" when not answered."""
+    return "" if marks is None else sum(marks.values())
+
+
+OUT_OF = "out of"
+"""The gradebook's column of how many exercises a score is out of."""
+INVENTORY_QUESTIONS = "inventory questions"
 
 
 def _write_csv(path: Path, table: dict, exercises: list[str], flags: dict,
                marks: dict[str, dict] | None = None) -> None:
-    rows: list[list] = [["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, "score",
-                         "inventory pre", "inventory post", "flags"]]
+    """``gradebook.csv``: a row per learner, each exercise's verdict, the counts of each verdict (``right``
+    is the score, ``out of`` how many exercises), the concept inventory's right answers before and after
+    (of ``inventory questions``), and the flags; every score a number."""
+    rows: list[list] = [["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, OUT_OF,
+                         "inventory pre", "inventory post", INVENTORY_QUESTIONS, "flags"]]
     for learner, row in table.items():
         counts = _counts(row, exercises)
         quiz = (marks or {}).get(learner, {})
+        answered = quiz.get(inventory.PRE) is not None or quiz.get(inventory.POST) is not None
         rows.append([learner, *(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises),
-                     counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[ERRORED],
-                     f"{counts[RIGHT]}/{len(exercises)}", inventory_score(quiz.get(inventory.PRE)),
-                     inventory_score(quiz.get(inventory.POST)), " | ".join(flags[learner])])
+                     counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[ERRORED], len(exercises),
+                     inventory_score(quiz.get(inventory.PRE)), inventory_score(quiz.get(inventory.POST)),
+                     len(inventory.QUESTIONS) if answered else "", " | ".join(flags[learner])])
     _csv(path, rows)
 
 
@@ -125,10 +149,27 @@ def _slip_html(entry: dict, where: str = "") -> str:
             f"<br><small>e.g. “{_h(entry['example'])}”</small>")
 
 
+def question_numbers(question: str) -> str:
+    """A concept-inventory question as notebooks 00 and 17 number it: ``"5 / 9"`` (its number in 00, then
+    in 17); the overall row as it is."""
+    if question not in inventory.BY_ID:
+        return question
+    return " / ".join(str(inventory.ORDERS[quiz].index(question) + 1)
+                      for quiz in (inventory.PRE, inventory.POST))
+
+
+def gain_shown(row: inventory.Gain) -> str:
+    """g as the summary shows it; where g is undefined (the class all right before), what happened after:
+    "—" when it stayed all right, the drop ("100% → 75% (−25)") when it did not."""
+    if row.g is None and row.post < row.pre:
+        return f"{row.pre:.0%} → {row.post:.0%} (−{round((row.pre - row.post) * 100)})"
+    return row.shown
+
+
 def _gain_html(marks: dict[str, dict]) -> tuple[str, list[inventory.Gain]]:
-    """The concept inventory's section of the summary: per question, what it probes, the class's share
-    right before and after, and the normalised gain g; then the overall g.  Empty when no learner
-    answered both quizzes."""
+    """The concept inventory's section of the summary: per question (numbered as notebooks 00 and 17
+    print it), what it probes, the class's share right before and after, and the normalised gain g;
+    then the overall g.  Empty when no learner answered both quizzes."""
     rows, overall = inventory.gains({learner: (quiz.get(inventory.PRE), quiz.get(inventory.POST))
                                      for learner, quiz in marks.items()})
     if overall is None:
@@ -136,35 +177,48 @@ def _gain_html(marks: dict[str, dict]) -> tuple[str, list[inventory.Gain]]:
     learners = sum(1 for quiz in marks.values() if quiz.get(inventory.PRE) and quiz.get(inventory.POST))
     parts = [f"<h2>Concept inventory: what moved</h2><p>{learners} learners answered the twelve questions "
              f"before (00.0) and after (17.0) the course. g = (post - pre) / (100 % - pre): the share of "
-             f"what was left to learn that was learned; “—” where the class was already all right.</p>"
-             "<table><tr><th>question</th><th>what it probes</th><th>pre</th><th>post</th><th>g</th></tr>"]
+             f"what was left to learn that was learned; where the class was all right before, g is "
+             f"undefined: “—” when it stayed all right, else the drop.</p>"
+             "<table><tr><th>question (00 / 17)</th><th>what it probes</th><th>pre</th><th>post</th>"
+             "<th>g</th></tr>"]
     for row in [*rows, overall]:
-        parts.append(f"<tr><td>{_h(row.question)}</td><td>{_h(row.label)}</td><td>{row.pre:.0%}</td>"
-                     f"<td>{row.post:.0%}</td><td>{_h(row.shown)}</td></tr>")
+        parts.append(f"<tr><td>{_h(question_numbers(row.question))}</td><td>{_h(row.label)}</td>"
+                     f"<td>{row.pre:.0%}</td><td>{row.post:.0%}</td><td>{_h(gain_shown(row))}</td></tr>")
     parts.append(f"</table><p>Overall normalised gain: g = {_h(overall.shown)}.</p>")
     return "".join(parts), [*rows, overall]
 
 
+def _handed(table: dict, key: str, handed: dict[str, set[str]] | None) -> list[str]:
+    """The learners who handed in the notebook of exercise ``key`` (by its number, as
+    :func:`.verdicts.handed_in` gives them; without that, those whose notebooks check it)."""
+    if handed is None:
+        return [learner for learner, row in table.items() if key in row]
+    number = key.split(".")[0]
+    return [learner for learner in table if number in handed.get(learner, set()) or key in table[learner]]
+
+
 def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
                    look_at: dict[str, list[str]] | None = None, notes: list[str] | None = None,
-                   marks: dict[str, dict] | None = None) -> dict:
-    """``summary.csv`` and ``summary.html``: each exercise's success rate and slips, the class's slips by
-    their catalogue names, the concept inventory's gains, the notebooks to look at and how the
-    submissions were read."""
+                   marks: dict[str, dict] | None = None, handed: dict[str, set[str]] | None = None) -> dict:
+    """``summary.csv`` and ``summary.html``: each exercise's success rate (among the learners who handed
+    its notebook in) and slips, the class's slips by their catalogue names, the concept inventory's
+    gains, the notebooks to look at and how the submissions were read."""
     look_at = {learner: found for learner, found in (look_at or {}).items() if found}
     rows = []
     for key in exercises:
-        counts = Counter(row.get(key, Verdict(NOT_ANSWERED)).status for row in table.values())
-        rows.append({"exercise": key, "learners": len(table), **{s: counts[s] for s in
+        learners = _handed(table, key, handed)
+        counts = Counter(table[learner].get(key, Verdict(NOT_ANSWERED)).status for learner in learners)
+        rows.append({"exercise": key, "learners": len(learners), **{s: counts[s] for s in
                      (RIGHT, WRONG, NOT_ANSWERED, ERRORED)},
-                     "success rate": counts[RIGHT] / len(table) if table else 0.0,
+                     "success rate": counts[RIGHT] / len(learners) if learners else 0.0,
                      "slips": _slips(table, key)})
-    lines: list[list] = [["exercise", "learners", RIGHT, WRONG, NOT_ANSWERED, ERRORED, "success rate",
-                          "most frequent misconception", "learners with it", "who", "example feedback"]]
+    lines: list[list] = [["exercise", "learners who handed it in", RIGHT, WRONG, NOT_ANSWERED, ERRORED,
+                          "success rate (%)", "most frequent misconception", "learners with it", "who",
+                          "example feedback"]]
     for row in rows:
         top = row["slips"][0] if row["slips"] else {"slip": "", "learners": [], "example": ""}
         lines.append([row["exercise"], row["learners"], row[RIGHT], row[WRONG], row[NOT_ANSWERED],
-                      row[ERRORED], f"{row['success rate']:.0%}", top["slip"], len(top["learners"]),
+                      row[ERRORED], round(100 * row["success rate"], 1), top["slip"], len(top["learners"]),
                       ", ".join(top["learners"]), top["example"]])
     _csv(out / "summary.csv", lines)
 
@@ -180,11 +234,13 @@ def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
         parts.append("<h2>The class's frequent slips</h2>" + _list([
             _slip_html(entry, f" in {_h(', '.join(entry['exercises']))}")
             for entry in sorted(named.values(), key=lambda e: (-len(e["learners"]), e["slip"]))]))
-    parts.append("<h2>Exercises</h2><table><tr><th>exercise</th><th>success rate</th>"
+    parts.append("<h2>Exercises</h2><p>A success rate counts the learners who handed the exercise's notebook "
+                 "in.</p><table><tr><th>exercise</th><th>success rate</th><th>learners who handed it in</th>"
                  "<th>right / wrong / not answered / errored</th><th>slips (learners)</th></tr>")
     for row in sorted(rows, key=lambda r: r["success rate"]):
         slips = _list([_slip_html(entry) for entry in row["slips"][:SLIPS_SHOWN]]) if row["slips"] else ""
-        parts.append(f"<tr><td>{_h(row['exercise'])}</td><td>{row['success rate']:.0%}</td><td>{row[RIGHT]} "
+        parts.append(f"<tr><td>{_h(row['exercise'])}</td><td>{row['success rate']:.0%}</td>"
+                     f"<td>{row['learners']}</td><td>{row[RIGHT]} "
                      f"/ {row[WRONG]} / {row[NOT_ANSWERED]} / {row[ERRORED]}</td><td>{slips}</td></tr>")
     parts.append("</table>")
     gain_section, gain_rows = _gain_html(marks or {})

@@ -4,11 +4,12 @@ The grader never trusts the kernel to judge.  Inside the kernel ``check`` only *
 leaves as plain data, a display output of the MIME type :data:`~modbus_edu.exercises.submit.MIME` on the
 kernel's own message channel (:mod:`modbus_edu.exercises.submit`).  The worker that drives the kernel
 (``python -m modbus_edu.course.runner``, started by :func:`run_isolated`, memory- and time-limited itself)
-collects those messages; once the notebook has run, it has the kernel trace each build exercise's
-function on inputs drawn from a seed the grader chose for this learner.  The worker hands the
-submissions and traces back through a file in the grader's own folder (never through its stdout, which a
-learner's output could reach), and :func:`judged` computes every verdict in the grader's process, with
-the grader's own checkers.
+collects those messages and hands them back through a file in the grader's own folder (never through its
+stdout, which a learner's output could reach).  A build exercise's function does not leave the kernel:
+once the notebook has run, the grader takes the function from the handed-in notebook file and runs it in
+a clean room (:mod:`.cleanroom`), on inputs drawn from a seed the kernel never sees, once for each of the
+notebook's own build exercises the learner checked (:func:`own_build_keys`).  :func:`judged` computes
+every verdict in the grader's process, with the grader's own checkers.
 
 Before a cell runs, every call of the library's own ``check`` in it (``check(KEY, ANSWER)`` or
 ``exercises.check(...)``, found by parsing the cell; any other ``x.check(...)`` is left alone) becomes a
@@ -31,6 +32,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -40,17 +42,17 @@ except ImportError:  # Windows
     resource = None
 
 from .._optional import load_nbclient, load_nbformat, load_transformer_manager
-from ..exercises import judge, verdict
+from ..exercises import EXERCISES, judge, verdict
 from ..exercises.plain import MAX_WIRE, PlainError, from_json
 from ..exercises.submit import MIME
+from .archives import NOTEBOOK_LIMIT
+from .submissions import TITLE, without_marks
 
 RECORDER = "__modbus_edu_record__"
 STARTUP_TIMEOUT = 120
 """Seconds a kernel may take to start (not counted in a notebook's time limit)."""
 OUTPUT_LIMIT = 1_000_000
 """Characters of output a notebook may print before the grader reports an output flood (and keeps none)."""
-NOTEBOOK_LIMIT = 5_000_000
-"""The largest notebook file the grader reads, in bytes."""
 CELL_LIMIT = 50_000
 """The longest code cell the grader runs, in characters."""
 MAX_CHECKS = 300
@@ -59,8 +61,8 @@ MAX_SUBMISSIONS = 1_000
 """The most submissions one notebook's run may send (a check in a loop counts each time)."""
 WORKER_MEMORY = 2048
 """MB of address space the worker that drives a kernel may use."""
-TRACE_TIMEOUT = 30
-"""Seconds the kernel gets to trace one build exercise's function."""
+JUDGE_SECONDS = 30
+"""Seconds the grader spends judging one notebook's submissions; the ones left are errored, with a flag."""
 
 _KERNELS = itertools.count(1)
 """Numbers the kernels one worker starts (each its own connection file)."""
@@ -153,7 +155,7 @@ def instrument(source: str) -> str:
 
 @dataclass
 class NotebookRun:
-    """What running one notebook found: its submissions and traces, each exercise's verdicts in order
+    """What running one notebook found: its submissions, each exercise's verdicts in order
     (filled in by :func:`judged`, in the grader), and what went wrong."""
 
     notebook: str
@@ -164,6 +166,10 @@ class NotebookRun:
     problems: list[str] = field(default_factory=list)
     seconds: float = 0.0
     unfinished: str = ""  # the cell that was running when the notebook was stopped or its kernel died
+
+
+Builds = Callable[[NotebookRun], dict]
+"""What gives a run's build-exercise traces once its kernel is done (key -> (trace, cases))."""
 
 
 def _read(path: Path, run: NotebookRun, cell_keys: dict[int, list[str]]):
@@ -202,12 +208,34 @@ def _read(path: Path, run: NotebookRun, cell_keys: dict[int, list[str]]):
     return notebook
 
 
-def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_mb: int) -> NotebookRun:
-    """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions and traces.
+SOCKET_PATH = 100
+"""The longest path a Unix socket may have here (the systems' own limits are 104 and 108 bytes)."""
 
-    The kernel's connection file goes beside the notebook's private copy (``../run``), where the
-    kernel, sealed in that private folder, can read it."""
-    nbformat, nbclient = load_nbformat(), load_nbclient()
+
+def connect_in(manager, runtime: Path, number: int = 1):
+    """``manager`` set to reach its kernel through ``runtime``, the learner's room's ``run`` folder: the
+    connection file there, and (where Unix sockets exist) the kernel's five ZeroMQ sockets too, as
+    ``ipc://`` sockets ``runtime/kN-1`` ... (N: ``number``, the worker's Nth kernel) instead of TCP ports.
+    A sealed kernel has no network but its own loopback and no other learner sees its room, so only the
+    grader can reach it."""
+    manager.connection_file = str(runtime / f"kernel-{os.getpid()}-{number}.json")
+    if os.name == "posix":
+        sockets = str(runtime / f"k{number}")
+        if len(sockets) + 6 > SOCKET_PATH:
+            raise OSError(f"the grader's scratch folder {runtime.parent.parent} is too deep for the kernel's "
+                          f"Unix sockets ({len(sockets) + 6} bytes, at most {SOCKET_PATH}): set TMPDIR to "
+                          "a shorter folder")
+        manager.transport = "ipc"
+        manager.ip = sockets
+    return manager
+
+
+def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) -> NotebookRun:
+    """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions.
+
+    The kernel's connection file and sockets go beside the notebook's private copy (``../run``), where
+    the kernel, sealed in that private folder, can reach them (:func:`connect_in`)."""
+    nbclient = load_nbclient()
     NotebookClient, run_sync = nbclient.NotebookClient, nbclient.util.run_sync
     CellTimeoutError = nbclient.exceptions.CellTimeoutError
     DeadKernelError = nbclient.exceptions.DeadKernelError
@@ -219,14 +247,12 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
     notebook = _read(path, run, cell_keys)
     if notebook is None:
         return run
-    first_trace = len(notebook.cells)
     first_lines = [(cell.source.strip().splitlines() or [""])[0][:80] for cell in notebook.cells]
     started = [0]  # the index of the cell running (0: the grader's set-up)
 
     def stopped_in() -> str:  # the learner's code cell that was running, and its first line
         index = started[0]
-        return f"code cell {index} ({first_lines[index]!r})" if 0 < index < first_trace else ""
-    traces: dict[int, tuple[str, str]] = {}  # trace cell index -> (key, seed)
+        return f"code cell {index} ({first_lines[index]!r})" if index > 0 else ""
     counted = {"printed": 0, "submitted": 0}
 
     with tempfile.TemporaryDirectory(prefix="modbus-edu-kernelspec-") as spec_folder:
@@ -246,11 +272,6 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
                 return
             if not isinstance(payload, dict) or not isinstance(payload.get("key"), str):
                 return
-            if cell_index >= first_trace:  # a trace cell: only the trace it was asked for counts
-                key, wanted = traces.get(cell_index, ("", ""))
-                if payload.get("key") == key and payload.get("seed") == wanted and "trace" in payload:
-                    run.submissions.append({"key": key, "trace": payload["trace"], "seed": wanted})
-                return
             counted["submitted"] += 1
             if counted["submitted"] > MAX_SUBMISSIONS:
                 if counted["submitted"] == MAX_SUBMISSIONS + 1:
@@ -260,10 +281,8 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
                                     if key in payload})
 
         class Client(NotebookClient):
-            def create_kernel_manager(self):  # the connection file where the sealed kernel can read it
-                manager = super().create_kernel_manager()
-                manager.connection_file = str(runtime / f"kernel-{os.getpid()}-{next(_KERNELS)}.json")
-                return manager
+            def create_kernel_manager(self):
+                return connect_in(super().create_kernel_manager(), runtime, next(_KERNELS))
 
             def output(self, outs, msg, display_id, cell_index):  # keep nothing, count what is printed
                 content = msg.get("content", {})
@@ -301,16 +320,6 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
                 for index, cell in enumerate(list(client.nb.cells)):
                     started[0] = index
                     await client.async_execute_cell(cell, index, execution_count=index + 1)
-                built = list(dict.fromkeys(s["key"] for s in run.submissions if s.get("build")))
-                for key in built:
-                    index = len(client.nb.cells)
-                    traces[index] = (key, f"{key} {seed}")
-                    cell = nbformat.v4.new_code_cell(
-                        f"from modbus_edu.exercises.submit import send_trace\n"
-                        f"send_trace({key!r}, {traces[index][1]!r})")
-                    client.nb.cells.append(cell)
-                    deadline[:] = [time.monotonic() + TRACE_TIMEOUT]
-                    await client.async_execute_cell(cell, index, execution_count=index + 1)
 
         try:
             run_sync(execute)()
@@ -332,27 +341,70 @@ def run_notebook(path: Path, timeout: float, argv: list[str], seed: str, memory_
     return run
 
 
-def judged(run: NotebookRun) -> NotebookRun:
+def own_build_keys(notebook_title: str, keys: Iterable) -> list[str]:
+    """The build exercises among ``keys`` whose function the grader judges in this notebook, each once:
+    the course's build exercises only, and of those the notebook's own (its number, ``03`` in
+    ``03_rtu_and_crc``) when its title or file name has one; a key a learner makes up is never judged."""
+    match = TITLE.search(without_marks(str(notebook_title)))
+    number = match.group()[:2] if match else None
+    return [key for key in dict.fromkeys(keys) if isinstance(key, str) and key in EXERCISES
+            and EXERCISES[key].kind == "build" and (number is None or key.split(".")[0] == number)]
+
+
+def built(run: NotebookRun) -> list[str]:
+    """The notebook's own build exercises that its run checked, once each, in order."""
+    return own_build_keys(run.notebook, [s["key"] for s in run.submissions if s.get("build")])
+
+
+def judged(run: NotebookRun, traces: dict[str, tuple[dict, list]] | None = None) -> NotebookRun:
     """``run`` with its records: each submission judged here, in the grader's process, by its checkers.
 
-    A build exercise is judged from the trace the grader asked for (its answer in the notebook only
-    named the function); one whose trace never came back is errored."""
+    A build exercise is judged from ``traces`` (key -> the trace of the function taken from the notebook
+    and run in the clean room, and the cases it is judged against: :func:`.cleanroom.room_trace`); its
+    submission in the kernel only said that it was checked.  One checked but never traced is errored.
+    A submission the checker fails on (it raises) is that exercise errored, with a flag naming the
+    failure; a notebook's submissions not judged within :data:`JUDGE_SECONDS` are errored too: one
+    learner's answers never stop the grading."""
     run.records = []
-    traced = {s["key"] for s in run.submissions if "trace" in s}
-    for submission in run.submissions:
-        key = submission.get("key")
-        if submission.get("build"):
+    failed: set[str] = set()
+    deadline = time.monotonic() + JUDGE_SECONDS
+    traces = traces or {}
+    work = [(s.get("key"), s) for s in run.submissions if not s.get("build")]
+    work += [(key, {"key": key, "build": True, "trace": pair}) for key, pair in traces.items()]
+    for position, (key, submission) in enumerate(work):
+        if time.monotonic() > deadline:
+            _not_judged(run, [item for _, item in work[position:]])
+            break
+        try:
+            if "trace" in submission:
+                trace, cases = submission["trace"]
+                result = judge(key, trace, cases=cases, raising=True)
+            else:
+                result = verdict(key, submission.get("answer"), raising=True)
+        except Exception as exc:  # the checker failed on this answer: this exercise errors, the rest goes on
+            run.records = [record for record in run.records if record["key"] != key]
+            run.errored_cells[key] = "the grader could not judge this answer (your instructor is told why)"
+            if key not in failed:
+                failed.add(key)
+                reason = " ".join(f"{type(exc).__name__}: {exc}".split())[:200]
+                run.problems.append(f"{key}: the grader could not judge the answer ({reason})")
             continue
-        if "trace" in submission:
-            result = judge(key, submission["trace"], submission.get("seed"))
-        else:
-            result = verdict(key, submission.get("answer"))
         run.records.append({"key": result.key, "ok": result.ok, "message": result.message})
-    for key in dict.fromkeys(s["key"] for s in run.submissions if s.get("build")):
-        if key not in traced:
+    for key in built(run):
+        if key not in traces:
             run.errored_cells.setdefault(key, "its function could not be traced: " + (
-                "; ".join(run.problems) or "the kernel did not answer"))
+                "; ".join(run.problems) or "the grader found no check of it in the notebook"))
     return run
+
+
+def _not_judged(run: NotebookRun, left: list[dict]) -> None:
+    """Error the exercises of the submissions ``left`` unjudged once the judging time is spent."""
+    keys = [s["key"] for s in left]
+    for key in keys:
+        run.errored_cells.setdefault(key, f"not judged: the notebook's answers took more than "
+                                          f"{JUDGE_SECONDS} s to judge")
+    run.problems.append(f"its answers took more than {JUDGE_SECONDS} s to judge: {len(keys):,} of them not "
+                        "judged")
 
 
 def _worker(argv: list[str]) -> None:
@@ -361,8 +413,8 @@ def _worker(argv: list[str]) -> None:
     # nbformat's validator loads jsonschema's format checkers, and the IRI checker's grammar takes a second
     # to build in every worker; a notebook's schema has no IRI field, so that checker is left out
     sys.modules.setdefault("rfc3987_syntax", None)
-    results, timeout, memory, seed = Path(argv[0]), float(argv[1]), int(argv[2]), argv[3]
-    kernel, paths = json.loads(argv[4]), [Path(path) for path in argv[5:]]
+    results, timeout, memory = Path(argv[0]), float(argv[1]), int(argv[2])
+    kernel, paths = json.loads(argv[3]), [Path(path) for path in argv[4:]]
     if resource is not None:  # no resource module (Windows): no limits on the worker
         limit = WORKER_MEMORY * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
@@ -370,7 +422,7 @@ def _worker(argv: list[str]) -> None:
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
         resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024 * 1024, 64 * 1024 * 1024))
     for number, path in enumerate(paths):
-        run = run_notebook(path, timeout, kernel, seed, memory)
+        run = run_notebook(path, timeout, kernel, memory)
         partial = results / f"{number}.part"
         partial.write_text(json.dumps(run.__dict__), encoding="utf-8")
         os.replace(partial, results / f"{number}.json")
@@ -378,11 +430,11 @@ def _worker(argv: list[str]) -> None:
 
 def backstop(timeout: float) -> float:
     """Seconds the grader waits for one notebook's run before it stops the worker running it."""
-    return 2 * timeout + 2 * STARTUP_TIMEOUT + TRACE_TIMEOUT * 20
+    return 2 * timeout + 2 * STARTUP_TIMEOUT
 
 
-def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
-                 folder: Path) -> list[NotebookRun]:
+def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path, *,
+                 builds: list[Builds] | None = None) -> list[NotebookRun]:
     """:func:`run_notebook` for each of one learner's notebooks, in order, in a worker process; the runs,
     judged here.
 
@@ -390,15 +442,18 @@ def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv:
     learner, not per notebook).  Each notebook has a backstop deadline (:func:`backstop`) counted from the
     end of the one before; a worker that dies or passes it costs only the notebook it was running, which is
     reported, and a fresh worker takes the rest.  ``folder`` is the grader's own (no kernel reaches it):
-    the worker writes its results there."""
+    the worker writes its results there.  ``builds[N](run)``, once notebook N's kernel is done, gives the
+    traces of its build exercises, each run in its clean room (:func:`.cleanroom.trace_built`), while
+    the worker goes on with the next notebook."""
     runs: list[NotebookRun] = []
     while len(runs) < len(paths):
-        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, seed, folder))
+        rest = (builds or [None] * len(paths))[len(runs):]
+        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest))
     return runs
 
 
-def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], seed: str,
-                folder: Path) -> list[NotebookRun]:
+def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
+                builds: list[Builds | None]) -> list[NotebookRun]:
     """The runs of ``paths`` by one worker, up to and including the first it could not finish."""
     results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
     errors = results / "worker.err"
@@ -406,7 +461,7 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
     try:
         with errors.open("wb") as stream:
             worker = subprocess.Popen([sys.executable, "-m", "modbus_edu.course.runner", str(results),
-                                       str(timeout), str(memory_mb), seed, json.dumps(kernel_argv),
+                                       str(timeout), str(memory_mb), json.dumps(kernel_argv),
                                        *map(str, paths)],
                                       stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream)
         try:
@@ -415,13 +470,26 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
                 if isinstance(run, str):
                     runs.append(NotebookRun(path.name, keys=_keys_of(path), problems=[run]))
                     break
-                runs.append(judged(run))
+                runs.append(judged(run, _traces(run, builds[number])))
         finally:
             worker.kill()
             worker.wait()
     finally:
         shutil.rmtree(results, ignore_errors=True)
     return runs
+
+
+def _traces(run: NotebookRun, builds: Builds | None) -> dict[str, tuple[dict, list]] | None:
+    """The clean-room traces of ``run``'s build exercises (none where ``builds`` is None); a room that
+    fails costs only those exercises, which are then errored with the reason."""
+    if builds is None:
+        return None
+    try:
+        return builds(run)
+    except Exception as exc:  # the grader's own failure: these build exercises error, the rest goes on
+        reason = " ".join(f"{type(exc).__name__}: {exc}".split())[:200]
+        run.problems.append(f"its functions could not be run in the clean room ({reason})")
+        return {}
 
 
 def _await(worker: subprocess.Popen, result: Path, seconds: float, errors: Path) -> NotebookRun | str:

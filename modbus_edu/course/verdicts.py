@@ -1,7 +1,9 @@
 """A learner's verdicts: each exercise's status and the checker's feedback, from the notebooks' runs.
 
 Also what a class's runs decide together: which copy of a notebook counts when a learner handed in
-several (:func:`pick_copies`), which exercises are the gradebook's columns (:func:`course_keys`: only the
+several, and what a notebook not named after a course notebook (``Untitled.ipynb``) may still count for
+(:func:`pick_copies`), which notebooks each learner handed in (:func:`handed_in`), which exercises are
+the gradebook's columns (:func:`course_keys`: only the
 course's own, in the notebooks the class handed in, so a key a learner makes up is a flag, never a
 column), the name of each slip (:func:`slip`: the catalogue's label the checker's feedback begins
 with), and each learner's marks on the concept inventory (:func:`inventory_marks`).
@@ -20,6 +22,8 @@ from .runner import NotebookRun
 from .submissions import Submission
 
 RIGHT, WRONG, NOT_ANSWERED, ERRORED = "right", "wrong", "not answered", "errored"
+COURSE_NOTEBOOK = re.compile(r"\d\d_")
+"""A course notebook's title starts with its number: ``03_rtu_and_crc``."""
 SHOWN_KEYS = 5
 """Made-up keys a flag names (each cut to 40 characters); the rest are counted."""
 
@@ -70,25 +74,84 @@ def answers(run: NotebookRun) -> int:
     return len({record["key"] for record in run.records if record["ok"] is not None})
 
 
+def _number(key: str) -> str:
+    return key.split(".")[0]
+
+
+def _only(run: NotebookRun, keep) -> NotebookRun:
+    """``run`` with only the checks, submissions and errors of the keys ``keep`` accepts."""
+    return dataclasses.replace(
+        run, keys=[k for k in run.keys if keep(str(k))],
+        records=[r for r in run.records if keep(str(r["key"]))],
+        submissions=[r for r in run.submissions if keep(str(r.get("key")))],
+        errored_cells={k: v for k, v in run.errored_cells.items() if keep(str(k))})
+
+
+def _scratch(submission: Submission, run: NotebookRun, handed: set[str]) -> tuple[NotebookRun, str | None]:
+    """A notebook not named after a course notebook (``Untitled.ipynb``): only its checks of notebooks the
+    learner did not hand in count, never one over a course notebook's answers; and one line saying so."""
+    checked = [str(key) for key in [*run.keys, *(r["key"] for r in run.records)] if str(key) in EXERCISES]
+    if not checked:
+        return run, None
+    dropped = list(dict.fromkeys(key for key in checked if _number(key) in handed))
+    kept = list(dict.fromkeys(key for key in checked if _number(key) not in handed))
+    line = f"{submission.path.name}: not named after a course notebook, so it never overrides one"
+    if kept:
+        numbers = sorted({_number(key) for key in kept})
+        line += f"; graded for {', '.join(kept)} (no notebook {', '.join(numbers)} handed in)"
+    if dropped:
+        numbers = sorted({_number(key) for key in dropped})
+        line += f"; its checks of {', '.join(dropped)} not graded (notebook {', '.join(numbers)} handed in)"
+    return _only(run, lambda key: key not in EXERCISES or _number(key) not in handed), line
+
+
 def pick_copies(graded: list[tuple[Submission, NotebookRun]]
                 ) -> tuple[dict[str, list[tuple[Submission, NotebookRun]]], dict[str, list[str]]]:
-    """Per learner, one run per notebook: of several copies, the one with the most answers, then the
-    newest; and, per learner, one line for each choice made."""
+    """Per learner, one run per notebook: of several copies, the platform's newest resubmission, else the
+    one with the most answers, then the newest file; a notebook not named after a course notebook counts
+    only for exercises of course notebooks the learner did not hand in.  And, per learner, one line for
+    each choice made."""
     groups: dict[tuple[str, str], list[tuple[Submission, NotebookRun]]] = {}
     for submission, run in graded:
         groups.setdefault((submission.learner, submission.notebook), []).append((submission, run))
     chosen: dict[str, list[tuple[Submission, NotebookRun]]] = {}
     choices: dict[str, list[str]] = {}
     for (learner, notebook), copies in sorted(groups.items()):
-        best = max(copies, key=lambda pair: (answers(pair[1]), pair[0].mtime, pair[0].path.name))
+        best = max(copies, key=lambda pair: (pair[0].version, answers(pair[1]), pair[0].mtime,
+                                             pair[0].path.name))
         chosen.setdefault(learner, []).append(best)
         if len(copies) > 1:
             others = ", ".join(f"{other.path.name!r} ({answers(run)} answered)" for other, run in copies
                                if other is not best[0])
+            newest = all(other.version < best[0].version for other, _ in copies if other is not best[0])
+            why = ("the platform's newest resubmission" if newest else "the most, then the newest")
             choices.setdefault(learner, []).append(
-                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answered; the most, then "
-                f"the newest), not {others}")
+                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answered; {why}), not "
+                f"{others}")
+    for learner, pairs in chosen.items():
+        handed = {s.notebook[:2] for s, _ in pairs if COURSE_NOTEBOOK.match(s.notebook)}
+        for index, (submission, run) in enumerate(pairs):
+            if not COURSE_NOTEBOOK.match(submission.notebook):
+                kept, line = _scratch(submission, run, handed)
+                pairs[index] = (submission, kept)
+                if line:
+                    choices.setdefault(learner, []).append(line)
     return chosen, choices
+
+
+def handed_in(chosen: dict[str, list[tuple[Submission, NotebookRun]]]) -> dict[str, set[str]]:
+    """The numbers of the course notebooks each learner handed in (``{"03", "05"}``), a notebook not named
+    after one counting for the exercises it is graded for."""
+    handed: dict[str, set[str]] = {}
+    for learner, pairs in chosen.items():
+        numbers = handed.setdefault(learner, set())
+        for submission, run in pairs:
+            if COURSE_NOTEBOOK.match(submission.notebook):
+                numbers.add(submission.notebook[:2])
+            else:
+                numbers |= {_number(str(key)) for key in [*run.keys, *(r["key"] for r in run.records)]
+                            if str(key) in EXERCISES}
+    return handed
 
 
 def _key_order(key: str) -> tuple:

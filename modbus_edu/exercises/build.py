@@ -9,34 +9,27 @@ function must raise too.
 
 The learner's function runs in a worker thread with a time limit (2 s for all the inputs together), so a
 function that never returns is reported, and stopped, instead of hanging the notebook (in a browser, where
-no thread can start, a trace function keeps the same limit: :func:`run_within`).  Whatever it does
+no thread can start, a trace function keeps the same limit: :func:`~.calls.run_within`).  Whatever it does
 (raise, return the wrong type, print), the checker answers with a message and never raises.
 """
 
 from __future__ import annotations
 
 import copy
-import ctypes
 import math
 import random
-import sys
-import threading
-import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 import modbus_edu
 
-from ..errors import ModbusError
-from .core import EXERCISES, Exercise, is_unwritten, kind, register, safe_str, show
-from .plain import PlainError, plain, revive
+from ..errors import ModbusError, ReferenceUnavailable
+from .calls import call_all, follow_plan, is_unwritten
+from .core import EXERCISES, Exercise, kind, register, show
+from .plain import revive
 
 TIME_LIMIT = 2.0
 """Seconds the learner's function gets for all the inputs of one check together."""
-
-
-class _Stopped(BaseException):
-    """Raised inside the worker thread to stop a learner's function that ran out of time."""
 
 
 class _Refused:
@@ -44,52 +37,6 @@ class _Refused:
 
     def __init__(self, error: ModbusError) -> None:
         self.error = error
-
-
-def run_within(work: Callable[[], None], time_limit: float, name: str = "exercise") -> bool:
-    """Run ``work()``; stop it with :class:`_Stopped` after ``time_limit`` seconds. True if it finished.
-
-    ``work`` runs in a worker thread, stopped from outside when time is up.  Where no thread can start
-    (Pyodide, in a browser), it runs here under a trace function that raises :class:`_Stopped` inside the
-    learner's code once the deadline has passed, so an endless loop is still stopped (a single call into
-    C that never returns is not: only Python lines are counted).
-    """
-    worker = threading.Thread(target=work, name=name, daemon=True)
-    try:
-        if sys.platform == "emscripten":
-            raise RuntimeError("a browser cannot start threads")
-        worker.start()
-    except RuntimeError:  # can't start new thread
-        return _run_traced(work, time_limit)
-    worker.join(time_limit)
-    if worker.is_alive():
-        stop = ctypes.py_object(_Stopped)
-        ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(worker.ident), stop)
-        worker.join(0.5)
-        return False
-    return True
-
-
-def _run_traced(work: Callable[[], None], time_limit: float) -> bool:
-    """:func:`run_within` in this thread: the clock is read every 1000 Python lines and calls."""
-    deadline = time.monotonic() + time_limit
-    events = [0]
-    late = [False]
-
-    def tracer(frame: Any, event: str, arg: Any) -> Any:
-        events[0] += 1
-        if events[0] % 1000 == 0 and time.monotonic() > deadline:
-            late[0] = True
-            raise _Stopped  # raised in the traced frame: the learner's function stops here
-        return tracer
-
-    previous = sys.gettrace()
-    sys.settrace(tracer)
-    try:
-        work()
-    finally:
-        sys.settrace(previous)
-    return not late[0]
 
 
 def same(expected: Any, got: Any) -> bool:
@@ -134,8 +81,11 @@ class BuildChecker:
     on the inputs drawn from ``seed`` (and reads back what it stored), within the time limit, and returns
     what it gave as plain data.  :meth:`judge` runs where the verdict is made: it draws the same inputs
     from ``seed``, computes what the library gives, and compares.  In a learner's notebook the two run one
-    after the other (``judge(trace(function, seed), seed)``); under ``modbus-edu grade`` the kernel traces
-    and the grader judges, with a seed of its own for each learner."""
+    after the other (``judge(trace(function, seed), seed)``).  Under ``modbus-edu grade`` the kernel
+    traces nothing: the grader draws the arguments from a seed of its own for each learner
+    (:meth:`arguments`), keeps what the library gives for them (:meth:`expected`), has the function taken
+    from the notebook called on them in a clean room (:mod:`modbus_edu.course.cleanroom`, with the same
+    calling code, :func:`~.calls.call_all`), and judges the trace against those cases."""
 
     def __init__(self, key: str, reference: Callable, inputs: Callable[[random.Random], Sequence],
                  edge_cases: Iterable[Sequence], count: int,
@@ -166,16 +116,28 @@ class BuildChecker:
         """Every (arguments, expected) pair: the edge cases, then ``count`` seeded random inputs."""
         if (seed is None or seed == self.seed) and self._cases is not None:
             return self._cases
+        cases = self.expected(self.arguments(seed))
+        if seed is None or seed == self.seed:
+            self._cases = cases
+        return cases
+
+    def expected(self, arguments: Sequence[tuple]) -> list[tuple[tuple, Any]]:
+        """Each argument tuple with what the library gives for it (a refusal where it raises)."""
         cases = []
-        for args in self.arguments(seed):
+        for args in arguments:
             try:
                 expected = self.reference(*copy.deepcopy(args))
             except ModbusError as exc:
                 expected = _Refused(exc)
             cases.append((args, expected))
-        if seed is None or seed == self.seed:
-            self._cases = cases
         return cases
+
+    def follow_plans(self, arguments: Sequence[tuple]) -> list | None:
+        """For a function that changes its arguments, how each call's state is read back, as plain data
+        (:func:`~.calls.follow_plan`): what the clean room needs without this checker; else None."""
+        if self.read_back is None:
+            return None
+        return [follow_plan(self.read_back, tuple(args)) for args in arguments]
 
     def __call__(self, function: Any) -> str | None:
         return self.judge(self.trace(function), self.seed)
@@ -183,7 +145,9 @@ class BuildChecker:
     # --- the kernel's half: call the learner's function, keep what it gives as plain data ----------------
 
     def trace(self, function: Any, seed: str | None = None) -> dict:
-        """What ``function`` gives on the inputs drawn from ``seed``, as plain data (never raises)."""
+        """What ``function`` gives on the inputs drawn from ``seed``, as plain data (never raises).
+
+        The calling itself is :func:`~.calls.call_all`, the same code the grader's clean room runs."""
         if not callable(function):
             return {"not_callable": show(function)}
         if is_unwritten(function):
@@ -191,45 +155,17 @@ class BuildChecker:
         library = library_name(function)
         if library:
             return {"library": library}
-        name = str(getattr(function, "__name__", "your_function"))[:60]
-        calls: list[dict] = []
-        arguments = self.arguments(seed)
-
-        def outcome(call_args: tuple) -> dict:
-            try:
-                got = function(*call_args)
-            except _Stopped:
-                raise
-            except Exception as exc:
-                return {"raised": type(exc).__name__[:60], "message": safe_str(exc)[:300]}
-            try:
-                return {"out": plain(got)}
-            except PlainError as exc:
-                return {"unreadable": str(exc)}
-
-        def work() -> None:
-            try:
-                for args in arguments:
-                    state = copy.deepcopy(args)
-                    entry = outcome(state)
-                    if self.read_back is not None and "out" in entry:
-                        entry["state"] = plain(state)
-                        mine = self.read_back(args, state)
-                        if mine is not None:
-                            entry["read"] = outcome(mine)
-                    calls.append(entry)
-            except _Stopped:
-                pass
-            except BaseException as exc:  # SystemExit, KeyboardInterrupt raised by the learner's code
-                calls.append({"fatal": type(exc).__name__[:60]})
-
-        finished = run_within(work, self.time_limit, name=f"exercise {self.key}")
-        return {"name": name, "calls": calls, "stopped": not finished}
+        read_back = self.read_back
+        follow = None if read_back is None else (lambda index, args, state: read_back(args, state))
+        return call_all(function, self.arguments(seed), time_limit=self.time_limit,
+                        name=f"exercise {self.key}", follow=follow)
 
     # --- the grader's half: the library's answers, compared with the trace ---------------------------------
 
-    def judge(self, trace: dict, seed: str | None = None) -> str | None:
-        """None if the traced function agrees with the library on every input of ``seed``; else why not."""
+    def judge(self, trace: dict, seed: str | None = None, *,
+              cases: list[tuple[tuple, Any]] | None = None) -> str | None:
+        """None if the traced function agrees with the library on every input of ``seed`` (or on the
+        arguments of ``cases``, from :meth:`expected`, when the grader drew them itself); else why not."""
         if "not_callable" in trace:
             return ("this exercise asks for a function: define it with def, then pass its name without "
                     f"parentheses, as in check(\"{self.key}\", my_function). "
@@ -237,7 +173,14 @@ class BuildChecker:
         if "library" in trace:
             return f"that is `{trace['library']}`; write your own."
         name, calls = str(trace.get("name", "your_function"))[:60], list(trace.get("calls", []))
-        cases = self.cases(seed)
+        reference = _reference_called(trace, calls)
+        if reference:
+            return f"{name} {reference}"
+        if "unloadable" in trace:
+            return (f"{name} could not be run from the notebook alone: {str(trace['unloadable'])[:300]}. "
+                    "A graded function may use Python's standard library, modbus_edu, and what the notebook "
+                    "defines at its top level above the check (functions, classes, imports, constants).")
+        cases = self.cases(seed) if cases is None else cases
         for index, (args, expected) in enumerate(cases):
             if index >= len(calls):
                 if not trace.get("stopped"):
@@ -321,6 +264,19 @@ class BuildChecker:
         return message + self._note(mine, expected, got)
 
 
+def _reference_called(trace: dict, calls: list) -> str:
+    """The message of :class:`~modbus_edu.errors.ReferenceUnavailable` when the traced function (or the
+    code it was loaded with) reached for the library's own answer in the clean room, else ''."""
+    loading = str(trace.get("unloadable", ""))
+    if loading.startswith(f"{ReferenceUnavailable.__name__}: "):
+        return loading.split(": ", 1)[1][:300]
+    for entry in calls:
+        for outcome in (entry, entry.get("read") or {}) if isinstance(entry, dict) else ():
+            if isinstance(outcome, dict) and outcome.get("raised") == ReferenceUnavailable.__name__:
+                return str(outcome.get("message", ""))[:300] or ReferenceUnavailable.__name__
+    return ""
+
+
 def library_name(function: Any) -> str | None:
     """``"mb.crc16"`` when ``function`` is the library's own code (or a method or partial of it), else None.
 
@@ -345,7 +301,8 @@ def library_name(function: Any) -> str | None:
 
 
 def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callable[[random.Random], Sequence],
-                   hint: str, wrong: Callable | None = None, edge_cases: Iterable[Sequence] = (),
+                   hint: str | tuple[str, ...], wrong: Callable | None = None,
+                   edge_cases: Iterable[Sequence] = (),
                    count: int = 100, diagnose: Callable[[Sequence, Any, Any], str | None] | None = None,
                    compare: Callable[[Any, Any], bool] | None = None, time_limit: float = TIME_LIMIT,
                    refuses: Iterable[tuple[Callable, str | None]] = (),

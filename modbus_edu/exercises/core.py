@@ -15,7 +15,7 @@ never raises.
 
 from __future__ import annotations
 
-import dis
+import dataclasses
 import math
 import reprlib
 from collections.abc import Callable
@@ -26,6 +26,7 @@ from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
 from ..framing import RtuFrame, parse_hex
+from .calls import safe_str
 from .misconceptions import CATALOGUE, diagnose
 from .plain import PlainError, plain, revive
 
@@ -91,23 +92,44 @@ class Result:
 
 EXERCISES: dict[str, Exercise] = {}
 
-LINES: dict[str, str] = {}
-"""Build exercises' line of code, by key.  The hint gives the idea; :func:`check` adds the line only
-after :data:`TRIES_BEFORE_LINE` wrong tries (:func:`line_after_tries` sets it)."""
+AFTER_CHECK: dict[str, Callable[[Any, Result], Result]] = {}
+"""What :func:`~.submit.check` does after judging an exercise in the learner's own kernel, by key (never
+under the grader, never in :func:`evaluate`): the concept inventory keeps the pre-test's answers and
+sets the post-test's beside them."""
+
+
+class Recorded(str):
+    """A checker's words for an answer it keeps without judging it yet (the pre-test's): :func:`check`
+    prints them as they are, and the exercise counts as done."""
+
+LINES: dict[str, tuple[str, ...]] = {}
+"""The hints after the first, by key.  Hints escalate: the exercise's ``hint`` gives the idea from the
+first wrong try; from :data:`TRIES_BEFORE_LINE` wrong tries on, :func:`check` adds the next level, one
+more per try: the step, then a worked example of the same idea on other numbers (never the exercise's
+own line).  An exercise gives them as ``hint=(idea, step, example)``, or :func:`line_after_tries`."""
 
 TRIES_BEFORE_LINE = 2
+
+LEVELS = ("the next step", "the same idea on other numbers")
+"""How :func:`check` introduces each level of :data:`LINES`."""
 
 wrong_tries: dict[str, int] = {}
 """How many wrong answers :func:`check` has seen per exercise since its last right one (this kernel)."""
 
 
-def line_after_tries(key: str, line: str) -> None:
-    """Give exercise ``key``'s line of code, shown only after two wrong tries."""
-    LINES[key] = line
+def line_after_tries(key: str, *levels: str) -> None:
+    """Give exercise ``key``'s hints after the idea: the step, then a worked example on other numbers,
+    shown from the second wrong try on, one more per try."""
+    LINES[key] = levels
 
 
 def register(item: Exercise) -> Exercise:
-    """Add ``item`` to :data:`EXERCISES`; a key is registered once."""
+    """Add ``item`` to :data:`EXERCISES`; a key is registered once.  A ``hint`` given as a tuple is the
+    idea followed by the levels of :data:`LINES`."""
+    if not isinstance(item.hint, str):
+        idea, *more = item.hint
+        item = dataclasses.replace(item, hint=idea)
+        LINES[item.key] = tuple(more)
     if item.key in EXERCISES:
         raise ValueError(f"exercise {item.key} is registered twice")
     if item.kind not in ("value", "build"):
@@ -122,7 +144,7 @@ def register(item: Exercise) -> Exercise:
 _NO_ANSWER = object()
 
 
-def exercise(key: str, title: str, *, hint: str, wrong: Any = _NO_ANSWER, accepts: Any = (),
+def exercise(key: str, title: str, *, hint: str | tuple[str, ...], wrong: Any = _NO_ANSWER, accepts: Any = (),
              refuses: Any = ()) -> Callable:
     """Register a value exercise's checker under ``key`` (decorator).
 
@@ -154,8 +176,9 @@ def _find(key: Any) -> Exercise | Result:
     return EXERCISES[key]
 
 
-def _result(item: Exercise, decide: Callable[[], str | None]) -> Result:
-    """The verdict ``decide()`` gives (None: right, else what is wrong), as a Result; never raises."""
+def _result(item: Exercise, decide: Callable[[], str | None], raising: bool = False) -> Result:
+    """The verdict ``decide()`` gives (None: right, else what is wrong), as a Result; never raises, unless
+    ``raising``: then an exception that is no verdict on the answer (the checker itself failed) is raised."""
     try:
         problem = decide()
     except PlainError as exc:
@@ -167,23 +190,29 @@ def _result(item: Exercise, decide: Callable[[], str | None]) -> Result:
     except MemoryError:
         problem = "your answer is far too large to check."
     except Exception as exc:  # the learner's object may fail in any way: answer, never raise
+        if raising:
+            raise
         problem = f"your answer has the wrong shape ({type(exc).__name__}: {clip(safe_str(exc), 200)})"
     if problem is None:
         return Result(item.key, True, f"Right! Exercise {item.key} ({item.title}) is solved.")
+    if isinstance(problem, Recorded):
+        return Result(item.key, True, str(problem))
     return Result(item.key, False, clip(f"Not yet: {problem}", MAX_MESSAGE - len(item.hint) - 8)
                   + f"\nHint: {item.hint}")
 
 
 def count_try(result: Result) -> Result:
     """``result`` as :func:`check` prints it: counts the wrong tries per exercise and, from the second
-    on, adds an exercise's line of code (:data:`LINES`) under the hint; a right answer starts again."""
+    on, adds the next level of its hints (:data:`LINES`) under the idea; a right answer starts again."""
     key = result.key
     if key in EXERCISES:
         if result.ok is False:
             tries = wrong_tries[key] = wrong_tries.get(key, 0) + 1
-            if tries >= TRIES_BEFORE_LINE and key in LINES:
-                return Result(key, False, f"{result.message}\nAfter {tries} tries, the line itself: "
-                                          f"{LINES[key]}")
+            levels = LINES.get(key, ())[:tries - TRIES_BEFORE_LINE + 1]
+            if levels:
+                more = "\n".join(f"After {TRIES_BEFORE_LINE + n} tries, {LEVELS[min(n, len(LEVELS) - 1)]}: "
+                                  f"{level}" for n, level in enumerate(levels))
+                return Result(key, False, f"{result.message}\n{more}")
         elif result.ok:
             wrong_tries.pop(key, None)
     return result
@@ -214,24 +243,32 @@ def evaluate(key: Any, answer: Any) -> Result:
     return verdict(key, data)
 
 
-def verdict(key: Any, data: Any) -> Result:
-    """The verdict on a value exercise's answer given as plain data (:func:`.plain.plain`); never raises."""
+def verdict(key: Any, data: Any, *, raising: bool = False) -> Result:
+    """The verdict on a value exercise's answer given as plain data (:func:`.plain.plain`); never raises.
+
+    With ``raising`` (the grader's way), a checker that fails on the answer (an exception other than the
+    library's errors, which are verdicts) raises it: the grader reports that exercise as errored rather
+    than telling a learner their answer has the wrong shape."""
     item = _find(key)
     if isinstance(item, Result):
         return item
     if item.kind == "build":
         return Result(item.key, False, f"Exercise {item.key} asks for a function, which the grader traces.")
     try:
-        if revive(data) is PLACEHOLDER:
-            return _unanswered(item)
-    except PlainError:
-        pass
-    return _result(item, lambda: item.checker(revive(data)))
+        answer = revive(data)
+    except PlainError as exc:
+        problem = str(exc)
+        return _result(item, lambda: problem)
+    if answer is PLACEHOLDER:
+        return _unanswered(item)
+    return _result(item, lambda: item.checker(answer), raising)
 
 
-def judge(key: Any, trace: Any, seed: str | None = None) -> Result:
+def judge(key: Any, trace: Any, seed: str | None = None, *, cases: list | None = None,
+          raising: bool = False) -> Result:
     """The verdict on a build exercise from the trace of the learner's function (inputs drawn from
-    ``seed``; by default the exercise's own); never raises."""
+    ``seed``, by default the exercise's own; or the (arguments, expected) ``cases`` the grader drew with
+    :meth:`~.build.BuildChecker.expected`); never raises, unless ``raising`` (as :func:`verdict`)."""
     item = _find(key)
     if isinstance(item, Result):
         return item
@@ -239,21 +276,7 @@ def judge(key: Any, trace: Any, seed: str | None = None) -> Result:
         return Result(item.key, False, f"Exercise {item.key}: this is no trace of a function.")
     if trace.get("unwritten"):
         return _unanswered(item, build=True)
-    return _result(item, lambda: item.checker.judge(trace, seed))
-
-
-def is_unwritten(function: Callable) -> bool:
-    """True if ``function``'s body is only ``...`` or ``pass`` (and maybe a docstring): a template."""
-    code = getattr(function, "__code__", None)
-    if code is None:
-        return False
-    for instruction in dis.get_instructions(code):
-        if instruction.opname in ("RESUME", "NOP", "RETURN_VALUE", "CACHE"):
-            continue
-        if instruction.opname in ("LOAD_CONST", "RETURN_CONST") and instruction.argval is None:
-            continue
-        return False
-    return True
+    return _result(item, lambda: item.checker.judge(trace, seed, cases=cases), raising)
 
 
 # --- showing a learner's values safely ---------------------------------------------------------------
@@ -270,14 +293,6 @@ def clip(text: str, limit: int) -> str:
     """``text`` cut to ``limit`` characters, with an ellipsis when cut."""
     limit = max(limit, 20)
     return text if len(text) <= limit else text[:limit - 1] + "…"
-
-
-def safe_str(value: Any) -> str:
-    """``str(value)``, or a description of it when its ``__str__`` fails."""
-    try:
-        return str(value)
-    except Exception:
-        return f"<a {type(value).__name__} that cannot be printed>"
 
 
 def kind(value: Any) -> str:

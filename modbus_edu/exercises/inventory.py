@@ -3,12 +3,14 @@
 Notebook 00 opens the course with them (exercise ``00.0``, in :data:`ORDER_PRE`) and notebook 17 closes it
 with the same questions in another, fixed order (exercise ``17.0``, :data:`ORDER_POST`).  Each question
 probes one misconception of :mod:`.misconceptions` (its ``probes`` key), and each wrong choice is the
-answer that misconception gives.
+answer a misconception gives (its key in ``wrong``): the post-test's verdict names, for each wrong letter,
+the misconception that letter stands for.
 
 A learner answers with the letters of the choices in the notebook's order, as a string (``"BADC..."``,
 spaces ignored, ``?`` for "I do not know") or a dict ``{1: "b", 2: "a", ...}``.  The pre-test's verdict
-says how many are right and never which: a pre-test must not teach its answers before the course does.
-The post-test's verdict names the misconception behind each wrong answer.
+only records the answers, right or wrong: a pre-test must not teach its answers before the course does.
+``check`` keeps them in the learner's home (:data:`RECORD`), and the post-test's verdict, which names
+the misconception behind each wrong answer, then shows which of the pre-test's answers were right.
 
 :func:`score` marks one answer per question; :func:`gains` gives a class's normalised gain
 g = (post - pre) / (max - pre) per question and overall, from class averages over the learners who
@@ -17,18 +19,23 @@ answered both.  When the class's pre average is already the maximum, g is undefi
 
 from __future__ import annotations
 
+import contextlib
+import json
 import random
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from ..errors import ModbusError
-from .core import exercise
+from .core import AFTER_CHECK, Recorded, Result, exercise
 from .misconceptions import CATALOGUE
 
 PRE = "00.0"
 POST = "17.0"
 LETTERS = "abcd"
 DONT_KNOW = "?"
+RECORD = Path.home() / ".modbus_edu" / "inventory.json"
+"""Where :func:`~.submit.check` keeps a learner's pre-test letters, for notebook 17 (another kernel)."""
 
 
 class InventoryError(ModbusError):
@@ -37,60 +44,79 @@ class InventoryError(ModbusError):
 
 @dataclass(frozen=True)
 class Question:
-    """One question: its id, text, four choices (a to d), the right letter, and the misconception a
-    wrong answer shows (a key of the catalogue)."""
+    """One question: its id, text, four choices (a to d), the right letter, the misconception the
+    question probes (a key of the catalogue: the gain table's label) and, for each wrong letter, the
+    misconception that choice stands for (the verdict names it)."""
 
     id: str
     text: str
     choices: tuple[str, str, str, str]
     right: str
     probes: str
+    wrong: dict[str, str]
+
+    def misconception(self, letter: str | None) -> str:
+        """The catalogue key a learner's ``letter`` stands for: that wrong choice's, or the question's
+        own for "I do not know"."""
+        return self.wrong.get(letter or "", self.probes)
 
 
 QUESTIONS: tuple[Question, ...] = (
     Question("word-order", "A power meter sends a 32-bit float in two registers. Which order do those two "
              "registers come in?",
-             ("always the first register holds the high half: Modbus fixes it",
-              "always the first register holds the low half: Modbus fixes it",
-              "Modbus fixes the byte order inside a register, not the order of the two registers: each "
-              "device chooses, and its datasheet (or a known value) tells",
-              "the order does not matter: a float reads the same either way"), "c", "word-order"),
-    Question("mbap-order", "A Modbus/TCP request has transaction identifier 5. Which two bytes carry it?",
-             ("00 05", "05 00", "35 00", "FF 05"), "a", "mbap-little-endian"),
+             ("the high half first: the specification fixes it",
+              "the low half first: the specification fixes it",
+              "each device's own choice: its datasheet tells",
+              "either: a float reads the same in both orders"), "c", "word-order",
+             {"a": "word-order", "b": "word-order", "d": "word-order"}),
+    Question("mbap-order", "A Modbus/TCP request has transaction identifier 10. Which bytes carry it?",
+             ("00 0A", "0A 00", "00 10", "0A"), "a", "mbap-little-endian",
+             {"b": "mbap-little-endian", "c": "decimal-written-as-hex", "d": "register-one-byte"}),
     Question("reference", "A datasheet lists the first holding register as 40001. Which address does a "
              "function 3 request send for it?",
-             ("40001", "40000", "1", "0"), "d", "reference-number"),
+             ("40001", "40000", "1", "0"), "d", "reference-number",
+             {"a": "reference-number", "b": "reference-number", "c": "one-based-address"}),
     Question("one-based", "A datasheet numbers its registers from 1; you want register 10. Which address "
              "goes on the wire?",
-             ("10", "11", "40010", "9"), "d", "one-based-address"),
+             ("10", "11", "40010", "9"), "d", "one-based-address",
+             {"a": "one-based-address", "b": "one-based-address", "c": "reference-number"}),
     Question("crc-order", "The CRC of an RTU frame's bytes is 0x4B37. How does the frame end?",
-             ("4B 37", "37 4B", "4B 37 0D 0A", "with no CRC: the slave computes it"), "b", "crc-swapped"),
+             ("4B 37", "37 4B", "37 4B 0D 0A", "with no CRC: the slave computes it"), "b", "crc-swapped",
+             {"a": "crc-swapped", "c": "crlf-for-frame-end", "d": "crc-forgotten"}),
     Question("tcp-crc", "How does a Modbus/TCP frame end?",
-             ("with a CRC, low byte first", "with an LRC", "with CR LF",
-              "with the PDU's last byte: TCP checks the bytes itself"), "d", "crc-on-tcp"),
+             ("with a CRC, low byte first", "with a CRC, high byte first", "with CR LF",
+              "with the PDU's last byte"), "d", "crc-on-tcp",
+             {"a": "crc-on-tcp", "b": "crc-on-tcp", "c": "crlf-for-frame-end"}),
     Question("damaged", "A slave receives a request whose CRC is wrong. What does the master see?",
              ("exception 03 (illegal data value)", "exception 04 (slave device failure)",
-              "nothing: a timeout", "the request echoed back"), "c", "answer-to-damaged-request"),
+              "nothing: a timeout", "the request echoed back"), "c", "answer-to-damaged-request",
+             {"a": "answer-to-damaged-request", "b": "answer-to-damaged-request",
+              "d": "answer-to-damaged-request"}),
     Question("missing-address", "A slave implements function 3 but has no register at the requested "
-             "address. What does it answer?",
+             "address. Per the specification, what does it answer?",
              ("exception 01 (illegal function)", "exception 02 (illegal data address)",
-              "nothing: a timeout", "zeros"), "b", "illegal-function-for-address"),
+              "nothing: a timeout", "a normal response holding zeros"), "b", "illegal-function-for-address",
+             {"a": "illegal-function-for-address", "c": "refusal-unanswered", "d": "refusal-unanswered"}),
     Question("mbap-length", "A Modbus/TCP frame carries unit 0x11 and the 5-byte PDU 03 00 6B 00 03. What "
              "is its MBAP length field?",
-             ("5", "7", "6", "12"), "c", "mbap-length"),
-    Question("frame-end", "What tells an RTU slave that a frame has ended?",
+             ("5", "7", "6", "12"), "c", "mbap-length",
+             {"a": "mbap-length", "b": "mbap-length", "d": "mbap-length"}),
+    Question("frame-end", "At 9600 baud, what tells an RTU slave that a frame has ended, per the "
+             "specification?",
              ("CR LF", "a silence of one character time", "a silence of 3.5 character times",
-              "the byte count in the frame"), "c", "one-character-for-t35"),
-    Question("pause-inside", "Halfway through an RTU frame the sender pauses for 2 character times. What "
-             "happens?",
-             ("nothing: only a silence of 3.5 character times matters",
-              "the frame is broken: a pause of more than 1.5 character times inside a frame already "
-              "breaks it",
-              "the slave answers exception 03", "the slave waits for the rest and answers"), "b",
-             "t15-forgotten"),
+              "a silence of 1.5 character times"), "c", "one-character-for-t35",
+             {"a": "crlf-for-frame-end", "b": "one-character-for-t35", "d": "t15-for-t35"}),
+    Question("pause-inside", "At 9600 baud, halfway through an RTU frame the sender pauses for 2 character "
+             "times. Per the specification, what happens?",
+             ("nothing: the slave waits for the rest and answers",
+              "the slave drops the frame and does not answer",
+              "the slave answers exception 03 (illegal data value)",
+              "the slave answers the first half as a frame"), "b", "t15-forgotten",
+             {"a": "t15-forgotten", "c": "answer-to-damaged-request", "d": "t15-for-t35"}),
     Question("exception-code", "A slave refuses a function 3 request with an exception. What is the "
              "function code of its response?",
-             ("83", "03", "80", "00"), "a", "exception-bit-missing"),
+             ("83", "03", "80", "03, then 80 after it"), "a", "exception-bit-missing",
+             {"b": "exception-bit-missing", "c": "exception-bit-missing", "d": "exception-bit-missing"}),
 )
 
 BY_ID = {question.id: question for question in QUESTIONS}
@@ -130,8 +156,9 @@ def read(answer: Any, quiz: str) -> dict[str, str | None]:
     elif isinstance(answer, dict):
         by_number = {}
         for number, letter in answer.items():
-            if isinstance(number, str) and number.strip().isdigit():
-                number = int(number)
+            text = number.strip() if isinstance(number, str) else ""
+            if text.isascii() and text.isdigit() and len(text) <= 4:  # not "²", "٣" nor 5,000 digits
+                number = int(text)
             if not isinstance(number, int) or isinstance(number, bool) or not 1 <= number <= count:
                 raise InventoryError(f"the questions are numbered 1 to {count}, not {number!r}.")
             if not isinstance(letter, str):
@@ -200,33 +227,80 @@ def gains(class_pre_post: dict[str, tuple[dict[str, bool] | None, dict[str, bool
 
 def _judge(answer: Any, quiz: str) -> str | None:
     try:
-        marks = score(read(answer, quiz))
+        answers = read(answer, quiz)
     except InventoryError as exc:
         return str(exc)
+    marks = score(answers)
+    if quiz == PRE:
+        unknown = sum(letter is None for letter in answers.values())
+        return Recorded(f"Recorded: your {len(marks)} answers ({unknown} marked ?). Which are right stays "
+                        f"unseen for now: the course answers every question, and notebook 17 asks them "
+                        f"again, then shows these beside the new ones.")
     right = sum(marks.values())
     if right == len(marks):
         return None
-    if quiz == PRE:
-        return (f"{right} of {len(marks)} right. Which ones are right stays a secret for now: the course "
-                f"answers every question, and notebook 17 asks them again.")
-    wrong = [f"{n} ({CATALOGUE[BY_ID[qid].probes].label})" for n, qid in enumerate(ORDERS[quiz], 1)
-             if not marks[qid]]
+    wrong = [f"{n} ({CATALOGUE[BY_ID[qid].misconception(answers[qid])].label})"
+             for n, qid in enumerate(ORDERS[quiz], 1) if not marks[qid]]
     return f"{right} of {len(marks)} right; look again at question {', '.join(wrong)}."
 
 
-def _wrong_at(quiz: str, qid: str) -> str:
-    """The right letters of ``quiz`` with question ``qid`` answered by its first wrong choice."""
+def _letters(answer: Any, quiz: str) -> str | None:
+    """``answer`` as letters in ``quiz``'s order (``?`` for "I do not know"), or None when unreadable."""
+    try:
+        answers = read(answer, quiz)
+    except InventoryError:
+        return None
+    return "".join(answers[qid] or DONT_KNOW for qid in ORDERS[quiz])
+
+
+def _keep_pre(answer: Any, result: Result) -> Result:
+    """After a pre-test check: keep its letters in :data:`RECORD` (quietly skipped where the home folder
+    cannot be written)."""
+    letters = _letters(answer, PRE)
+    if letters is not None:
+        with contextlib.suppress(OSError):
+            RECORD.parent.mkdir(parents=True, exist_ok=True)
+            RECORD.write_text(json.dumps({PRE: letters}) + "\n", encoding="utf-8")
+    return result
+
+
+def before(quiz: str = POST) -> str:
+    """The kept pre-test set beside ``quiz``'s numbering: how many were right before, and which; or
+    how to keep them when there are none."""
+    try:
+        letters = json.loads(RECORD.read_text(encoding="utf-8"))[PRE]
+        answers = read(letters, PRE)
+    except (OSError, ValueError, KeyError, TypeError, InventoryError):
+        return ("Your pre-test answers (exercise 00.0) are not kept on this computer: run its check cell "
+                "in notebook 00 to set them beside these.")
+    marks = score(answers)
+    right = [str(n) for n, qid in enumerate(ORDERS[quiz], 1) if marks[qid]]
+    which = f": question{'s' * (len(right) > 1)} {', '.join(right)} (numbered as here)" if right else ""
+    return f"Before the course (exercise 00.0) you had {len(right)} of {len(marks)} right{which}."
+
+
+def _set_beside_pre(answer: Any, result: Result) -> Result:
+    """After a post-test check: the verdict, then the pre-test's answers that were right."""
+    if _letters(answer, POST) is None:
+        return result
+    return Result(result.key, result.ok, f"{result.message}\n{before(POST)}")
+
+
+def _wrong_at(quiz: str, qid: str, letter: str | None = None) -> str:
+    """The right letters of ``quiz`` with question ``qid`` answered by ``letter`` (by default its first
+    wrong choice)."""
     letters = list(key_letters(quiz))
     index = ORDERS[quiz].index(qid)
-    letters[index] = next(letter for letter in LETTERS if letter != BY_ID[qid].right).upper()
+    letters[index] = (letter or next(c for c in LETTERS if c != BY_ID[qid].right)).upper()
     return "".join(letters)
 
 
 @exercise(PRE, "before you start: 12 questions",
           hint="answer what you think now, or ? when you have no idea; the course teaches all twelve.",
           accepts=[key_letters(PRE), key_letters(PRE).lower(),
-                   {n: letter for n, letter in enumerate(key_letters(PRE), 1)}],
-          refuses=[("?" * len(QUESTIONS), None), (_wrong_at(PRE, "crc-order"), None), ("ABC", None)])
+                   {n: letter for n, letter in enumerate(key_letters(PRE), 1)},
+                   "?" * len(QUESTIONS), _wrong_at(PRE, "crc-order")],  # recorded, right or wrong
+          refuses=[("ABC", None), ("E" * len(QUESTIONS), None)])
 def _check_pre(answer: Any) -> str | None:
     return _judge(answer, PRE)
 
@@ -237,6 +311,13 @@ def _check_pre(answer: Any) -> str | None:
                    {str(n): letter for n, letter in enumerate(key_letters(POST), 1)}],
           refuses=[(_wrong_at(POST, "crc-order"), "crc-swapped"),
                    (_wrong_at(POST, "mbap-length"), "mbap-length"),
-                   (_wrong_at(POST, "reference"), "reference-number"), ("ABCDE", None)])
+                   (_wrong_at(POST, "reference"), "reference-number"),
+                   (_wrong_at(POST, "frame-end", "d"), "t15-for-t35"),
+                   (_wrong_at(POST, "tcp-crc", "c"), "crlf-for-frame-end"),
+                   (_wrong_at(POST, "missing-address", "c"), "refusal-unanswered"), ("ABCDE", None)])
 def _check_post(answer: Any) -> str | None:
     return _judge(answer, POST)
+
+
+AFTER_CHECK[PRE] = _keep_pre
+AFTER_CHECK[POST] = _set_beside_pre

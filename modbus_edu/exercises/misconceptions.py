@@ -298,8 +298,9 @@ def _not_ma(got: Any, amperes: Any) -> bool:
 
 @_entry("silences-forgotten", "the silences forgotten", "got, without: a time, and the same time without "
         "the two silences",
-        "an RTU frame ends with 3.5 character times of silence, after the request and after the response: "
-        "a transaction is request + 3.5 + response + 3.5 characters.")
+        "a transaction is request + silence + the slave's processing time + response + silence, where each "
+        "silence is 3.5 character times (at 19200 baud or below; 1.75 ms above). The course's slave answers "
+        "at once: request + 3.5 + response + 3.5 characters.")
 def _silences(got: Any, without: Any) -> bool:
     return _same_time(got, without)
 
@@ -322,17 +323,36 @@ def _fixed_silence(got: Any, scaled: Any) -> bool:
 
 @_entry("t15-forgotten", "only 3.5 characters break a frame", "got, expected: the pauses (in characters) "
         "that leave a frame unanswered",
-        "inside an RTU frame a pause of more than 1.5 character times already breaks it (the slave drops "
-        "it); 3.5 characters or more cut it in two.")
+        "inside an RTU frame a pause of more than 1.5 character times (at 19200 baud or below; 0.75 ms "
+        "above) already breaks it (the slave drops it); 3.5 character times or more (1.75 ms above 19200 "
+        "baud) cut it in two.")
 def _t15(got: Any, expected: Any) -> bool:
     got, expected = sorted(got), sorted(expected)
     return got != expected and got == [p for p in expected if p >= 3.5]
 
 
 @_entry("one-character-for-t35", "one character time for t3.5", "got, char_time: seconds",
-        "the silence that ends a frame is 3.5 character times, not one.")
+        "the silence that ends a frame is 3.5 character times at 19200 baud or below (1.75 ms above), not "
+        "one.")
 def _one_char(got: Any, char_time: Any) -> bool:
     return _same_time(got, char_time)
+
+
+@_entry("t15-for-t35", "t1.5 for t3.5", "got, char_time: seconds",
+        "a pause of more than 1.5 character times inside a frame breaks that frame (the slave drops it); "
+        "only a silence of 3.5 character times ends a frame (at 19200 baud or below; 0.75 ms and 1.75 ms "
+        "above).")
+def _t15_for_t35(got: Any, char_time: Any) -> bool:
+    return _number(char_time) and _same_time(got, 1.5 * char_time)
+
+
+@_entry("crlf-for-frame-end", "CR LF at the end of a frame that has none", "got, expected: an RTU or "
+        "Modbus/TCP frame (bytes)",
+        "only an ASCII frame ends with CR LF; an RTU frame ends with its CRC and a silence, a Modbus/TCP "
+        "frame with the PDU's last byte (the MBAP length says where).")
+def _crlf_end(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    return not expected.startswith(b":") and got == expected + b"\r\n"
 
 
 # --- Modbus/TCP ----------------------------------------------------------------------------------------
@@ -443,8 +463,9 @@ def _exception_as_function(got: Any, expected: Any) -> bool:
 
 @_entry("illegal-function-for-address", "exception 01 for a missing address", "got, expected: exception "
         "codes (int)",
-        "01 (illegal function) means the slave does not implement the function at all; a coil or register "
-        "it does not have is 02 (illegal data address).")
+        "01 (illegal function) means the slave will not carry out this function: it does not implement it, "
+        "or not in its present state, or (Modbus/TCP Security) not for your role; a coil or register it "
+        "does not have is 02 (illegal data address).")
 def _illegal_function(got: Any, expected: Any) -> bool:
     return got == 1 and expected == 2
 
@@ -545,10 +566,29 @@ def frame_slip(got: Any, expected: Any, tail: int = 0, keys: tuple[str, ...] = F
 
 @_entry("answer-to-damaged-request", "an answer to a damaged request", "got, expected: what the master "
         "sees (str), or whether the slave answers (bool)",
-        "a slave that receives a request with a wrong CRC (or one for another unit) cannot trust any of its "
-        "bytes and says nothing: the master sees a timeout, not a frame it could check.")
+        "a slave that receives a request with a wrong CRC (or a broken frame) cannot trust any of its bytes, "
+        "not even its own address in them, and says nothing: the master sees a timeout, not a frame it "
+        "could check.")
 def _damaged_request(got: Any, expected: Any) -> bool:
     return (got, expected) in (("checksum error", "timeout"), ("exception", "timeout"), (True, False))
+
+
+@_entry("answer-to-another-unit", "an answer to a request for another unit", "got, expected: what the "
+        "master sees (str) of a request for a unit no slave has",
+        "a slave answers only requests for its own address: a sound frame for another unit is simply not "
+        "its business, so it stays silent; with no slave of that address the master "
+        "sees a timeout.")
+def _another_unit(got: Any, expected: Any) -> bool:
+    return expected == "timeout" and got in ("exception", "checksum error", "valid", "mismatch")
+
+
+@_entry("refusal-unanswered", "a refusal without an exception response", "got, expected: what the "
+        "master sees (str) of a valid request the slave cannot carry out",
+        "a slave that receives a sound request for itself and cannot carry it out answers with an "
+        "exception response saying why (02 for an address it does not have); it neither stays silent nor "
+        "makes data up.")
+def _refusal_unanswered(got: Any, expected: Any) -> bool:
+    return expected == "exception" and got in ("timeout", "valid")
 
 
 @_entry("write-not-stored", "a write echoed but not stored", "a build exercise's read-back: the register "

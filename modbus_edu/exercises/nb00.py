@@ -44,7 +44,15 @@ def _check_00_2(answer: Any) -> str | None:
 
 
 @exercise("00.3", "build your first RTU frame",
-          hint="mb.RtuFrame(unit=..., pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode()",
+          hint=("an RTU frame is the slave address, then the PDU (function code, starting address, "
+                "quantity), then the CRC, low byte first; the library builds one from a unit and a request "
+                "object.",
+                "reading holding registers is function 3: mb.ReadHoldingRegistersRequest(address=..., "
+                "count=...) is the PDU; mb.RtuFrame takes the unit and that PDU (pdu=), and its .encode() "
+                "adds the CRC.",
+                "slave 9, one holding register at address 5: mb.RtuFrame(unit=9, "
+                "pdu=mb.ReadHoldingRegistersRequest(address=5, count=1)).encode() gives 09 03 00 05 00 01 "
+                "95 43."),
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
           refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
                                                                 "one-based-address"),

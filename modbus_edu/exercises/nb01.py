@@ -74,8 +74,11 @@ def _check_01_3(answer: Any) -> str | None:
 
 
 @exercise("01.4", "counting the registers of a sparse bank",
-          hint="holding registers 100 to 149 means numbers 100, 101, ..., 149: count both ends. "
-               "Or declare them in DataBank(sparse=True) and ask len(bank.holding_registers).",
+          hint=("holding registers 100 to 149 means numbers 100, 101, ..., 149: count both ends, then add "
+                "the two ranges.",
+                "a range from first to last holds last - first + 1 registers; a sparse DataBank counts them "
+                "too, once each range is declared in its holding registers.",
+                "registers 5 to 7 and 20 to 21: (7 - 5 + 1) + (21 - 20 + 1) = 3 + 2 = 5."),
           accepts=[60], refuses=[(58, "range-one-end"), (52, None), (59, None)])
 def _check_01_4(answer: Any) -> str | None:
     bank = DataBank(sparse=True)

@@ -26,8 +26,12 @@ from .misconceptions import diagnose, frame_slip, name
 
 
 @exercise("02.1", "build a Write Multiple Registers PDU",
-          hint="function 16 (0x10): address (2 bytes), quantity (2 bytes), byte count (1 byte), then the "
-               "values, each high byte first; mb.WriteMultipleRegistersRequest(address=..., values=[...]).",
+          hint=("function 16's request is the function code, the starting address, the quantity, a byte "
+                "count, then the values; every 2-byte field goes high byte first.",
+                "the quantity is how many values, the byte count 2 bytes per value; 500 is 0x01F4, so it "
+                "goes as 01 F4. mb.WriteMultipleRegistersRequest(address=..., values=[...]).encode() checks "
+                "your bytes.",
+                "writing 7 and 300 at address 10: 10 | 00 0A | 00 02 | 04 | 00 07 | 01 2C."),
           accepts=["10 00 04 00 02 04 01 F4 03 E8", "10000400020401f403e8",
                    bytes.fromhex("10 00 04 00 02 04 01 F4 03 E8")],
           refuses=[("10 00 04 00 02 01 F4 03 E8", "byte-count-missing"),
@@ -132,4 +136,8 @@ build_exercise(
               None)],
     diagnose=lambda args, expected, got: pdu_address_diagnosis(got, expected)
     if isinstance(got, bytes) and isinstance(expected, bytes) else None)
-line_after_tries("02.5", "bytes([3]) + address.to_bytes(2, 'big') + count.to_bytes(2, 'big')")
+line_after_tries("02.5", "bytes([3]) is the function code's byte; an int's .to_bytes(2, 'big') gives its "
+                 "two bytes, high byte first; + joins bytes. Check the count and the range first, and raise "
+                 "when they break a limit.",
+                 "function 4 for address 300 and count 2: 300 = 0x012C, so that PDU is 04 01 2C 00 02, and "
+                 "(300).to_bytes(2, 'big') == b'\\x01\\x2c'.")

@@ -22,8 +22,11 @@ from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, frame_
 
 
 @exercise("03.1", "a CRC in wire order",
-          hint="mb.crc16(data) gives the register value; on the wire its low byte goes first "
-               "(mb.crc_bytes(data) gives both bytes in wire order).",
+          hint=("compute the CRC over the frame's bytes (mb.crc16 gives the register value); on the wire "
+                "its low byte goes first.",
+                "split the register value into its two bytes: 0xABCD is AB (high) and CD (low); the wire "
+                "order is CD AB.",
+                "for 01 03 00 00 00 01 the register value is 0x0A84, and the frame ends 84 0A."),
           accepts=["B2 98", "b298", b"\xb2\x98", [0xB2, 0x98]],
           refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None)])
 def _check_03_1(answer: Any) -> str | None:
@@ -36,8 +39,12 @@ def _check_03_1(answer: Any) -> str | None:
 
 
 @exercise("03.2", "build an RTU frame",
-          hint="mb.RtuFrame(unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., value=...)).encode(); "
-               "the address goes in the frame as it is: 2 is sent as 00 02.",
+          hint=("an RTU frame is the slave address, the PDU, then the CRC low byte first; function 6's PDU "
+                "is 06, the address and the value, 2 bytes each, high byte first. The address goes in as it "
+                "is: 2 is sent as 00 02.",
+                "mb.WriteSingleRegisterRequest(address=..., value=...) is the PDU; mb.RtuFrame(unit=..., "
+                "pdu=...) wraps it, and .encode() appends the CRC.",
+                "slave 3, 0x00FF into address 7: 03 06 00 07 00 FF 79 A9."),
           accepts=["01 06 00 02 12 34 25 7D", "01060002123425 7d", bytes.fromhex("010600021234257D")],
           refuses=[("01 06 00 02 12 34 7D 25", "crc-swapped"), ("01 06 00 03 12 34 74 BD",
                                                                 "one-based-address"),
@@ -101,8 +108,12 @@ build_exercise(
     reference=crc16,
     inputs=lambda rng: (rng.randbytes(rng.randrange(1, 64)),),
     edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),)],
-    hint="start with register = 0xFFFF; for each byte: register ^= byte, then 8 times: if the lowest bit is "
-         "1, shift right and XOR with 0xA001, else just shift right. Return the register.",
+    hint=("CRC-16/MODBUS: a 16-bit register starts at 0xFFFF; each byte is XORed into it, then the register "
+          "is shifted right 8 times, and each time the bit that falls out is 1 it is XORed with 0xA001.",
+          "two loops: one over the bytes, and inside it one of 8 shifts; test the lowest bit (register & 1) "
+          "before you shift it out. Return the register as an int.",
+          "the byte 0x01: 0xFFFF ^ 0x01 = 0xFFFE; the 8 shifts give 0x7FFF, 0x9FFE, 0x4FFF, 0x87FE, 0x43FF, "
+          "0x81FE, 0x40FF, 0x807E: the CRC of 01 is 0x807E."),
     refuses=[(_crc_without_final_step, "crc-initial-zero"), (_crc_swapped, "crc-swapped"),
              (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
                                                     "crc-as-bytes")],

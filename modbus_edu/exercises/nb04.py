@@ -23,8 +23,9 @@ from .misconceptions import diagnose, name
 
 
 @exercise("04.1", "an LRC by hand",
-          hint="add the bytes, keep the low 8 bits, then take the two's complement: (256 - sum) % 256; "
-               "mb.lrc(data) does it all.",
+          hint=("add the bytes, keep the low 8 bits, then take the two's complement: (256 - sum) % 256.",
+                "mb.lrc_trace shows the running sum byte by byte, and mb.lrc checks your result.",
+                "for 01 03 00 00 00 0A the sum is 0x0E = 14; 256 - 14 = 242 = 0xF2."),
           accepts=[0x7E, 126],
           refuses=[(0x82, "lrc-plain-sum"), (0x7D, "lrc-ones-complement"), (0xA0, "lrc-of-characters"),
                    (0x7F, None)])
@@ -43,8 +44,11 @@ def _check_04_1(answer: Any) -> str | None:
 
 
 @exercise("04.2", "build an ASCII frame",
-          hint="44097 is holding register number 4097, address 4096 = 0x1000; mb.AsciiFrame(unit=..., "
-               "pdu=mb.ReadHoldingRegistersRequest(address=..., count=...)).encode().",
+          hint=("44097 is holding register number 4097, address 4096 = 0x1000; an ASCII frame is ':', then "
+                "the address, the PDU and the LRC as hex characters, then CR LF.",
+                "mb.parse_reference gives the address; mb.AsciiFrame(unit=..., pdu=...) builds the frame, "
+                "and its .encode() adds the LRC and CR LF.",
+                "slave 2, one register at address 4: b':020300040001F6\\r\\n'."),
           accepts=[":050310000002E6\r\n", b":050310000002E6\r\n", ":050310000002e6\r\n",
                    r":050310000002E6\r\n", list(b":050310000002E6\r\n")],
           refuses=[(":050310000002E6", "ascii-without-crlf"), (b":050310000002E6", "ascii-without-crlf"),
@@ -76,9 +80,11 @@ def ascii_frame_answer(answer: Any) -> bytes:
 
 
 @exercise("04.3", "the length of an ASCII response",
-          hint="an ASCII frame writes each byte (address, PDU, LRC) as two characters, between ':' and "
-               "CR LF; the response to a read of 3 registers has the address, function code, byte count, "
-               "6 data bytes and the LRC. len(mb.AsciiFrame(unit=5, pdu=...).encode()) counts them.",
+          hint=("an ASCII frame writes each byte (address, PDU, LRC) as two characters, between ':' and CR "
+                "LF.",
+                "count the response's bytes first: address, function code, byte count, 2 bytes per "
+                "register, LRC; then 2 characters each, plus ':' and the 2 of CR LF.",
+                "a response with one register is 1 + 1 + 1 + 2 + 1 = 6 bytes: 1 + 12 + 2 = 15 characters."),
           accepts=[23, 0x17],
           refuses=[(21, "ascii-without-crlf"), (11, None), (10, None), (22, None), (25, None), (17, None)])
 def _check_04_3(answer: Any) -> str | None:
@@ -104,8 +110,11 @@ def _check_04_3(answer: Any) -> str | None:
 
 
 @exercise("04.4", "the PDU inside an ASCII frame",
-          hint="decode the frame (mb.AsciiFrame.decode(frame, role='response')) and encode its .pdu; "
-               "the PDU starts with the function code, after the address.",
+          hint=("an ASCII frame is ':', then the address, the PDU and the LRC written as hex characters, "
+                "then CR LF: the PDU is what lies between the address and the LRC.",
+                "turn the characters into bytes, two characters a byte, then leave out the first byte (the "
+                "address) and the last (the LRC); mb.AsciiFrame.decode(..., role='response') does the same.",
+                "in :010600010003F5 the bytes are 01 06 00 01 00 03 F5: the PDU is 06 00 01 00 03."),
           accepts=["03 04 FF 06 00 64", "0304ff060064", bytes.fromhex("0304FF060064")],
           refuses=[("05 03 04 FF 06 00 64", "unit-in-pdu"), ("03 04 FF 06 00 64 8B", "frame-for-pdu"),
                    ("05 03 04 FF 06 00 64 8B", "frame-for-pdu"), (":050304FF0600648B", None)])
@@ -144,4 +153,6 @@ build_exercise(
                                                                 "lrc-ones-complement"),
              (lambda data: -sum(data), None)],
     diagnose=_diagnose_lrc)
-line_after_tries("04.5", "return (-sum(data)) & 0xFF")
+line_after_tries("04.5", "sum(data) adds the bytes; & 0xFF keeps the low 8 bits of any int; the two's "
+                 "complement of a byte x is (256 - x) % 256.",
+                 "for 01 03 00 00 00 0A the sum is 14 = 0x0E and 256 - 14 = 242: the LRC is 0xF2.")

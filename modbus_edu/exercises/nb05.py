@@ -37,8 +37,11 @@ def _check_05_1(answer: Any) -> str | None:
 
 
 @exercise("05.2", "build a Modbus/TCP frame",
-          hint="mb.TcpFrame(transaction_id=..., unit=..., pdu=mb.WriteSingleRegisterRequest(address=..., "
-               "value=...)).encode(); the length field counts the unit identifier and the PDU.",
+          hint=("a Modbus/TCP frame is the 7-byte MBAP header (transaction id, protocol id 0, length, unit) "
+                "and then the PDU; the length counts the unit identifier and the PDU.",
+                "function 6's PDU is 06, the address and the value (2 bytes each, high byte first); "
+                "mb.TcpFrame(transaction_id=..., unit=..., pdu=...) computes the length for you.",
+                "transaction 9, unit 2, 500 into address 3: 00 09 00 00 00 06 02 06 00 03 01 F4."),
           accepts=["00 07 00 00 00 06 01 06 00 00 04 D2", "0007000000060106000004d2",
                    bytes.fromhex("00 07 00 00 00 06 01 06 00 00 04 D2")],
           refuses=[("07 00 00 00 00 06 01 06 00 00 04 D2", "mbap-little-endian"),
@@ -85,8 +88,13 @@ def _check_05_3(answer: Any) -> str | None:
 
 
 @exercise("05.4", "spot the wrong MBAP field",
-          hint="decode the frame with mb.explain(frame, mode='tcp'): the row marked as a problem is the one. "
-               "Answer with the field's name, e.g. 'protocol identifier'.",
+          hint=("each MBAP field holds a fixed value or one the rest of the frame fixes: check each field "
+                "against the bytes of the frame.",
+                "transaction id: any value; protocol identifier: 0; length: the number of bytes after the "
+                "length field (the unit and the PDU), high byte first; unit: the server's. "
+                "mb.explain(frame, mode='tcp') checks a frame for you.",
+                "in 00 01 00 01 00 06 01 03 00 00 00 01 the protocol identifier is 00 01, where it must be "
+                "00 00."),
           accepts=["length", "Length field", "the length", "the length field", "LENGTH", "MBAP length",
                    "length field (bytes 4-5)", "Length"],
           refuses=[("transaction identifier", None), ("protocol id", None), ("unit identifier", None),
@@ -153,8 +161,11 @@ build_exercise(
     reference=_mbap_header, inputs=_mbap_inputs,
     edge_cases=[(280, 1, bytes.fromhex("03 00 00 00 01")), (0, 0, bytes.fromhex("03 00 00 00 01")),
                 (65535, 255, bytes.fromhex("03 00 6B 00 03"))],
-    hint="seven bytes: transaction id (2 bytes), protocol id 0 (2 bytes), length = 1 + len(pdu) (2 bytes), "
-         "unit (1 byte); every 2-byte field high byte first: tid.to_bytes(2, 'big').",
+    hint=("seven bytes: transaction id (2 bytes), protocol id 0 (2 bytes), length = 1 + len(pdu) (2 bytes), "
+          "unit (1 byte); every 2-byte field high byte first.",
+          "an int's .to_bytes(2, 'big') gives its two bytes high byte first; bytes([unit]) gives one byte; "
+          "+ joins bytes.",
+          "transaction 300, unit 9, a 5-byte PDU: 01 2C | 00 00 | 00 06 | 09."),
     refuses=[(lambda tid, unit, pdu: tid.to_bytes(2, "little") + bytes(2) + (len(pdu) + 1).to_bytes(2, "big")
               + bytes([unit]), "mbap-little-endian"),
              (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big")

@@ -43,8 +43,10 @@ def _check_06_1(answer: Any) -> str | None:
 
 
 @exercise("06.2", "an exception the master reports",
-          hint="try it: master.write_single_coil(unit=1, address=0, value=True) inside try/except "
-               "mb.ModbusExceptionError as error, and look at error.code.",
+          hint=("a slave that implements a function but lacks the element asked for refuses with an "
+                "exception code; mb.ExceptionCode lists the codes.",
+                "run it: the master raises mb.ModbusExceptionError, and the error's .code is the slave's "
+                "exception code."),
           accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, None)])
 def _check_06_2(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
@@ -67,8 +69,12 @@ def _check_06_2(answer: Any) -> str | None:
 
 
 @exercise("06.3", "the most transactions per second",
-          hint="one transaction (FC3, 1 register) takes (8 + 3.5 + 7 + 3.5) characters; a character is "
-               "10 bits at 8N1; at 19200 baud one bit takes 1/19200 s.",
+          hint=("one transaction is request + 3.5 characters of silence + response + 3.5 characters; "
+                "transactions follow each other, so the most per second is 1 / the time of one.",
+                "FC3 for one register: a request of 8 bytes, a response of 7; 8N1 is 10 bits a character, "
+                "and at 19200 baud a bit lasts 1/19200 s.",
+                "two registers at 9600 baud: 8 + 3.5 + 9 + 3.5 = 24 characters = 240 bits = 25 ms: 40 "
+                "transactions per second."),
           accepts=[87.3, 87.27],
           refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (43.6, None), (80.0, None)])
 def _check_06_3(answer: Any) -> str | None:
@@ -86,8 +92,10 @@ def _check_06_3(answer: Any) -> str | None:
 
 
 @exercise("06.4", "what a damaged request looks like",
-          hint="try it: on a loopback line with slave 1, call link.faults.flip_bits(1, target='request'), "
-               "then read from unit 1 inside try/except mb.ModbusError as error, and give type(error).",
+          hint=("a slave checks a request's CRC before anything else; think about what it does with a "
+                "request that fails the check, and what the master then gets back.",
+                "try it on a loopback line: link.faults.flip_bits(1, target='request') damages the next "
+                "request; catch mb.ModbusError as error and look at type(error)."),
           accepts=[ModbusTimeoutError, ModbusTimeoutError("no answer")],
           refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
                    (ChecksumError, "answer-to-damaged-request"), ("timeout", None)])
@@ -178,7 +186,8 @@ build_exercise(
                 ([1, 2, 3], bytes.fromhex("03 00 00 01 01"))],
     hint="read the function code; FC3: address and count (2 bytes each, high first), answer 03, byte count, "
          "the registers; FC6: store the value, answer with the request itself. An address outside the list "
-         "gets the exception response bytes([function | 0x80, 2]); a count outside 1..125, code 3.",
+         "gets an exception response (the function code with its top bit set, then 02); a count outside "
+         "1..125, code 03; any other function, code 01.",
     refuses=[(_echo_without_storing, "write-not-stored"),
              (lambda registers, pdu: bytes([3, 2]) + registers[0].to_bytes(2, "big"), None)],
     read_back=_read_it_back, diagnose=_diagnose_handler)

@@ -39,9 +39,14 @@ def _check_07_1(answer: Any) -> str | None:
     return None
 
 
-@exercise("07.2", "build an exception response",
-          hint="unit 17, function code 1 + 0x80, exception code 02 (illegal data address): "
-               "mb.RtuFrame(unit=17, pdu=mb.ExceptionResponse(function=..., code=...)).encode()",
+@exercise("07.2", "the frame slave 17 answers with",
+          hint=("a refusal is an exception response: the function code with its top bit set, then the "
+                "exception code that says why; in an RTU frame the slave address comes first and the CRC "
+                "last.",
+                "a coil the slave does not have is exception 02 (illegal data address); read coils is "
+                "function 01. mb.ExceptionResponse(function=..., code=...) is that PDU; mb.RtuFrame adds "
+                "the address and the CRC.",
+                "slave 4 refusing a read of holding registers (FC3) at an address it lacks: 04 83 02 D0 F0."),
           accepts=["11 81 02 C0 54", "118102c054", bytes.fromhex("11 81 02 C0 54")],
           refuses=[("11 01 02 C1 34", "exception-bit-missing"), ("17 81 02 20 55", "decimal-written-as-hex"),
                    ("11 81 02 54 C0", "crc-swapped"), ("11 81 01 80 55", "illegal-function-for-address"),
@@ -108,10 +113,12 @@ def _outcome_of(situation: str) -> str:
           accepts=[dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception", "mismatch"))),
                    dict(zip(_SITUATIONS, ("Timeout", " timeout", "Checksum error", "EXCEPTION",
                                           "mismatch")))],
-          refuses=[(dict.fromkeys(_SITUATIONS, "checksum error"), "answer-to-damaged-request"),
+          refuses=[(dict.fromkeys(_SITUATIONS, "checksum error"), "answer-to-another-unit"),
+                   (dict(zip(_SITUATIONS, ("timeout", "exception", "checksum error", "exception",
+                                           "mismatch"))), "answer-to-damaged-request"),
                    (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception",
                                            "timeout"))), None),
-                   (dict.fromkeys(_SITUATIONS, "valid"), None)])
+                   (dict.fromkeys(_SITUATIONS, "valid"), "answer-to-another-unit")])
 def _check_07_3(answer: Any) -> str | None:
     if not isinstance(answer, dict):
         return "answer with a dict {situation: outcome}, using the five situations of the exercise."
@@ -124,7 +131,8 @@ def _check_07_3(answer: Any) -> str | None:
             return f"{answer[situation]!r} is not one of {', '.join(_OUTCOMES)}."
         expected = _outcome_of(situation)
         if got != expected:
-            named = diagnose("answer-to-damaged-request", got, expected)
+            named = diagnose("answer-to-another-unit" if situation == _SITUATIONS[0]
+                             else "answer-to-damaged-request", got, expected)
             if named:
                 return f"{situation}: {named}"
             return f"{situation}: the master does not see {got!r}."

@@ -15,8 +15,11 @@ from .misconceptions import diagnose
 
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",
-          hint="t3.5 is 3.5 character times; with even parity a character is 11 bits (start, 8 data, "
-               "parity, stop). mb.SerialTiming(baudrate=..., parity=...).t35 gives it in seconds.",
+          hint=("t3.5 is 3.5 character times (the fixed 1.75 ms applies only above 19200 baud); with even "
+                "parity a character is 11 bits (start, 8 data, parity, stop).",
+                "one character lasts bits / baud rate seconds; multiply by 3.5. "
+                "mb.SerialTiming(baudrate=..., parity=...).t35 checks it.",
+                "at 9600 baud 8N1 a character is 10 bits, 1.042 ms, and t3.5 is 0.003646 s."),
           accepts=[0.008021, 0.00802083, 0.0080208],
           refuses=[(0.007292, "parity-bit-forgotten"), (0.002292, "one-character-for-t35"),
                    (8.021, "milliseconds-for-seconds"), (0.009, None)])
@@ -34,8 +37,12 @@ def _check_08_1(answer: Any) -> str | None:
 
 
 @exercise("08.2", "transactions per second reading 10 registers at 19200 baud",
-          hint="request 8 bytes, response 5 + 2 x 10 bytes, plus two silences of 3.5 characters; "
-               "1 / mb.SerialTiming(19200).transaction_time(request_bytes, response_bytes).",
+          hint=("one transaction is request + 3.5 characters of silence + response + 3.5 characters; the "
+                "line carries one transaction after the other.",
+                "request 8 bytes, response 5 + 2 x 10 bytes; 8N1 is 10 bits a character, each bit 1/19200 "
+                "s; transactions per second = 1 / the time of one.",
+                "one register at 9600 baud: 8 + 3.5 + 7 + 3.5 = 22 characters = 220 bits = 22.9 ms, about "
+                "43.6 transactions per second."),
           accepts=[48.0, 48, 47.99],
           refuses=[(58.18, "silences-forgotten"), (0.02083, "time-for-rate"), (87.3, None), (50.0, None)])
 def _check_08_2(answer: Any) -> str | None:

@@ -12,8 +12,10 @@ from .misconceptions import diagnose, name
 
 
 @exercise("09.1", "function and address for a reference number",
-          hint="3xxxx are input registers, read with function 4; the address in the frame is the number "
-               "after the prefix minus one. mb.parse_reference('30010') does it.",
+          hint=("3xxxx are input registers, read with function 4; the address in the frame is the number "
+                "after the prefix minus one.",
+                "the number after the prefix is counted from 1; the address is counted from 0.",
+                "40108 is read with function 3 at address 107; mb.parse_reference('40108') shows both."),
           accepts=[(4, 9), [4, 9], (0x04, 0x09)],
           refuses=[((3, 9), "holding-for-input"), ((4, 10), "one-based-address"), ((4, 30009),
                                                                                    "reference-number"),
@@ -42,8 +44,12 @@ def _bank_of(*runs: tuple[int, int]) -> Any:
 
 
 @exercise("09.2", "a sparse bank with holding registers 150-175 and 200-225",
-          hint="board = ArduinoSlave(unit=1, sketch=False); for number in range(150, 176): "
-               "board.add(40000 + number); the same for 200-225.",
+          hint=("a sparse board holds only the registers you declare: every register of both ranges, both "
+                "ends included, and nothing between them.",
+                "register 150 is reference 40150; board.add takes one reference number, and a for loop over "
+                "range(first, last + 1) declares a whole range.",
+                "registers 10 to 12 and 20: board.add(40010), board.add(40011), board.add(40012), "
+                "board.add(40020)."),
           accepts=[_bank_of((149, 26), (199, 26))],
           refuses=[(_bank_of((150, 26), (200, 26)), "one-based-address"),
                    (_bank_of((149, 25), (199, 25)), "range-one-end"), (_bank_of((149, 26)), None)])
@@ -120,9 +126,11 @@ build_exercise(
     edge_cases=[(1.65, 1.0, 0.0), (0.01, 1.0, 0.0), (2.0, 1.0, 0.02), (1.0, 0.01, 0.02),
                 # a loop that takes no time sees a request at once: all answered if the reply fits, else none
                 (0.0, 1.0, 0.0), (0.0, 0.02, 0.02), (0.0, 0.01, 0.02)],
-    hint="a request arrives at a random moment of the loop; it is answered in time if the loop reaches it "
-         "within timeout - reply seconds: the fraction is (timeout - reply) / loop_time, kept between 0 "
-         "and 1.",
+    hint=("a request arrives at a random moment of the loop; it is answered in time only if the loop "
+          "reaches it within the time the master still waits after the reply's own time.",
+          "that waiting time is timeout - reply; as a share of the loop time it is the fraction answered, "
+          "which can be neither below 0 nor above 1.",
+          "a 2 s loop, a 1 s timeout, a 0.2 s reply: (1 - 0.2) / 2 = 0.4; a 0.5 s loop: 1.6, so 1."),
     refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply),
               "percentage-for-fraction"),
              (lambda loop_time, timeout, reply: timeout / loop_time, None)],

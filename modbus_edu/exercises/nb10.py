@@ -14,8 +14,11 @@ from .misconceptions import diagnose
 
 
 @exercise("10.1", "a voltage from a register pair",
-          hint="the two registers after the byte count form one 32-bit number, high word first; VL2 is in "
-               "tenths of a volt. METER_BY_NAME['VL2'].value(registers) does both steps.",
+          hint=("the two registers after the byte count form one 32-bit number, high word first; VL2 is in "
+                "tenths of a volt.",
+                "decode the pair with mb.decode_value(registers, 'uint32') and divide by 10; the meter's "
+                "map, METER_BY_NAME, checks it.",
+                "registers 0x0001 and 0x0002 are 0x00010002 = 65538 tenths: 6553.8 V."),
           accepts=[410.5, 410.50, 410.48],
           refuses=[(4105, "raw-for-scaled"), (26902528.0, "word-order"), (41.05, None)])
 def _check_10_1(answer: Any) -> str | None:
@@ -33,8 +36,12 @@ def _check_10_1(answer: Any) -> str | None:
 
 
 @exercise("10.2", "the registers that carry a current",
-          hint="288.9 A is 288 900 mA; split it into a high and a low 16-bit word, high word first: "
-               "mb.encode_value(288900, 'uint32', 'ABCD'), or METER_BY_NAME['AL1'].registers(288.9).",
+          hint=("the meter sends a current in milliamperes as one 32-bit number in two registers, high word "
+                "first.",
+                "288.9 A is 288 900 mA; the high word is that number // 65536, the low word that number % "
+                "65536.",
+                "100 000 mA = 0x000186A0: registers [1, 34464] (0x0001, 0x86A0); mb.encode_value(100000, "
+                "'uint32', 'ABCD') gives the same."),
           accepts=[[0x0004, 0x6884], (4, 26756)],
           refuses=[([0x6884, 0x0004], "word-order"), ([288900], "one-register-for-32-bits"),
                    ([0, 2889], "current-not-in-milliamperes"), ([4, 0x6885], None)])

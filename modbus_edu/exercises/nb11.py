@@ -20,8 +20,10 @@ _11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
 
 
 @exercise("11.1", "decode a captured Modbus/TCP request",
-          hint="MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then the "
-               "PDU: function code, address (2), value (2). mb.TcpFrame.decode(mb.parse_hex(...)) reads it.",
+          hint=("MBAP: transaction id (2 bytes, big-endian), protocol id (2), length (2), unit (1); then "
+                "the PDU: function code, address (2), value (2).",
+                "mb.TcpFrame.decode(mb.parse_hex(...), role='request') reads it: .transaction_id, and .pdu "
+                "with its fields."),
           accepts=[(42, 6, 16, 500), [0x2A, 6, 0x10, 0x01F4]],
           refuses=[((0x2A00, 6, 16, 500), "mbap-little-endian"), ((42, 6, 17, 500), "one-based-address"),
                    ((42, 6, 10, 500), "hex-read-as-decimal"), ((42, 17, 16, 500), None),
@@ -51,9 +53,12 @@ def _check_11_1(answer: Any) -> str | None:
 
 
 @exercise("11.2", "what a gateway does: RTU in, Modbus/TCP out",
-          hint="keep the unit and the PDU (drop the CRC), put an MBAP header in front: "
-               "mb.TcpFrame(transaction_id=7, unit=..., pdu=...).encode(); mb.RtuFrame.decode reads the RTU "
-               "frame.",
+          hint=("a gateway keeps the unit and the PDU, drops the CRC, and puts an MBAP header in front: "
+                "transaction id, protocol 0, length = 1 + the PDU's length, unit.",
+                "mb.RtuFrame.decode(..., role='request') gives .unit and .pdu; mb.TcpFrame builds the frame "
+                "from them and the transaction id.",
+                "the RTU request 01 06 00 01 00 03 98 0B, with transaction id 1: 00 01 00 00 00 06 01 06 00 "
+                "01 00 03."),
           accepts=["00 07 00 00 00 06 03 03 00 00 00 03", "000700000006030300000003",
                    bytes.fromhex("00 07 00 00 00 06 03 03 00 00 00 03")],
           refuses=[("00 07 00 00 00 08 03 03 00 00 00 03 04 29", "crc-on-tcp"),
@@ -131,9 +136,12 @@ build_exercise(
                 (bytes.fromhex("01 18 01 00 00 06 01 03 00 00 00 01"),),
                 (bytes.fromhex("01 18 00 00 01 06 01 03 00 00 00 01"),),
                 (bytes.fromhex("00 05 00 00 00 02 01 07"),), (bytes.fromhex("00 05 00 00 00 01 01"),)],
-    hint="int.from_bytes(frame[0:2], 'big') is the transaction id; then protocol (2 bytes), length "
-         "(2 bytes), unit (1 byte), and the PDU is frame[7:]. Raise an exception when the length does not "
-         "equal len(frame) - 6.",
+    hint=("the MBAP header is seven bytes: transaction id (2), protocol id (2), length (2), unit (1), each "
+          "2-byte field high byte first; the PDU is what follows. The length counts the unit and the PDU: "
+          "raise an exception when the frame says otherwise.",
+          "int.from_bytes(two_bytes, 'big') reads a 2-byte field; a slice picks bytes out of the frame.",
+          "in 00 2A 00 00 00 06 11 06 00 10 01 F4 the transaction id is 0x002A = 42, and the length 6 is "
+          "the 12 bytes minus the 6 before the unit."),
     refuses=[(lambda frame: (int.from_bytes(frame[0:2], "little"), 0, int.from_bytes(frame[4:6], "big"),
                              frame[6],
                              frame[7:]), "mbap-little-endian"),

@@ -23,8 +23,11 @@ def _testtool() -> Any:
 
 
 @exercise("12.1", "a grid cell in hex",
-          hint="the fill gives 100, 110, 120, ... so address 5 holds 100 + 5 x 10; "
-               "mb.format_registers([...], 'hex') shows a register as the test tool's grid does.",
+          hint=("the fill starts at the first value and adds the increment at each address; the hex display "
+                "writes a register as 0x and four hex digits.",
+                "address n holds first + n x increment; mb.format_registers([value], 'hex') shows it as the "
+                "grid does.",
+                "first value 20, increment 4: address 3 holds 32, shown '0x0020'."),
           accepts=["0x0096", "0X0096", " 0x0096 "],
           refuses=[("0x008C", "one-based-address"), ("150", None), ("0x0097", None)])
 def _check_12_1(answer: Any) -> str | None:
@@ -48,8 +51,12 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
 
 
 @exercise("12.2", "set up a master tool",
-          hint="TestTool('rtu_master', unit=..., function=..., address=..., length=..., interval=...); "
-               "input registers are read with function 4.",
+          hint=("a master tool asks: give it its role, the device (unit), the table (the function that "
+                "reads it), the first address, how many (length) and how often (interval, seconds).",
+                "input registers are read with function 4; TestTool takes each setting as a keyword: unit=, "
+                "function=, address=, length=, interval=.",
+                "2 holding registers of unit 3 from address 100 every 2 s: TestTool('rtu_master', unit=3, "
+                "function=3, address=100, length=2, interval=2.0)."),
           accepts=[{"role": "rtu_master", "unit": 7, "function": 4, "address": 10, "length": 4,
                     "interval": 0.5},
                    {"role": "tcp_client", "unit": 7, "function": 4, "address": 10, "length": 4,
@@ -84,8 +91,11 @@ def _check_12_2(answer: Any) -> str | None:
 
 
 @exercise("12.3", "the transaction id after three polls",
-          hint="the transaction id goes up by one per request: 280, 281, 282 are used; the MBAP header "
-               "writes it high byte first.",
+          hint=("a client gives each new request the next transaction id: count the ids the three polls use.",
+                "the first poll carries the starting id, each poll one more; the MBAP header writes the id "
+                "in two bytes, high byte first.",
+                "a client that starts at 510 and polls twice uses 510 and 511; its next request carries 512 "
+                "= 0x0200 and starts 02 00."),
           accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
           refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:

@@ -107,7 +107,7 @@ def _check_13_1(answer: Any) -> str | None:
     return None
 
 
-@exercise("13.2", "a current with an unknown word order",
+@exercise("13.2", "a current of 292 880 amperes",
           hint="read holding registers 0-1 and decode them with mb.decode_value(registers, 'uint32', order) "
                "for the orders 'ABCD' and 'CDAB'; only one gives a current a sensor could measure (in mA).",
           accepts=[("CDAB", 135.541), ("CDAB", 135.5), ("cdab", 135.54), ["CDAB", 135.6]],
@@ -139,9 +139,11 @@ CURRENT_TOLERANCE = 0.06
 """Exercise 13.2 takes the current to 0.1 A, as a clamp meter shows it: 135.5 for 135.541 A."""
 
 
-@exercise("13.3", "off by one",
-          hint="a reference number counts from 1, the address in the frame from 0: 40001 is address 0. "
-               "mb.parse_reference('40021') gives the address.",
+@exercise("13.3", "a value from the register after it",
+          hint=("a reference number counts from 1, the address in the frame from 0; the leading 4 only "
+                "names the table.",
+                "take the number after the 4 and subtract one.",
+                "40108 is address 107: mb.parse_reference('40108').address."),
           accepts=[20, 0x14],
           refuses=[(21, "one-based-address"), (40021, "reference-number"), (40020, "reference-number"), (19,
                                                                                                          None)])
@@ -157,9 +159,13 @@ def _check_13_3(answer: Any) -> str | None:
     return f"address {answer} is not where register 40021 is."
 
 
-@exercise("13.4", "a little-endian transaction id",
-          hint="a spec-following server reads the MBAP transaction id high byte first: "
-               "mb.TcpFrame.decode(...).transaction_id; a correct client sends 3 as 00 03.",
+@exercise("13.4", "the transaction ids that do not match",
+          hint=("a spec-following server reads the MBAP transaction id high byte first, whatever order the "
+                "client meant.",
+                "read the first two bytes as one big-endian number "
+                "(mb.TcpFrame.decode(...).transaction_id); a correct client writes its number the same way.",
+                "a capture starting 05 00 carries transaction id 0x0500 = 1280; a client meaning 5 sends 00 "
+                "05."),
           accepts=[(768, "00 03"), (0x0300, b"\x00\x03"), [768, "0003"]],
           refuses=[((3, "00 03"), "mbap-little-endian"), ((768, "03 00"), "mbap-little-endian"),
                    ((769, "00 03"), None)])
@@ -181,7 +187,7 @@ def _check_13_4(answer: Any) -> str | None:
     return None
 
 
-@exercise("13.5", "a CRC that does not match",
+@exercise("13.5", "a slave that never answers one tool",
           hint="mb.explain(frame) says what CRC it computed; compare it with the two bytes the frame "
                "carries. The CRC goes low byte first.",
           accepts=["01 03 00 00 00 01 84 0A", "010300000001840a", bytes.fromhex("01 03 00 00 00 01 84 0A")],
@@ -195,8 +201,11 @@ def _check_13_5(answer: Any) -> str | None:
 
 
 @exercise("13.6", "estimate a slave's loop time",
-          hint="poll 300 times, one request every 5 s, with a 1 s timeout; the fraction answered is about "
-               "(timeout - 0.013 s) / loop time, so loop time ~ 0.99 / fraction.",
+          hint=("a request is answered only if the slave's loop reaches it within the master's timeout, so "
+                "the share answered tells the loop time.",
+                "poll many times (300, one every 5 s, 1 s timeout) and take the fraction answered: it is "
+                "about (timeout - reply time) / loop time, with a reply of 0.013 s.",
+                "60% answered with a 2 s timeout: a loop of about (2 - 0.013) / 0.6 = 3.3 s."),
           accepts=[2.2, 2.0, 2.4, 2],
           refuses=[(2200, "milliseconds-for-seconds"), (1.0, None), (5.0, None)])
 def _check_13_6(answer: Any) -> str | None:
@@ -252,8 +261,13 @@ build_exercise(
     "13.7", "find a device's word order",
     reference=_orders_giving, inputs=_order_inputs,
     edge_cases=[([0x4396, 0x8000], 301.0), ([0x8000, 0x4396], 301.0), ([0, 0], 0.0), ([0x4396, 0x8000], 7.0)],
-    hint="try the four orders of mb.ORDERS with mb.decode_value(registers, 'float32', order), and return the "
-         "first whose value is close to the expected one (math.isclose(..., rel_tol=1e-6)); None if none is.",
+    hint=("a device sends its float32 in one of four word orders; the right one is the order in which the "
+          "registers decode to the value the display shows.",
+          "mb.ORDERS lists the four orders and mb.decode_value(registers, 'float32', order) decodes in one; "
+          "compare with math.isclose(..., rel_tol=1e-6), since floats rarely match exactly; None when none "
+          "fits.",
+          "registers [0x0000, 0x4120] give 10.0 read as CDAB and a tiny number as ABCD: a display showing "
+          "10.0 means CDAB."),
     refuses=[(lambda registers, expected: "ABCD", "word-order"),
              (lambda registers, expected: "CDAB", "word-order")],
     compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words)

@@ -15,8 +15,12 @@ from .misconceptions import diagnose
 
 
 @exercise("14.1", "a register after Mask Write Register",
-          hint="keep the bits where the AND mask has 1 (current & and_mask), take the OR mask's bits where "
-               "it has 0 (or_mask & ~and_mask), and OR the two.",
+          hint=("FC 22 works bit by bit: where the AND mask has a 1 the register keeps its bit; where it "
+                "has a 0 the bit comes from the OR mask.",
+                "write the three values in binary, one under the other, and go through the bit positions: "
+                "AND-mask bit 1, copy the register's bit; 0, copy the OR mask's bit.",
+                "the specification's example: register 0x12 = 0001 0010, AND 0xF2 = 1111 0010, OR 0x25 = "
+                "0010 0101: bits 7-4 and 1 kept, bits 3, 2 and 0 from the OR mask: 0001 0111 = 0x17."),
           accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None)])
 def _check_14_1(answer: Any) -> str | None:
     expected = mask_write(0x00A5, 0x000F, 0x0130)
@@ -40,7 +44,11 @@ build_exercise(
          "from the OR mask. The result stays a 16-bit value.",
     refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or")],
     diagnose=lambda args, expected, got: diagnose("mask-write-or", *args, got))
-line_after_tries("14.2", "return ((current & and_mask) | (or_mask & ~and_mask)) & 0xFFFF")
+line_after_tries("14.2", "build it from two parts and OR them: the bits kept from the register (AND it with "
+                 "the AND mask) and the bits taken from the OR mask where the AND mask has 0 (the OR mask "
+                 "ANDed with the AND mask's inverse, ~, kept to 16 bits).",
+                 "8 bits for short: register 0x5A, AND 0xF0, OR 0x33: kept 0x5A & 0xF0 = 0x50; inverse "
+                 "0x0F; taken 0x33 & 0x0F = 0x03; result 0x50 | 0x03 = 0x53.")
 
 
 def counters_scenario() -> dict[str, int]:
@@ -67,9 +75,13 @@ def counters_scenario() -> dict[str, int]:
 
 
 @exercise("14.3", "a bus message count, predicted",
-          hint="count every message on the line that unit 1 received with a good CRC since the clear: "
-               "requests for it, requests for the other unit, the other unit's responses, and the 0x0B "
-               "request itself; a frame with a bad CRC goes to 0x0C instead.",
+          hint=("apply the rule of the exercise frame by frame: which frames does unit 1 receive after the "
+                "clear, and which of them have a good CRC?",
+                "write the line's frames after the clear in order, each request and each response; unit 1 "
+                "receives all of them but its own responses (it sends those); a frame with a bad CRC goes "
+                "to 0x0C, not here.",
+                "after a clear, one read of unit 3 and one of unit 4, then 0x0B to unit 3: unit 3 counts "
+                "the request for it, the request for unit 4, unit 4's response and the 0x0B request: 4."),
           accepts=[5, 0x05], refuses=[(6, None), (4, None), (3, None)])
 def _check_14_3(answer: Any) -> str | None:
     got = int_answer(answer, "a number of messages")

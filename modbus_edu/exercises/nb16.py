@@ -66,8 +66,14 @@ def _map_problem(points: list[Any]) -> str | None:
 
 
 @exercise("16.1", "the bench meter's datasheet as a register map file",
-          hint="a header row name,table,address,type,order,scale,unit, then one row per value: table input, "
-               "the datasheet's number (30001 ...) as the address, type float32, order CDAB, scale 1.",
+          hint=("a header row name,table,address,type,order,scale,unit, then one row per value of the "
+                "datasheet's table; each name is a Python identifier (letters, digits and _, not starting "
+                "with a digit).",
+                "numbers 3xxxx are input registers: table input, and the datasheet's number (30001 ...) as "
+                "the address; the datasheet says the type (float32), the word order (CDAB) and whether a "
+                "value is scaled (scale 1: it is not).",
+                "a holding register 40005 with a uint16 voltage in tenths of a volt: "
+                "V_L1,holding,40005,uint16,ABCD,0.1,V."),
           accepts=[_WORKSHEET_MAP, _WORKSHEET_MAP.replace(",1,", ",1.0,"),
                    "name,table,address,type,order\n" + "".join(
                        f"{row.split(',')[0]},input,{row.split(',')[2]},float32,CDAB\n"
@@ -137,9 +143,12 @@ def _frame_slip(got: bytes, expected: bytes) -> str:
 
 
 @exercise("16.2", "the request frames that read the bench meter's map",
-          hint="the planner puts neighbouring values of one table in one request (30071 and 30073 follow "
-               "each other); each request is unit, 04, start address, count (2 bytes each), then the CRC low "
-               "byte first: mb.RtuFrame(unit=..., pdu=mb.ReadInputRegistersRequest(...)).encode().",
+          hint=("the planner puts neighbouring values of one table in one request (30071 and 30073 follow "
+                "each other); each request is unit, 04, start address, count (2 bytes each), then the CRC "
+                "low byte first.",
+                "a float32 takes two registers; 30001 is address 0. mb.RtuFrame(unit=..., "
+                "pdu=mb.ReadInputRegistersRequest(address=..., count=...)).encode() builds one frame.",
+                "four registers from address 10 of unit 2: 02 04 00 0A 00 04 D1 F8."),
           accepts=[expected_frames(), [frame.hex(" ").upper() for frame in expected_frames()]],
           refuses=[(_wrong_frames(), None),
                    ([frame[:-2] + frame[:-3:-1] for frame in expected_frames()], "crc-swapped"),

@@ -36,8 +36,13 @@ def _check_17_1(answer: Any) -> str | None:
 
 
 @exercise("17.2", "an operator's write of 3 registers at address 98",
-          hint="the course's role table lets an operator write addresses 0..99 only; a write of 3 "
-               "registers from 98 touches 98, 99 and 100. A refused request gets exception 01.",
+          hint=("a write is allowed only when every address it touches is in the role's range: list the "
+                "addresses this request writes.",
+                "FC 16 of N registers from address A writes A to A + N - 1: compare the last one with the "
+                "operator's range in the course's role table. A refused request gets the code for a "
+                "function the server will not carry out for this client.",
+                "an operator's FC 15 of 10 coils from address 95 writes 95 to 104: 100 to 104 are outside "
+                "0..99, so it is refused; FC 6 at address 99 is allowed (answer 0)."),
           accepts=[1, 0x01],
           refuses=[(0, None), (2, None), (0x90, None), (3, None)])
 def _check_17_2(answer: Any) -> str | None:
@@ -127,9 +132,12 @@ build_exercise(
                 (_request(4, 0, 1), "guest"),
                 # multiple coils past 99, and a quantity whose high byte counts (256 coils from 0)
                 (_request(15, 98, 3), "operator"), (_request(15, 0, 256), "operator")],
-    hint="pdu[0] is the function code; the address is pdu[1:3] and, for 15 and 16, the quantity is "
-         "pdu[3:5], both big-endian (int.from_bytes(..., 'big')). A viewer reads (1-4); an operator reads, "
-         "and writes (5, 6, 15, 16) within 0..99; an engineer does everything; anyone else nothing. "
-         "Refused: bytes([pdu[0] | 0x80, 0x01]).",
+    hint=("pdu[0] is the function code; the address is in bytes 1-2 and, for 15 and 16, the quantity in "
+          "bytes 3-4, both high byte first. A viewer reads (1-4); an operator reads, and writes (5, 6, 15, "
+          "16) within 0..99; an engineer does everything; anyone else nothing.",
+          "a multiple write touches address .. address + quantity - 1: the last address decides. A refusal "
+          "is exception 01, the function code with its top bit set and then 01.",
+          "an operator's FC 16 from 97 with quantity 3 writes 97, 98, 99: allowed; with quantity 4 it "
+          "reaches 100: refused with 90 01."),
     diagnose=_diagnose,
     refuses=[(_first_address_only, "first-address-only"), (_viewer_only, None)])

@@ -7,14 +7,18 @@ of exact built-in types, and :func:`revive` turns that data back into the value 
   their exact built-in type, read through the built-in type's own methods: an ``int`` subclass whose
   ``__eq__`` is always true arrives as the plain number it holds, and is compared as that;
 * lists, tuples, dicts, sets and frozensets keep their kind, their items converted the same way;
-* a class (``type(error)``) and an exception travel by name; the library's own ones come back as
-  themselves, any other as a new class of the same name that is nothing of the library's;
-* a :class:`~modbus_edu.DataBank` travels as its layout (which addresses exist in which table); a device
-  or slave as its bank; a widget of the course as its ``config()``;
+* a class (``type(error)``) and an exception travel by name; Python's built-in ones and the library's
+  errors, PDUs, frames and banks (:func:`known_classes`: a table of classes already imported, looked up,
+  never imported by name) come back as themselves, any other as a new class of the same name that is
+  nothing of the library's;
+* a :class:`~modbus_edu.DataBank` travels as its layout (which addresses exist in which table, as runs
+  of consecutive addresses); a device or slave as its bank; a widget of the course as its ``config()``;
 * anything else arrives as an opaque object that only says its type's name (``<an object>``).
 
 Every answer is bounded (:data:`MAX_ITEMS` values, :data:`MAX_DEPTH` levels, :data:`MAX_TEXT` characters
-in one string or byte string); beyond that :class:`PlainError` says so in a sentence.
+in one string or byte string, :data:`MAX_BANKS` banks of at most :data:`MAX_RUNS` runs each, no table
+declaring more than its 65,536 addresses); beyond that :class:`PlainError` says so in a sentence.  So
+reviving plain data from a kernel is work in proportion to its size, whatever the kernel sent.
 
 In a learner's notebook ``check`` judges ``revive(plain(answer))`` at once; under ``modbus-edu grade``
 the kernel only sends ``plain(answer)`` and the grader revives and judges it in its own process.
@@ -22,12 +26,14 @@ the kernel only sends ``plain(answer)`` and the grader revives and judges it in 
 
 from __future__ import annotations
 
-import importlib
+import builtins
+import functools
 import json
 import math
 from typing import Any
 
-from ..datamodel import DataBank
+from .. import datamodel, errors, framing, pdu
+from ..datamodel import ADDRESS_SPACE, DataBank
 from ..errors import ModbusError
 
 MAX_ITEMS = 20_000
@@ -40,6 +46,10 @@ MAX_INT_BITS = 65_536
 """The most bits one int of an answer may have."""
 MAX_WIRE = 2_000_000
 """The most characters the JSON of one answer may take."""
+MAX_RUNS = 1_000
+"""The most runs of consecutive addresses a bank's layout may have, over its four tables."""
+MAX_BANKS = 8
+"""The most banks (devices, slaves) one answer may hold: each is a bank of 4 x 65,536 addresses to build."""
 
 _TABLES = ("coils", "discrete_inputs", "input_registers", "holding_registers")
 
@@ -66,6 +76,9 @@ def _layout(bank: DataBank) -> dict:
             else:
                 runs.append([address, 1])
         tables[name] = runs
+        if sum(map(len, tables.values())) > MAX_RUNS:
+            raise PlainError(f"your bank's addresses come in more than {MAX_RUNS:,} separate runs; a bank "
+                             "the course asks for has a few.")
     return {"sparse": bool(bank.sparse), "tables": tables}
 
 
@@ -76,9 +89,16 @@ def _text(value: Any) -> str:
         return f"<a {type(value).__name__}>"
 
 
+def _count_bank(banks: list[int]) -> None:
+    banks[0] += 1
+    if banks[0] > MAX_BANKS:
+        raise PlainError(f"your answer holds more than {MAX_BANKS} banks (devices, slaves); the answer holds "
+                         "one or two.")
+
+
 def plain(answer: Any) -> Any:
     """``answer`` as JSON-able plain data (see the module's docstring); raises :class:`PlainError`."""
-    budget = [MAX_ITEMS]
+    budget, banks = [MAX_ITEMS], [0]
 
     def convert(value: Any, depth: int) -> Any:
         budget[0] -= 1
@@ -125,6 +145,7 @@ def plain(answer: Any) -> Any:
             args = BaseException.__dict__["args"].__get__(value)
             return {"$exception": _name_of(cls), "args": [_text(arg) for arg in args[:4]]}
         if issubclass(cls, DataBank):
+            _count_bank(banks)
             return {"$databank": _layout(value)}
         module = _name_of(cls).split(":")[0]
         if module.startswith("modbus_edu.widgets") and callable(getattr(value, "config", None)):
@@ -132,6 +153,7 @@ def plain(answer: Any) -> Any:
         if module.startswith("modbus_edu"):
             bank = getattr(value, "bank", None)
             if isinstance(bank, DataBank):
+                _count_bank(banks)
                 return {"$databank": _layout(bank)}
         return {"$object": type.__dict__["__name__"].__get__(cls)[:60]}
 
@@ -149,20 +171,51 @@ def to_json(data: Any) -> str:
     return text
 
 
+@functools.cache
+def known_classes() -> dict[str, type]:
+    """The classes an answer's name (``module:qualname``) brings back as themselves: Python's built-in ones
+    and the library's errors, PDUs, frames and banks, by name.
+
+    Built once from modules imported at the top of this one; a name in an answer is only looked up here,
+    so reviving an answer never imports a module nor runs its code."""
+    table: dict[str, type] = {}
+    for module in (builtins, errors, pdu, framing, datamodel):
+        for value in vars(module).values():
+            if isinstance(value, type):
+                name = _name_of(value)
+                if name.startswith(("builtins:", "modbus_edu.", "modbus_edu:")):
+                    table.setdefault(name, value)
+    return table
+
+
 def _resolve(name: Any, base: type = object) -> type:
-    """The library's (or Python's) class of that name, or a new class of that name and nothing more."""
-    module, _, qualname = str(name).partition(":")
-    if module == "builtins" or module == "modbus_edu" or module.startswith("modbus_edu."):
-        try:
-            found: Any = importlib.import_module(module)
-            for part in qualname.split("."):
-                found = getattr(found, part)
-            if isinstance(found, type) and issubclass(found, base):
-                return found
-        except (ImportError, AttributeError, ValueError):
-            pass
-    title = qualname.rsplit(".", 1)[-1][:60]
+    """The known class of that name (:func:`known_classes`), or a new class of that name and nothing more."""
+    name = str(name)[:200]
+    found = known_classes().get(name)
+    if found is not None and issubclass(found, base):
+        return found
+    title = name.rpartition(":")[2].rsplit(".", 1)[-1][:60]
     return type(title if title.isidentifier() else "unknown", (base,), {"__module__": "learner"})
+
+
+def _bank(layout: dict) -> DataBank:
+    """The bank a layout describes (:func:`plain`'s ``$databank``), after checking its size: at most
+    :data:`MAX_RUNS` runs, and no table declaring more addresses than it has."""
+    tables = {name: list(runs) for name, runs in dict(layout.get("tables", {})).items() if name in _TABLES}
+    runs = sum(map(len, tables.values()))
+    if runs > MAX_RUNS:
+        raise PlainError(f"this bank's layout has {runs:,} runs of addresses, more than the {MAX_RUNS:,} an "
+                         "answer may have.")
+    bank = DataBank(sparse=bool(layout.get("sparse")))
+    for name, table in tables.items():
+        declared = 0
+        for first, count in table:
+            declared += int(count)
+            if declared > ADDRESS_SPACE:
+                raise PlainError(f"this bank's layout declares more than the {ADDRESS_SPACE:,} addresses of "
+                                 f"a table in its {name}.")
+            getattr(bank, name).declare(int(first), int(count))
+    return bank
 
 
 class Opaque:
@@ -174,7 +227,7 @@ class Opaque:
 
 def revive(data: Any) -> Any:
     """The checker's view of plain data made by :func:`plain` (or received from a kernel)."""
-    budget = [MAX_ITEMS]
+    budget, banks = [MAX_ITEMS], [0]
 
     def back(value: Any, depth: int) -> Any:
         budget[0] -= 1
@@ -211,12 +264,8 @@ def revive(data: Any) -> Any:
             error.args = tuple(str(arg) for arg in value.get("args", []))
             return error
         if tag == "$databank":
-            bank = DataBank(sparse=bool(content.get("sparse")))
-            for name, runs in dict(content.get("tables", {})).items():
-                if name in _TABLES:
-                    for first, count in runs:
-                        getattr(bank, name).declare(int(first), int(count))
-            return bank
+            _count_bank(banks)
+            return _bank(content)
         if tag == "$object":
             name = str(content)[:60]
             return type(name if name.isidentifier() else "object", (Opaque,), {})()
@@ -226,7 +275,7 @@ def revive(data: Any) -> Any:
         return back(data, 0)
     except PlainError:
         raise
-    except (TypeError, ValueError, KeyError, AttributeError, ModbusError) as exc:
+    except (TypeError, ValueError, KeyError, AttributeError, ArithmeticError, ModbusError) as exc:
         raise PlainError(f"this answer is not plain data ({type(exc).__name__}).") from None
 
 

@@ -7,9 +7,9 @@ output of the course's own MIME type, :data:`MIME`, on the kernel's message chan
 those messages and computes every verdict in its own process, with its own checkers.  No file and no path
 is involved; a learner who publishes such a message by hand has simply given an answer.
 
-A build exercise's function cannot leave the kernel: ``check`` keeps it (the last one given for each
-exercise, in :data:`FUNCTIONS`), and once the notebook has run, the grader asks for its trace on inputs
-drawn from a seed of its own (:func:`send_trace`), then judges the trace.
+A build exercise's function cannot leave the kernel, and is not asked to: ``check`` only submits that the
+exercise was checked.  The grader takes the function from the handed-in notebook and runs it in a clean
+room, away from this kernel (:mod:`modbus_edu.course.cleanroom`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from __future__ import annotations
 import os
 from typing import Any
 
-from .core import EXERCISES, Result, clip, count_try, evaluate, show
+from .core import AFTER_CHECK, EXERCISES, Result, clip, count_try, evaluate, show
 from .plain import PlainError, plain, to_json
 
 MIME = "application/vnd.modbus-edu.submission+json"
@@ -26,10 +26,6 @@ SUBMIT = "MODBUS_EDU_SUBMIT"
 """The environment variable that tells ``check`` to submit instead of judging (set by the grader)."""
 MAX_KEY = 100
 """The longest exercise key a submission carries, in characters."""
-
-FUNCTIONS: dict[str, Any] = {}
-"""The function last given to each build exercise in this kernel, traced when the grader asks."""
-
 
 def grading() -> bool:
     """True when this kernel runs under ``modbus-edu grade``."""
@@ -41,6 +37,8 @@ def check(key: str, answer: Any) -> Result:
     if grading():
         return submit(key, answer)
     result = count_try(evaluate(key, answer))
+    if isinstance(key, str) and key in AFTER_CHECK:
+        result = AFTER_CHECK[key](answer, result)
     print(result.message)
     return result
 
@@ -58,12 +56,12 @@ def publish(payload: dict) -> None:
 
 
 def submit(key: Any, answer: Any, *, real_check: bool = True) -> Result:
-    """Publish ``answer`` to exercise ``key`` as plain data; a build exercise's function is kept here."""
+    """Publish ``answer`` to exercise ``key`` as plain data (for a build exercise, only that it was
+    checked: its function is taken from the notebook's source)."""
     name = _key(key)
     item = EXERCISES.get(name)
     payload: dict[str, Any] = {"key": name, "real_check": bool(real_check)}
     if item is not None and item.kind == "build":
-        FUNCTIONS[name] = answer
         payload["build"] = True
     else:
         try:
@@ -83,13 +81,3 @@ def record(key: Any, answer: Any, current: Any) -> Any:
     submit(key, answer, real_check=False)
     return current(key, answer)
 
-
-def send_trace(key: str, seed: str) -> None:
-    """Trace the function last given to build exercise ``key`` on the inputs of ``seed``; publish it."""
-    item = EXERCISES[key]
-    trace = item.checker.trace(FUNCTIONS.get(key), seed)
-    try:
-        to_json(trace)
-    except PlainError:
-        trace = {"name": trace.get("name", "your_function"), "calls": [], "stopped": False}
-    publish({"key": key, "trace": trace, "seed": seed})
