@@ -9,10 +9,15 @@ pure-Python wheels it needs (``lite/wheels.py`` collects them).  The site's copy
 the source, is changed at build time:
 
 * a first cell installs the library from the site's own wheels (``%pip install``), so a learner installs
-  nothing; a notebook that plots also installs matplotlib (published: from Pyodide's CDN) and calls
-  :func:`modbus_edu.platform.require_plotting`, which stops the offline copy in one line;
-* a cell tagged ``needs-sockets`` (notebooks 11 and 15: servers and links on real sockets) is kept as
-  commented-out code with one line saying that it needs a local Python or Binder, so Run All goes on.
+  nothing; a notebook that draws also installs matplotlib (published: from Pyodide's CDN) and the
+  pictures its cells drew when it was executed on CPython (``modbus_edu_pictures``, a wheel of data
+  made here by :func:`pictures_wheel`), and calls :func:`modbus_edu.pictures.draw_offline`: where
+  matplotlib is missing (offline) each cell that draws runs its other statements and shows its picture,
+  so the notebook runs to its last cell;
+* a cell tagged ``needs-sockets`` (notebooks 11, 15 and 17: servers and links on real sockets) or
+  ``needs-cryptography`` (17: certificates, made with the compiled ``cryptography`` package) is kept as
+  commented-out code with one line saying what it needs and that a local Python or Binder runs it, so Run
+  All goes on.  Everything else runs, captures included (scapy is pure Python: its wheel is bundled).
 
 Offline, Pyodide's core comes from the npm package pinned in lite/package.json (``npm ci`` in lite/), and
 the packages the kernel loads from Pyodide's lock (micropip, packaging, IPython and the rest, all pure
@@ -23,12 +28,14 @@ file names and SHA-256 checksums.  Everything else is removed from the lock: not
 from __future__ import annotations
 
 import argparse
+import base64
 import hashlib
 import json
 import re
 import shutil
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -41,11 +48,17 @@ KERNEL_PLUGIN = "@jupyterlite/pyodide-kernel-extension:kernel"
 BINDER = "https://mybinder.org/v2/gh/modbus-edu/modbus_edu/main"
 # What the kernel loads from Pyodide's lock before the first cell runs (with their dependencies).
 KERNEL_PACKAGES = ["micropip", "packaging", "ipython", "jedi", "traitlets", "matplotlib-inline"]
-# What the first cell installs with piplite, without dependencies: the library imports scapy and
-# cryptography only to write captures and speak TLS, which a web page cannot use.
-COURSE_WHEELS = ["modbus_edu", "pymodbus", "pyserial", "tqdm", "ipywidgets", "jupyterlab_widgets"]
+# What the first cell installs with piplite, without dependencies: scapy writes and reads captures (pure
+# Python); cryptography, compiled, is left out: it makes certificates for TLS, which a web page cannot speak.
+COURSE_WHEELS = ["modbus_edu", "pymodbus", "pyserial", "tqdm", "ipywidgets", "jupyterlab_widgets", "scapy"]
 SOCKETS_TAG = "needs-sockets"
+SKIPPED = {SOCKETS_TAG: "this cell opens sockets",
+           "needs-cryptography": "this cell makes certificates with the cryptography package, which a "
+                                 "browser's copy of the course does not carry"}
+"""The tags of the cells a browser cannot run, and why (the one line the cell shows instead)."""
 PLOTS = re.compile(r"\bmatplotlib\b|\bplotstyle\b")
+PICTURES = "modbus_edu_pictures"  # the pictures' package (modbus_edu.pictures.PACKAGE reads it)
+PICTURES_VERSION = "1.0"
 
 
 def _source(cell: dict) -> str:
@@ -61,27 +74,34 @@ def first_cell(offline: bool, plots: bool, sockets: bool) -> dict:
     lines = ["# In the browser (JupyterLite): install the course's library from this site.",
              f"%pip install -q --no-deps {' '.join(COURSE_WHEELS)}"]
     if plots:
+        lines[-1] += f" {PICTURES}"
         if not offline:
             lines.append("%pip install -q matplotlib")
-        lines += ["from modbus_edu.platform import require_plotting", "", "require_plotting()"]
+        lines += ["from modbus_edu.pictures import draw_offline", "",
+                  "draw_offline()  # without matplotlib, a cell that draws shows the picture it drew"]
     if sockets:
-        lines += ["print(\"The cells of this notebook that open sockets need a local Python or Binder "
-                  f"({BINDER}): in the browser they are skipped.\")"]
+        lines += ["print(\"The cells of this notebook that open sockets or make certificates need a local "
+                  f"Python or Binder ({BINDER}): in the browser they are skipped.\")"]
     return {"cell_type": "code", "execution_count": None, "id": "lite-setup",
             "metadata": {"tags": ["lite-setup"]}, "outputs": [], "source": "\n".join(lines)}
 
 
-def skipped(cell: dict) -> dict:
+def _why_skipped(cell: dict) -> str | None:
+    """Why a browser cannot run ``cell`` (from its tags), or None."""
+    tags = cell.get("metadata", {}).get("tags", [])
+    return next((why for tag, why in SKIPPED.items() if tag in tags), None)
+
+
+def skipped(cell: dict, why: str) -> dict:
     code = "\n".join(f"# {line}" if line else "#" for line in _source(cell).splitlines())
     return {**cell, "execution_count": None, "outputs": [],
-            "source": "# Skipped in the browser: this cell opens sockets (a local Python or Binder runs it)."
-                      "\n" + code}
+            "source": f"# Skipped in the browser: {why} (a local Python or Binder runs it).\n" + code}
 
 
 def site_notebook(nb: dict, offline: bool) -> dict:
     cells = nb["cells"]
-    sockets = any(SOCKETS_TAG in c.get("metadata", {}).get("tags", []) for c in cells)
-    cells = [skipped(c) if SOCKETS_TAG in c.get("metadata", {}).get("tags", []) else c for c in cells]
+    sockets = any(_why_skipped(c) for c in cells)
+    cells = [skipped(c, _why_skipped(c)) if _why_skipped(c) else c for c in cells]
     return {**nb, "cells": [first_cell(offline, needs_plotting(nb), sockets), *cells]}
 
 
@@ -93,6 +113,50 @@ def stage_contents(dest: Path, offline: bool) -> None:
         (dest / path.name).write_text(json.dumps(site_notebook(nb, offline), indent=1, ensure_ascii=False),
                                       encoding="utf-8")
     shutil.copytree(NOTEBOOKS / "solutions", dest / "solutions")
+
+
+def drawn_pictures(notebooks: list[Path]) -> dict[str, list[str]]:
+    """Each drawing cell's key (:func:`modbus_edu.pictures.cell_key`) -> the PNGs it drew (base64), from
+    the executed notebooks; a drawing cell that drew nothing (its imports) maps to an empty list."""
+    sys.path.insert(0, str(ROOT))
+    from modbus_edu.pictures import cell_key, draws
+
+    found: dict[str, list[str]] = {}
+    for path in notebooks:
+        for cell in json.loads(path.read_text(encoding="utf-8"))["cells"]:
+            source = _source(cell)
+            if cell["cell_type"] == "code" and draws(source):
+                found[cell_key(source)] = [
+                    "".join(output["data"]["image/png"]).replace("\n", "")
+                    for output in cell.get("outputs", []) if "image/png" in output.get("data", {})]
+    return found
+
+
+def pictures_wheel(notebooks: list[Path], out: Path) -> Path:
+    """A wheel of data, ``modbus_edu_pictures``: the pictures the course's cells drew (pictures.json)."""
+    pictures = json.dumps(drawn_pictures(notebooks), sort_keys=True).encode()
+    dist = f"{PICTURES}-{PICTURES_VERSION}.dist-info"
+    summary = "The pictures the modbus_edu course's cells drew when it was built (data only)"
+    files = {
+        f"{PICTURES}/__init__.py": f'"""{summary}."""\n'.encode(),
+        f"{PICTURES}/pictures.json": pictures,
+        f"{dist}/METADATA": (f"Metadata-Version: 2.1\nName: {PICTURES}\nVersion: {PICTURES_VERSION}\n"
+                             f"Summary: {summary}\n").encode(),
+        f"{dist}/WHEEL": b"Wheel-Version: 1.0\nGenerator: modbus_edu lite/build_site.py\n"
+                         b"Root-Is-Purelib: true\nTag: py3-none-any\n",
+    }
+    record = [f"{name},sha256={_digest(data)},{len(data)}" for name, data in files.items()]
+    files[f"{dist}/RECORD"] = ("\n".join([*record, f"{dist}/RECORD,,"]) + "\n").encode()
+    out.mkdir(parents=True, exist_ok=True)
+    wheel = out / f"{PICTURES}-{PICTURES_VERSION}-py3-none-any.whl"
+    with zipfile.ZipFile(wheel, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, data in files.items():
+            archive.writestr(zipfile.ZipInfo(name, date_time=(2026, 1, 1, 0, 0, 0)), data)
+    return wheel
+
+
+def _digest(data: bytes) -> str:
+    return base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
 
 
 def _sha256(path: Path) -> str:
@@ -175,6 +239,8 @@ def build(wheels_dir: Path, out: Path, offline: bool, work: Path) -> None:
         bundled = stage_offline_pyodide(lite_dir / "static", work / "pyodide-wheels")
         print(f"offline: Pyodide {PYODIDE_VERSION} from npm, "
               f"bundled {len(bundled)} packages: {' '.join(bundled)}")
+    notebooks = sorted(NOTEBOOKS.glob("[0-9][0-9]_*.ipynb"))
+    wheels.append(pictures_wheel(notebooks, lite_dir / "pictures"))
     write_config(lite_dir, wheels, offline)
     shutil.rmtree(out, ignore_errors=True)
     subprocess.run([str(Path(sys.executable).parent / "jupyter"), "lite", "build",

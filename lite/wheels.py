@@ -20,10 +20,10 @@ ROOT = Path(__file__).resolve().parents[1]
 PINS = ROOT / "binder" / "requirements-test.txt"
 PYODIDE_PYTHON = "3.14"  # the Python of Pyodide 314
 
-# What `import modbus_edu` and its panels need in a browser.  scapy and cryptography are left out: the
-# library imports them only where it writes captures with scapy or speaks TLS, which a browser cannot.
+# What `import modbus_edu`, its panels and its captures need in a browser (scapy: pure Python).
+# cryptography is left out: compiled, and the library needs it only to speak TLS, which a browser cannot.
 COURSE = ["pymodbus", "pyserial", "tqdm", "ipywidgets", "comm", "traitlets", "widgetsnbextension",
-          "jupyterlab-widgets"]
+          "jupyterlab-widgets", "scapy"]
 # What the library's own tests need under Pyodide: pytest and hypothesis, and IPython, which ipywidgets
 # imports (a JupyterLite kernel carries it; under Node it is installed with the rest).
 TESTS = ["pytest", "pluggy", "iniconfig", "packaging", "pygments", "hypothesis", "attrs", "sortedcontainers",

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from .platform import IN_BROWSER
+
 
 def load_nbformat() -> Any:
     """The ``nbformat`` module (reads and writes notebooks)."""
@@ -34,7 +36,12 @@ def load_transformer_manager() -> Any:
 
 
 def load_tqdm() -> Any:
-    """``tqdm.auto.tqdm``: a progress bar, a widget in a notebook and text elsewhere."""
+    """``tqdm.auto.tqdm``: a progress bar, a widget in a notebook and text elsewhere.
+
+    In a browser (Pyodide), where no thread can start, tqdm's monitor thread (which only nudges bars that
+    stall) is switched off beforehand instead of failing with a warning under the cell."""
     from tqdm.auto import tqdm  # tqdm.auto loads ipywidgets in a notebook: only when a bar is drawn
 
+    if IN_BROWSER:
+        tqdm.monitor_interval = 0
     return tqdm

@@ -750,7 +750,10 @@ class _Scapy:
         with _quiet_scapy():  # scapy takes most of a second: only reading or writing a capture needs it
             from scapy.config import conf
             from scapy.layers.inet import IP, TCP
-            from scapy.layers.inet6 import IPv6
+            if IN_BROWSER:  # scapy's IPv6 layer needs the socket module's IPv6, which Pyodide lacks:
+                IPv6 = type("IPv6", (), {})  # a browser reads IPv4 captures only (ours are IPv4)
+            else:
+                from scapy.layers.inet6 import IPv6
             from scapy.layers.l2 import Ether
             from scapy.packet import Raw
             from scapy.utils import RawPcapReader, RawPcapWriter
@@ -778,10 +781,13 @@ def _scapy() -> _Scapy:
 
 @contextmanager
 def _quiet_scapy() -> Any:
-    """Keep scapy's own warnings (printed to stderr) out of a notebook: our errors say what went wrong."""
+    """Keep scapy's own warnings (printed to stderr) out of a notebook: our errors say what went wrong.
+
+    In a browser (Pyodide) scapy also says, as a critical message, that it cannot do I/O there, which
+    this module never asks of it (it builds packets and writes and reads files only): quieted too."""
     logger = logging.getLogger("scapy")
     level = logger.level
-    logger.setLevel(logging.ERROR)
+    logger.setLevel(logging.CRITICAL + 1 if IN_BROWSER else logging.ERROR)
     try:
         yield
     finally:
