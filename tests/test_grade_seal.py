@@ -398,6 +398,35 @@ def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
     assert not seal.folder.exists() and not seal.settings.exists()
 
 
+def test_a_command_reads_the_grader_s_reads_and_never_the_library_s_own_package(tmp_path):
+    """What a clean room can reach: the folders the grader lets it read (its copy of the library), not the
+    library's own package (which the learner's kernels, to import it, do see)."""
+    notebook = tmp_path / "class" / f"{NOTEBOOK}.ipynb"
+    write(notebook.parent, NOTEBOOK, [SETUP])
+    reads = tmp_path / "scratch" / "rooms"
+    (reads / "library-03.5" / "modbus_edu").mkdir(parents=True)
+    (reads / "library-03.5" / "modbus_edu" / "crc.py").write_text("# the room's copy\n")
+    for path in [tmp_path / "scratch", *(tmp_path / "scratch").rglob("*")]:
+        path.chmod(0o755 if path.is_dir() else 0o644)
+    seal = Seal.open(detect(), 0, tmp_path / "scratch", [notebook], [notebook.parent], 1024,
+                     f"{os.getpid()}-reads", reads=[reads])
+    package = LIBRARY / "modbus_edu"
+    probe = ("import os, sys; print(os.path.exists(sys.argv[1]), os.path.exists(sys.argv[2]), "
+             "os.path.exists(sys.argv[3]))")
+    try:
+        done = subprocess.run(seal.command_argv([sys.executable, "-I", "-S", "-c", probe,
+                                                 str(reads / "library-03.5" / "modbus_edu" / "crc.py"),
+                                                 str(package / "crc.py"), str(package / "__init__.py")]),
+                              capture_output=True, text=True, timeout=60)
+    finally:
+        seal.close()
+    assert done.returncode == 0, done.stderr
+    copy, own_crc, own_package = done.stdout.split()
+    assert copy == "True"
+    if seal.sandbox.level == "sealed":
+        assert (own_crc, own_package) == ("False", "False")
+
+
 def test_command_argv_at_the_limited_level(tmp_path, monkeypatch):
     monkeypatch.setenv(FORCE, "limited")
     seal = _seal(tmp_path, 1)
