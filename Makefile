@@ -94,6 +94,7 @@ bench:
 	$(BIN)/python bench/roles.py
 	$(BIN)/python bench/splitters.py
 	$(BIN)/python bench/timeouts.py
+	$(BIN)/python bench/grade.py --quick
 
 ## coverage: how much of modbus_edu the notebooks alone exercise: copies of the notebooks are executed
 ##     with coverage started in every kernel (through a start-up hook that exists only while this runs)

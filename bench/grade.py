@@ -10,7 +10,8 @@ What is measured
 ----------------
 A class of honest learners: each learner hands in every chosen course notebook with each exercise cell
 replaced by its worked solution (``notebooks/solutions/``), so every exercise is answered right and
-every build exercise is judged (the gradebook must say "right" for each; the bench checks it).
+every build exercise is judged (the gradebook must say "right" for each; the bench checks it; the
+concept inventory's two quizzes are scored in columns of their own).
 
 * **plain**: the same notebooks executed one after the other by nbclient in an ordinary ``python3``
   kernel (a fresh kernel per notebook, as Run All in JupyterLab), nothing else;
@@ -36,6 +37,8 @@ from pathlib import Path
 import nbformat
 from nbclient import NotebookClient
 
+from modbus_edu.exercises.inventory import POST, PRE
+
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
 SOLUTIONS = NOTEBOOKS / "solutions"
@@ -57,14 +60,15 @@ def honest(source: Path) -> nbformat.NotebookNode:
 
 
 def make_class(folder: Path, learners: int, chosen: list[Path]) -> int:
-    """One folder per learner holding every chosen notebook; the number of exercises each must get right."""
+    """One folder per learner holding every chosen notebook; the number of exercises each must get right
+    (the concept inventory's two quizzes are scored in columns of their own, not as exercises)."""
     exercises = 0
     for number in range(learners):
         for source in chosen:
             notebook = honest(source)
             if number == 0:
                 code = [cell.source for cell in notebook.cells if cell.cell_type == "code"]
-                exercises += sum(bool(CHECK.search(source)) for source in code)
+                exercises += sum(bool(m) and m.group(1) not in (PRE, POST) for m in map(CHECK.search, code))
             (folder / f"learner{number:02d}").mkdir(parents=True, exist_ok=True)
             nbformat.write(notebook, folder / f"learner{number:02d}" / source.name)
     return exercises
