@@ -443,16 +443,17 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
                   what: str = "the answer") -> str | None:
     """None if ``answer`` equals ``expected`` to ``decimals`` decimals; otherwise what is wrong.
 
-    Names the usual slips from the catalogue: seconds given where milliseconds were asked (or the
-    reverse), a fraction where a percentage was asked (or the reverse), decimals cut off instead of
-    rounded; and a near miss ("close: give 2 decimals")."""
+    Names the usual slips from the catalogue: seconds (or microseconds) given where milliseconds were
+    asked (or milliseconds for seconds), a fraction where a percentage was asked (or the reverse),
+    decimals cut off instead of rounded; and a near miss ("close: give 2 decimals")."""
     got = real_answer(answer, what)
     if isinstance(got, str):
         return got
     tolerance = 0.5 * 10 ** -decimals + 1e-12
     if abs(got - expected) <= tolerance:
         return None
-    slips = {"ms": ("seconds-for-milliseconds",), "%": ("fraction-for-percentage",),
+    slips = {"ms": ("seconds-for-milliseconds", "microseconds-for-milliseconds"),
+             "%": ("fraction-for-percentage",),
              "s": ("milliseconds-for-seconds",), "": ("percentage-for-fraction",)}
     named = (diagnose(slips.get(unit, ()), got, expected) if expected else None) or diagnose(
         "truncated-not-rounded", got, expected, decimals)
@@ -597,6 +598,7 @@ def address_diagnosis(got: int, expected: int) -> str | None:
 
 def crc_diagnosis(data: bytes, got: Any) -> str | None:
     """Name the CRC slips from the catalogue: a result in bytes, the bytes swapped, the register started
-    at 0 (CRC-16/ARC), or the unreflected (MSB-first) variant."""
+    at 0 (CRC-16/ARC), the unreflected (MSB-first) variant, or one byte of the two."""
     return (diagnose("crc-as-bytes", got) or diagnose("crc-swapped", got, crc16(data))
-            or diagnose(("crc-initial-zero", "crc-msb-first"), data, got))
+            or diagnose(("crc-initial-zero", "crc-msb-first"), data, got)
+            or diagnose("crc-one-byte", got, crc16(data)))

@@ -8,97 +8,36 @@ An entry has a key (``"crc-swapped"``), a label (the name a learner reads), the 
 detector reads, a teaching sentence (which may name the learner's case: ``{used}``) and a detector.
 :func:`name` gives the verdict's words; :func:`detect` runs one detector; :func:`diagnose` tries several
 and names the first that fits.  Detectors never raise: a value of the wrong kind simply does not fit.
+
+The machinery lives in :mod:`.catalogue`; this module holds the entries about checksums, addresses,
+units, serial timing, Modbus/TCP, frames and values, and imports :mod:`.misconceptions_counting` (counts,
+rates, ports, responses, masks, tables) at its end so that every entry is registered once it is imported.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 from ..crc import crc16, crc_bytes, lrc
 from ..pdu import mask_write
 from ..values import ORDERS, decode_value
 
-
-@dataclass(frozen=True)
-class Misconception:
-    """One mistake: its key, the label a learner reads, what its detector reads, one teaching sentence."""
-
-    key: str
-    label: str
-    shape: str
-    sentence: str
-    detector: Callable[..., Any]
-
-    def say(self, **fields: Any) -> str:
-        """The words of a verdict: the label, then the teaching sentence with ``fields`` filled in."""
-        return f"{self.label}: {self.sentence.format(**fields)}"
-
-
-CATALOGUE: dict[str, Misconception] = {}
-
-
-def _entry(key: str, label: str, shape: str, sentence: str) -> Callable:
-    def register(detector: Callable[..., Any]) -> Callable[..., Any]:
-        if key in CATALOGUE:
-            raise ValueError(f"misconception {key} is catalogued twice")
-        CATALOGUE[key] = Misconception(key, label, shape, sentence, detector)
-        return detector
-
-    return register
-
-
-def name(key: str, **fields: Any) -> str:
-    """The verdict for the misconception ``key``: its label and its teaching sentence."""
-    return CATALOGUE[key].say(**fields)
-
-
-def detect(key: str, *args: Any) -> Any:
-    """What the detector of ``key`` finds in ``args``: falsy when the mistake is not there, else True or
-    a dict of the fields its sentence names."""
-    try:
-        return CATALOGUE[key].detector(*args)
-    except Exception:  # a learner's value of another kind: the mistake is not this one
-        return None
-
-
-def diagnose(keys: str | tuple[str, ...] | list[str], *args: Any) -> str | None:
-    """The verdict of the first misconception among ``keys`` whose detector fits ``args``, or None."""
-    for key in (keys,) if isinstance(keys, str) else keys:
-        found = detect(key, *args)
-        if found:
-            return name(key, **found) if isinstance(found, dict) else name(key)
-    return None
-
-
-# --- small helpers the detectors share -----------------------------------------------------------------
-
-def _int(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
-def _number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-
-
-def _bytes(value: Any) -> bool:
-    return isinstance(value, (bytes, bytearray))
-
-
-def _near(got: float, expected: float, tolerance: float = 0.0) -> bool:
-    return abs(got - expected) <= max(tolerance, 2e-3 * abs(expected), 1e-12)
-
-
-def _same_time(got: Any, other: Any) -> bool:
-    """The learner's number is (near) ``other``, the time a slip gives."""
-    return _number(got) and _number(other) and _near(got, other)
-
-
-def _swap16(value: int) -> int:
-    return (value & 0xFF) << 8 | (value >> 8) & 0xFF
-
+# The catalogue's machinery, re-exported: checkers import CATALOGUE, diagnose and name from here.
+from .catalogue import (  # noqa: F401
+    CATALOGUE,
+    Misconception,
+    _bytes,
+    _entry,
+    _int,
+    _near,
+    _number,
+    _same_time,
+    _swap16,
+    detect,
+    diagnose,
+    name,
+)
 
 # --- checksums -----------------------------------------------------------------------------------------
 
@@ -134,14 +73,15 @@ def reflected(value: int, width: int) -> int:
     return int(f"{value:0{width}b}"[::-1], 2)
 
 
-def crc16_reflected(data: bytes, initial: int = 0xFFFF) -> int:
+def crc16_reflected(data: bytes, initial: int = 0xFFFF, poly: int = 0xA001) -> int:
     """The reflected CRC-16 (polynomial 0xA001) bit by bit, from any starting register: 0xFFFF is
-    CRC-16/MODBUS, 0 is CRC-16/ARC (the slip checkers name)."""
+    CRC-16/MODBUS, 0 is CRC-16/ARC (the slip checkers name); ``poly=0x8005`` shifts right with the
+    polynomial as written, not reflected (another slip)."""
     register = initial
     for byte in data:
         register ^= byte
         for _ in range(8):
-            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+            register = (register >> 1) ^ poly if register & 1 else register >> 1
     return register
 
 
@@ -156,11 +96,12 @@ def crc16_unreflected(data: bytes) -> int:
 
 
 @_entry("crc-msb-first", "an unreflected CRC", "data (bytes), got: the learner's CRC (int)",
-        "shifting left with the polynomial 0x8005 (most significant bit first) is another CRC; Modbus's CRC "
-        "is reflected: shift right and XOR with 0xA001, 0x8005's bits reversed.")
+        "the polynomial 0x8005 as written (shifting left, most significant bit first) gives another CRC; "
+        "Modbus's CRC is reflected: shift right and XOR with 0xA001, 0x8005's bits reversed.")
 def _crc_msb_first(data: Any, got: Any) -> bool:
     register = crc16_unreflected(bytes(data))
-    return _int(got) and got in (register, reflected(register, 16)) and got != crc16(bytes(data))
+    wrong = (register, reflected(register, 16), crc16_reflected(bytes(data), poly=0x8005))
+    return _int(got) and got in wrong and got != crc16(bytes(data))
 
 
 @_entry("crc-as-bytes", "a CRC returned as bytes", "got: what the learner's CRC function returns",
@@ -673,10 +614,10 @@ def _gateway_codes(got: Any, expected: Any) -> bool:
 
 
 @_entry("gateway-silence", "a gateway that stays silent", "got, expected: what the client sees",
-        "a gateway answers its client even when the slave behind it is silent: with exception 0B once its "
-        "own timeout has passed; the client sees a timeout only if it gives up first.")
+        "a gateway answers its client even when it cannot reach the slave: 0A with no path to it, 0B once "
+        "its own timeout has passed; the client sees a timeout only if it gives up first.")
 def _gateway_silence(got: Any, expected: Any) -> bool:
-    return got == "timeout" and expected == 0x0B
+    return got == "timeout" and expected in (0x0A, 0x0B)
 
 
 @_entry("damaged-message-counted", "a damaged message counted", "got, expected: message counts (int)",
@@ -762,7 +703,8 @@ def _word_order(registers: Any, dtype: str, value: Any, right: Any) -> dict | No
         "FC 22 keeps the bits where the AND mask has 1 and takes the OR mask's bits only where the AND "
         "mask has 0: an OR mask bit never reaches a place where the AND mask has 1.")
 def _mask_or(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
-    return _int(got) and got in ((current & and_mask) | or_mask, current | or_mask) and \
+    return _int(got) and got in ((current & and_mask) | or_mask, current | or_mask,
+                                 (current | or_mask) & and_mask) and \
         got != mask_write(current, and_mask, or_mask)
 
 
@@ -772,3 +714,6 @@ def _mask_or(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
 def _mask_roles(current: Any, and_mask: Any, or_mask: Any, got: Any) -> bool:
     return _int(got) and got == ((current & ~and_mask) | (or_mask & and_mask)) & 0xFFFF != mask_write(
         current, and_mask, or_mask)
+
+
+from . import misconceptions_counting  # noqa: E402,F401  (its entries register in CATALOGUE)

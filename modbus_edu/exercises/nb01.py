@@ -53,7 +53,7 @@ def _check_01_2(answer: Any) -> str | None:
                "mb.table_kind(code) names the table.",
           accepts=[("input_registers", False), ["input registers", False], ("Input_Registers", False)],
           refuses=[(("holding_registers", True), "holding-for-input"), (("input_registers", True), None),
-                   (("coils", False), None)])
+                   (("coils", False), None), (("discrete_inputs", False), "bit-table-for-register-table")])
 def _check_01_3(answer: Any) -> str | None:
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
         return "answer with a pair: (table name, True or False)."
@@ -65,7 +65,7 @@ def _check_01_3(answer: Any) -> str | None:
         return f"{kind!r} is not a table name; the tables are coils, discrete_inputs, input_registers, " \
                f"holding_registers."
     if got_kind != expected_kind:
-        return (diagnose("holding-for-input", got_kind, expected_kind)
+        return (diagnose(("holding-for-input", "bit-table-for-register-table"), got_kind, expected_kind)
                 or f"function code 4 does not reach the {got_kind.replace('_', ' ')}.")
     expected_writable = DataBank(sparse=True).table(expected_kind).writable
     if bool(writable) != expected_writable or not isinstance(writable, bool):
@@ -74,16 +74,21 @@ def _check_01_3(answer: Any) -> str | None:
     return None
 
 
+RANGES_01_4 = ((100, 149), (300, 309))
+"""Exercise 01.4's two ranges of holding registers, first and last."""
+
+
 @exercise("01.4", "counting the registers of a sparse bank",
           hint=("holding registers 100 to 149 means numbers 100, 101, ..., 149: count both ends, then add "
                 "the two ranges.",
                 "a range from first to last holds last - first + 1 registers; a sparse DataBank counts them "
                 "too, once each range is declared in its holding registers.",
                 "registers 5 to 7 and 20 to 21: (7 - 5 + 1) + (21 - 20 + 1) = 3 + 2 = 5."),
-          accepts=[60], refuses=[(58, "range-one-end"), (52, None), (59, "range-one-end")])
+          accepts=[60], refuses=[(58, "range-one-end"), (52, None), (59, "range-one-end"),
+                                 (50, "one-range-only"), (62, "range-one-extra")])
 def _check_01_4(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
-    for first, last in ((100, 149), (300, 309)):
+    for first, last in RANGES_01_4:
         bank.holding_registers.declare(first - 1, last - first + 1)
     expected = len(bank.holding_registers)
     got = int_answer(answer, "a count")
@@ -91,7 +96,9 @@ def _check_01_4(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("range-one-end", got, expected, 2) or diagnose("range-one-end", got, expected, 1)
+    named = (diagnose(("range-one-end", "range-one-extra"), got, expected, 2)
+             or diagnose("range-one-end", got, expected, 1)
+             or diagnose("one-range-only", got, [last - first + 1 for first, last in RANGES_01_4]))
     if named:
         return named
     return f"{got} registers is not right."

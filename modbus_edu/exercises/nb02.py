@@ -57,7 +57,8 @@ def _check_02_1(answer: Any) -> str | None:
 
 @exercise("02.2", "how many requests to read 300 registers",
           hint="one Read Holding Registers request reads at most mb.MAX_READ_REGISTERS registers.",
-          accepts=[3, 3.0], refuses=[(2, "count-rounded-down"), (4, None)])
+          accepts=[3, 3.0], refuses=[(2, "count-rounded-down"), (4, None), (300, "request-per-register"),
+                   (5, "another-devices-limit")])
 def _check_02_2(answer: Any) -> str | None:
     expected = -(-300 // MAX_READ_REGISTERS)
     exact = 300 / MAX_READ_REGISTERS
@@ -72,7 +73,9 @@ def _check_02_2(answer: Any) -> str | None:
         named = diagnose("count-rounded-down", got, exact)
         return (f"{named} " if named else "") + \
             f"{got} requests can read at most {got * MAX_READ_REGISTERS} registers."
-    return f"{got} requests work, but fewer are enough."
+    named = diagnose("request-per-register", got, 300) or diagnose("another-devices-limit", got, 300,
+                                                                    MAX_READ_REGISTERS)
+    return named or f"{got} requests work, but fewer are enough."
 
 
 @exercise("02.3", "the exception response for a missing address",
@@ -109,9 +112,11 @@ def _check_02_3(answer: Any) -> str | None:
           hint="in a read-bits response the first coil is the least significant bit (the rightmost) of "
                "the first data byte; 0x05 = 0000 0101 in binary.",
           accepts=[[0, 2], (2, 0), {0, 2}],
-          refuses=[([5, 7], "bits-from-the-left"), ([1, 3], "one-based-address"), ([0], None)])
+          refuses=[([5, 7], "bits-from-the-left"), ([1, 3], "one-based-address"), ([0], None),
+                   ([5], "byte-value-as-coils")])
 def _check_02_4(answer: Any) -> str | None:
-    bits = ReadCoilsResponse.decode(bytes([0x01, 0x01, 0x05])).bits
+    pdu = bytes([0x01, 0x01, 0x05])  # function, byte count, the data byte
+    bits = ReadCoilsResponse.decode(pdu).bits
     expected = [address for address, bit in enumerate(bits) if bit]
     if not isinstance(answer, (list, tuple, set, frozenset)) or len(answer) > 64:
         return "answer with a list of coil addresses, e.g. [1, 4]."
@@ -121,7 +126,7 @@ def _check_02_4(answer: Any) -> str | None:
     got = sorted(items)
     if got == expected:
         return None
-    named = diagnose("bits-from-the-left", got, expected)
+    named = diagnose("bits-from-the-left", got, expected) or diagnose("byte-value-as-coils", got, pdu[2:])
     if named:
         return named
     if len(got) == len(expected) and all(a == b + 1 for a, b in zip(got, expected)):
@@ -133,7 +138,7 @@ def _diagnose_fc3(got, expected) -> str | None:
     if not isinstance(got, (bytes, bytearray)) or not isinstance(expected, bytes):
         return None
     return (pdu_envelope_diagnosis(got, expected) or request_field_diagnosis(got, expected, 0)
-            or frame_slip(got, expected))
+            or frame_slip(got, expected) or diagnose("field-in-one-byte", got, expected))
 
 
 def _fc3_pdu(address: int, count: int) -> bytes:
@@ -158,7 +163,8 @@ build_exercise(
     refuses=[(lambda address, count: bytes([3]) + (address + 1).to_bytes(2, "big") + count.to_bytes(2, "big"),
               "one-based-address"),
              (lambda address, count: bytes([3]) + address.to_bytes(2, "big") + count.to_bytes(2, "big"),
-              "invalid-input-accepted")],
+              "invalid-input-accepted"),
+             (lambda address, count: _fc3_pdu(address, count)[:3] + bytes([count]), "field-in-one-byte")],
     diagnose=lambda args, expected, got: _diagnose_fc3(got, expected))
 line_after_tries("02.5", "bytes([3]) is the function code's byte; an int's .to_bytes(2, 'big') gives its "
                  "two bytes, high byte first; + joins bytes. Check the count and the range first, and raise "

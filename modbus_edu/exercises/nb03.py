@@ -30,16 +30,18 @@ from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
                 "order is CD AB.",
                 "for 01 03 00 00 00 01 the register value is 0x0A84, and the frame ends 84 0A."),
           accepts=["B2 98", "b298", b"\xb2\x98", [0xB2, 0x98]],
-          refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None)])
+          refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None), ("B2", "crc-one-byte")])
 def _check_03_1(answer: Any) -> str | None:
-    expected = crc_bytes(parse_hex("11 04 00 08 00 01"))
-    if answer == crc16(parse_hex("11 04 00 08 00 01")) and not isinstance(answer, bool):
+    data = parse_hex("11 04 00 08 00 01")
+    expected = crc_bytes(data)
+    if answer == crc16(data) and not isinstance(answer, bool):
         return right_value_in_another_form("the two bytes in the order they are sent, low byte first")
     if isinstance(answer, int) and not isinstance(answer, bool):
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
     got = as_bytes(answer)
-    return diagnose("crc-swapped", got, expected) or compare_bytes(got, expected, "your CRC")
+    return (diagnose("crc-swapped", got, expected) or diagnose("crc-one-byte", got, crc16(data))
+            or compare_bytes(got, expected, "your CRC"))
 
 
 @exercise("03.2", "build an RTU frame",
@@ -84,7 +86,8 @@ def _check_03_3(answer: Any) -> str | None:
 @exercise("03.4", "the length of an FC3 response",
           hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
                "+ 2 bytes per register + CRC (2).",
-          accepts=[45], refuses=[(43, "crc-forgotten"), (25, "register-one-byte"), (44, None)])
+          accepts=[45], refuses=[(43, "crc-forgotten"), (25, "register-one-byte"), (44, None),
+                                 (40, "data-bytes-only")])
 def _check_03_4(answer: Any) -> str | None:
     expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 20)).encode())
     got = int_answer(answer, "a number of bytes")
@@ -92,7 +95,8 @@ def _check_03_4(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 20)
+    named = (diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 20)
+             or diagnose("data-bytes-only", got, 2 * 20))
     if named:
         return named
     return f"{got} bytes is not the length of that response."
@@ -122,5 +126,6 @@ build_exercise(
           "0x81FE, 0x40FF, 0x807E: the CRC of 01 is 0x807E."),
     refuses=[(_crc_without_final_step, "crc-initial-zero"), (_crc_swapped, "crc-swapped"),
              (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
-                                                    "crc-as-bytes")],
+                                                    "crc-as-bytes"),
+             (lambda data: crc16(data) & 0xFF, "crc-one-byte")],
     diagnose=lambda args, expected, got: crc_diagnosis(args[0], got))

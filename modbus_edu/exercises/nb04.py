@@ -127,7 +127,9 @@ def ascii_frame_answer(answer: Any) -> bytes:
                 "register, LRC; then 2 characters each, plus ':' and the 2 of CR LF.",
                 "a response with one register is 1 + 1 + 1 + 2 + 1 = 6 bytes: 1 + 12 + 2 = 15 characters."),
           accepts=[23, 0x17],
-          refuses=[(21, "ascii-without-crlf"), (11, None), (10, None), (22, None), (25, None), (17, None)])
+          refuses=[(21, "ascii-without-crlf"), (11, "rtu-length-for-ascii"), (10, None),
+                   (22, "ascii-colon-forgotten"),
+                   (25, "crc-in-ascii"), (17, None)])
 def _check_04_3(answer: Any) -> str | None:
     pdu = ReadHoldingRegistersResponse(registers=(0, 0, 0))
     expected = len(AsciiFrame(unit=5, pdu=pdu).encode())
@@ -138,15 +140,14 @@ def _check_04_3(answer: Any) -> str | None:
     if got == expected:
         return None
     if got == rtu:
-        return f"{rtu} is the length of the RTU frame, in bytes; ASCII writes every byte as two characters."
+        return name("rtu-length-for-ascii") + f" {rtu} bytes are the RTU frame's."
     if got == rtu - 1:
         return "that is the number of bytes (address, PDU, LRC); ASCII writes each as two characters."
     if got == expected - 2:
         return name("ascii-without-crlf") + " Those two characters count too."
-    if got == expected - 1:
-        return "the ':' that starts the frame counts too."
-    if got == 2 * rtu + 3:
-        return "an ASCII frame carries a 1-byte LRC, not RTU's 2-byte CRC."
+    named = diagnose(("ascii-colon-forgotten", "crc-in-ascii"), got, expected)
+    if named:
+        return named
     return f"{got} is not the number of characters from ':' to CR LF."
 
 
@@ -174,12 +175,8 @@ def _lrc_inputs(rng) -> tuple:
 
 
 def _diagnose_lrc(args, expected, got) -> str | None:
-    named = diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters"), args[0], got)
-    if named:
-        return named
-    if isinstance(got, int) and got > 255:
-        return "keep only the low 8 bits: & 0xFF."
-    return None
+    return diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters", "lrc-not-8-bits"), args[0],
+                    got)
 
 
 build_exercise(
@@ -190,7 +187,7 @@ build_exercise(
          "256): its two's complement.",
     refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,
                                                                 "lrc-ones-complement"),
-             (lambda data: -sum(data), None)],
+             (lambda data: -sum(data), "lrc-not-8-bits")],
     diagnose=_diagnose_lrc)
 line_after_tries("04.5", "sum(data) adds the bytes; & 0xFF keeps the low 8 bits of any int; the two's "
                  "complement of a byte x is (256 - x) % 256.",

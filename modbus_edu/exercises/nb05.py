@@ -74,7 +74,8 @@ def _check_05_2(answer: Any) -> str | None:
 @exercise("05.3", "the MBAP length of a response",
           hint="the length counts the bytes after the length field: unit identifier (1) + function code (1) "
                "+ byte count (1) + 2 bytes per register.",
-          accepts=[23, 0x17], refuses=[(22, "mbap-length"), (29, "mbap-length"), (25, None)])
+          accepts=[23, 0x17], refuses=[(22, "mbap-length"), (29, "mbap-length"), (25, None),
+                                       (20, "data-bytes-only")])
 def _check_05_3(answer: Any) -> str | None:
     frame = TcpFrame(transaction_id=1, unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode()
     expected = int.from_bytes(frame[4:6], "big")
@@ -83,7 +84,7 @@ def _check_05_3(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mbap-length", got, expected)
+    named = diagnose("mbap-length", got, expected) or diagnose("data-bytes-only", got, 2 * 10)
     if named:
         return named
     return f"{got} is not the length field of that response."
@@ -148,7 +149,7 @@ def _mbap_inputs(rng) -> tuple:
 
 
 def _diagnose_mbap(args, expected, got) -> str | None:
-    return tcp_frame_diagnosis(got, expected)
+    return tcp_frame_diagnosis(got, expected) or diagnose("frame-for-header", got, expected)
 
 
 build_exercise(
@@ -164,5 +165,6 @@ build_exercise(
     refuses=[(lambda tid, unit, pdu: tid.to_bytes(2, "little") + bytes(2) + (len(pdu) + 1).to_bytes(2, "big")
               + bytes([unit]), "mbap-little-endian"),
              (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big")
-              + bytes([unit]), "mbap-length")],
+              + bytes([unit]), "mbap-length"),
+             (lambda tid, unit, pdu: _mbap_header(tid, unit, pdu) + bytes(pdu), "frame-for-header")],
     diagnose=_diagnose_mbap)

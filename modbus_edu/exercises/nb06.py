@@ -27,16 +27,16 @@ def _one_read_time(baudrate: int, count: int) -> float:
           hint="request characters + 3.5 characters of silence + response characters + 3.5 characters, "
                "each character 10 bits at 9600 baud; or measure link.clock.now around a read.",
           accepts=[41.67, 41.6667, 41.666666],
-          refuses=[(0.04167, "seconds-for-milliseconds"), (34.38, "silences-forgotten"), (22.92, None),
-                   (45.0, None)])
+          refuses=[(0.04167, "seconds-for-milliseconds"), (34.38, "silences-forgotten"),
+                   (22.92, "one-register-response"), (45.0, None),
+                   (41666.7, "microseconds-for-milliseconds")])
 def _check_06_1(answer: Any) -> str | None:
     expected = _one_read_time(9600, 10) * 1000
     got = real_answer(answer, "a time in milliseconds")
     if isinstance(got, str):
         return got
-    if abs(got - _one_read_time(9600, 1) * 1000) <= 0.01:
-        return "22.92 ms is the time for 1 register; this response carries 10 (20 more data bytes)."
-    named = diagnose("silences-forgotten", got, (8 + 25) * 10 / 9600 * 1000)
+    named = (diagnose("one-register-response", got, _one_read_time(9600, 1) * 1000)
+             or diagnose("silences-forgotten", got, (8 + 25) * 10 / 9600 * 1000))
     if named:
         return named
     return number_answer(got, expected, decimals=2, unit="ms", what="the time of that transaction")
@@ -48,7 +48,7 @@ def _check_06_1(answer: Any) -> str | None:
                 "run it: the master raises mb.ModbusExceptionError, and the error's .code is the slave's "
                 "exception code."),
           accepts=[2, 0x02], refuses=[(1, "illegal-function-for-address"), (3, "exception-code-confused"),
-                                                   (0x86, None)])
+                                                   (0x86, None), (0, "refusal-unanswered")])
 def _check_06_2(answer: Any) -> str | None:
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 20)
@@ -63,6 +63,8 @@ def _check_06_2(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
+    if got == 0:
+        return diagnose("refusal-unanswered", "valid", "exception")
     if diagnose("illegal-function-for-address", got, expected):
         return (name("illegal-function-for-address") + " The slave implements function 5, but coil 0 does "
                 "not exist in its bank.")
@@ -82,16 +84,15 @@ def _check_06_2(answer: Any) -> str | None:
                 "transactions per second."),
           accepts=[87.3, 87.27],
           refuses=[(0.01146, "time-for-rate"), (128.0, "silences-forgotten"), (87.2, "truncated-not-rounded"),
-                   (43.6, None), (80.0, None)])
+                   (43.6, "another-baud-rate"), (80.0, None)])
 def _check_06_3(answer: Any) -> str | None:
     expected = 1 / _one_read_time(19200, 1)
     got = real_answer(answer, "a rate")
     if isinstance(got, str):
         return got
-    if abs(got - 1 / _one_read_time(9600, 1)) <= 0.1:
-        return "that is the rate at 9600 baud; at 19200 every character takes half the time."
-    named = diagnose("time-for-rate", got, expected) or diagnose("silences-forgotten", got,
-                                                                 19200 / 10 / (8 + 7))
+    named = (diagnose("another-baud-rate", got, 1 / _one_read_time(9600, 1))
+             or diagnose("time-for-rate", got, expected)
+             or diagnose("silences-forgotten", got, 19200 / 10 / (8 + 7)))
     if named:
         return named
     return number_answer(got, expected, decimals=1, what="the most transactions per second")
@@ -104,7 +105,8 @@ def _check_06_3(answer: Any) -> str | None:
                 "request; catch mb.ModbusError as error and look at type(error)."),
           accepts=[ModbusTimeoutError, ModbusTimeoutError("no answer")],
           refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
-                   (ChecksumError, "answer-to-damaged-request"), ("timeout", None)])
+                   (ChecksumError, "answer-to-damaged-request"), ("timeout", None),
+                   (ModbusExceptionError, "answer-to-damaged-request")])
 def _check_06_4(answer: Any) -> str | None:
     link = loopback_serial(Slave(unit=1))
     link.faults.flip_bits(1, target="request")
@@ -120,6 +122,8 @@ def _check_06_4(answer: Any) -> str | None:
         return f"{got.__name__} is too general: which subclass exactly?"
     if isinstance(got, type) and issubclass(got, ChecksumError):
         return diagnose("answer-to-damaged-request", "checksum error", "timeout")
+    if isinstance(got, type) and issubclass(got, ModbusExceptionError):
+        return diagnose("answer-to-damaged-request", "exception", "timeout")
     return (f"{getattr(got, '__name__', got)} is not what the master raises: the slave cannot trust the "
             f"damaged request, so what does the master get back?")
 
@@ -156,6 +160,10 @@ def _diagnose_handler(args, expected, got) -> str | None:
             if exception and got[0] == expected[0] else None) or (
             diagnose("register-one-byte", got[1], expected[1], expected[1] // 2) if got[0] == expected[0] == 3
             else None)
+        if named:
+            return named
+    if address == 0 and isinstance(got, bytes) and isinstance(expected, bytes):
+        named = diagnose("slave-subtracts-one", got, expected)
         if named:
             return named
     if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
@@ -204,5 +212,7 @@ build_exercise(
          "gets an exception response (the function code with its top bit set, then 02); a count outside "
          "1..125, code 03; any other function, code 01.",
     refuses=[(_echo_without_storing, "write-not-stored"),
-             (lambda registers, pdu: bytes([3, 2]) + registers[0].to_bytes(2, "big"), None)],
+             (lambda registers, pdu: bytes([3, 2]) + registers[0].to_bytes(2, "big"), None),
+             (lambda registers, pdu: bytes([pdu[0] | 0x80, 2]) if pdu[1:3] == bytes(2) else _slave_answer(
+                 registers, pdu), "slave-subtracts-one")],
     read_back=_read_it_back, diagnose=_diagnose_handler)

@@ -23,7 +23,7 @@ from .misconceptions import diagnose, name
                "role='response').pdu reads it for you.",
           accepts=[(3, 2), [3, 2], (0x03, 0x02)],
           refuses=[((0x83, 2), "exception-code-as-function"), ((3, 3), "exception-code-confused"),
-                   ((2, 3), None), ((3, 0x82), "top-bit-on-code")])
+                   ((2, 3), "function-and-code-swapped"), ((3, 0x82), "top-bit-on-code")])
 def _check_07_1(answer: Any) -> str | None:
     pdu = RtuFrame.decode(parse_hex("11 83 02 C1 34"), role="response").pdu
     expected = (pdu.function, pdu.code)
@@ -34,6 +34,9 @@ def _check_07_1(answer: Any) -> str | None:
         return "both numbers should be ints, e.g. (1, 3)."
     if function == pdu.function_code:
         return diagnose("exception-code-as-function", function, expected[0])
+    named = diagnose("function-and-code-swapped", (function, code), expected)
+    if named:
+        return named
     named = field_diagnosis(function, pdu.function_code) or field_diagnosis(function, expected[0])
     if function != expected[0] and named:
         return named + " An exception response's function byte is the request's function + 0x80."
@@ -127,6 +130,10 @@ def _outcome_of(situation: str) -> str:
                                            "mismatch"))), "answer-to-damaged-request"),
                    (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "exception",
                                            "timeout"))), None),
+                   (dict(zip(_SITUATIONS, ("timeout", "timeout", "timeout", "exception", "mismatch"))),
+                    "damaged-response-as-silence"),
+                   (dict(zip(_SITUATIONS, ("timeout", "timeout", "checksum error", "timeout", "mismatch"))),
+                    "refusal-unanswered"),
                    (dict.fromkeys(_SITUATIONS, "valid"), "answer-to-another-unit")])
 def _check_07_3(answer: Any) -> str | None:
     if not isinstance(answer, dict):
@@ -141,7 +148,9 @@ def _check_07_3(answer: Any) -> str | None:
         expected = _outcome_of(situation)
         if got != expected:
             named = diagnose("answer-to-another-unit" if situation == _SITUATIONS[0]
-                             else "answer-to-damaged-request", got, expected)
+                             else ("answer-to-damaged-request", "refusal-unanswered",
+                                   "damaged-response-as-silence"),
+                             got, expected)
             if named:
                 return f"{situation}: {named}"
             return f"{situation}: the master does not see {got!r}."
@@ -156,6 +165,7 @@ def _diagnose_exception(got, expected) -> str | None:
     if not isinstance(got, (bytes, bytearray)) or not got:
         return None
     return (pdu_envelope_diagnosis(got, expected) or diagnose("exception-bit-missing", got[0], expected[0])
+            or diagnose("exception-function-forgotten", got, expected)
             or (diagnose(("top-bit-on-code", "exception-code-confused"), got[1], expected[1])
                 if len(got) == 2 == len(expected) and got[0] == expected[0] else None))
 
@@ -171,5 +181,6 @@ build_exercise(
     hint="two bytes: the function code with its top bit set (function | 0x80, or function + 128) and the "
          "exception code.",
     refuses=[(lambda function, code: bytes([function, code]), "exception-bit-missing"),
-             (lambda function, code: bytes([function | 0x80, 2]), "exception-code-confused")],
+             (lambda function, code: bytes([function | 0x80, 2]), "exception-code-confused"),
+             (lambda function, code: bytes([0x80, code]), "exception-function-forgotten")],
     diagnose=lambda args, expected, got: _diagnose_exception(got, expected))

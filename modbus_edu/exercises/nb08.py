@@ -10,7 +10,7 @@ from ..links.wire import SerialTiming
 from ..master import Master
 from ..slave import Slave
 from .build import build_exercise
-from .core import Written, close, exercise, number_answer, real_answer
+from .core import Written, exercise, number_answer, real_answer
 from .misconceptions import diagnose
 
 
@@ -44,7 +44,8 @@ def _check_08_1(answer: Any) -> str | None:
                 "one register at 9600 baud: 8 + 3.5 + 7 + 3.5 = 22 characters = 220 bits = 22.9 ms, about "
                 "43.6 transactions per second."),
           accepts=[48.0, 48, 47.99],
-          refuses=[(58.18, "silences-forgotten"), (0.02083, "time-for-rate"), (87.3, None), (50.0, None)])
+          refuses=[(58.18, "silences-forgotten"), (0.02083, "time-for-rate"), (87.3, "one-register-response"),
+                   (50.0, None)])
 def _check_08_2(answer: Any) -> str | None:
     timing = SerialTiming(baudrate=19200)
     expected = 1 / timing.transaction_time(8, 5 + 2 * 10)
@@ -56,8 +57,9 @@ def _check_08_2(answer: Any) -> str | None:
                                                                                             expected)
     if named:
         return named
-    if close(got, 1 / timing.transaction_time(8, 7)):
-        return "that is for one register; the response to a read of 10 registers has 5 + 2 x 10 bytes."
+    named = diagnose("one-register-response", got, 1 / timing.transaction_time(8, 7))
+    if named:
+        return named
     return number_answer(got, expected, decimals=1, what="the most transactions per second")
 
 
@@ -65,7 +67,8 @@ def _check_08_2(answer: Any) -> str | None:
           hint="a pause of more than 1.5 character times breaks an RTU frame, and one of 3.5 or more cuts "
                "it in two; either way the slave gets no valid request.",
           accepts=[[2.0, 3.0, 5.0], (5, 3, 2), {2.0, 3.0, 5.0}],
-          refuses=[([5.0], "t15-forgotten"), ([3.0, 5.0], None), ([1.4, 2.0, 3.0, 5.0], None)])
+          refuses=[([5.0], "t15-forgotten"), ([3.0, 5.0], "pause-threshold"),
+                   ([1.4, 2.0, 3.0, 5.0], "pause-threshold"), ([1.0, 5.0], None)])
 def _check_08_3(answer: Any) -> str | None:
     pauses = [1.0, 1.4, 2.0, 3.0, 5.0]
     expected = []
@@ -84,7 +87,7 @@ def _check_08_3(answer: Any) -> str | None:
         return "the list should hold numbers of character times taken from [1.0, 1.4, 2.0, 3.0, 5.0]."
     if got == expected:
         return None
-    named = diagnose("t15-forgotten", got, expected)
+    named = diagnose("t15-forgotten", got, expected) or diagnose("pause-threshold", got, expected, pauses)
     if named:
         return named
     missing = [p for p in expected if p not in got]
@@ -130,7 +133,11 @@ def _diagnose_timing(args, expected, got) -> str | None:
         named = diagnose("fixed-silence-ignored", got, (request + 3.5 + response + 3.5) * char)
     if not named and (parity, stopbits) != ("N", 1):
         named = diagnose("parity-bit-forgotten", got, _transaction_time(baudrate, "N", 1, request, response))
-    return named or diagnose("milliseconds-for-seconds", got, expected)
+    eight_bits = (request + response + (0 if baudrate > 19200 else 7)) * 8 / baudrate + (
+        2 * 0.00175 if baudrate > 19200 else 0)
+    return (named or diagnose("milliseconds-for-seconds", got, expected)
+            or diagnose("start-stop-forgotten", got, eight_bits)
+            or diagnose("three-characters-for-t35", got, (request + response + 6) * char))
 
 
 build_exercise(
@@ -148,5 +155,11 @@ build_exercise(
              (lambda baudrate, parity, stopbits, request, response:
               (request + response + 7) * (1 + 8 + (parity != "N") + stopbits) / baudrate,
               "fixed-silence-ignored"),
-             (lambda *args: 1000 * _transaction_time(*args), "milliseconds-for-seconds")],
+             (lambda *args: 1000 * _transaction_time(*args), "milliseconds-for-seconds"),
+             (lambda baudrate, parity, stopbits, request, response:
+              (request + response + 7) * 8 / baudrate if baudrate <= 19200 else
+              (request + response) * 8 / baudrate + 0.0035, "start-stop-forgotten"),
+             (lambda baudrate, parity, stopbits, request, response:
+              (request + response + 6) * (1 + 8 + (parity != "N") + stopbits) / baudrate,
+              "three-characters-for-t35")],
     diagnose=_diagnose_timing, compare=_close_enough)

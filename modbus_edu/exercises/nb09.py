@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from ..datamodel import DataBank, parse_reference, table_kind
-from ..devices.arduino import SLOW_LOOP, expected_answered_fraction, loop_time_experiment
+from ..devices.arduino import (
+    EXPERIMENT_TIMEOUT,
+    SLOW_LOOP,
+    expected_answered_fraction,
+    loop_time_experiment,
+    reply_time,
+)
 from .build import build_exercise
 from .core import address_diagnosis, exercise, field_diagnosis, real_answer
 from .misconceptions import diagnose, name
@@ -44,6 +51,10 @@ def _bank_of(*runs: tuple[int, int]) -> Any:
     return bank
 
 
+RANGES_09_2 = ((150, 175), (200, 225))
+"""Exercise 09.2's two ranges of holding register numbers (4xxxx without the 4), first and last."""
+
+
 @exercise("09.2", "a sparse bank with holding registers 150-175 and 200-225",
           hint=("a sparse board holds only the registers you declare: every register of both ranges, both "
                 "ends included, and nothing between them.",
@@ -53,14 +64,16 @@ def _bank_of(*runs: tuple[int, int]) -> Any:
                 "board.add(40020)."),
           accepts=[_bank_of((149, 26), (199, 26))],
           refuses=[(_bank_of((150, 26), (200, 26)), "one-based-address"),
-                   (_bank_of((149, 25), (199, 25)), "range-one-end"), (_bank_of((149, 26)), None)])
+                   (_bank_of((149, 25), (199, 25)), "range-one-end"),
+                   (_bank_of((149, 26)), "one-range-only"), (DataBank(sparse=False), "dense-for-sparse")])
 def _check_09_2(answer: Any) -> str | None:
     bank = getattr(answer, "bank", answer)
     if not isinstance(bank, DataBank):
         return "give the board (an ArduinoSlave) or its DataBank."
     if not bank.sparse:
-        return "the bank should be sparse: only the declared registers exist."
-    expected = sorted(parse_reference(40000 + n).address for n in [*range(150, 176), *range(200, 226)])
+        return diagnose("dense-for-sparse", bank) + " Only the declared registers should exist."
+    expected = sorted(parse_reference(40000 + n).address
+                      for first, last in RANGES_09_2 for n in range(first, last + 1))
     got = sorted(bank.holding_registers.addresses())
     for table in (bank.coils, bank.discrete_inputs, bank.input_registers):
         if len(table):
@@ -70,8 +83,9 @@ def _check_09_2(answer: Any) -> str | None:
         return None
     if got == [a + 1 for a in expected]:
         return address_diagnosis(got[0], expected[0])
-    named = diagnose("range-one-end", len(got), len(expected), 2) or diagnose("range-one-end", len(got),
-                                                                              len(expected), 1)
+    named = (diagnose("range-one-end", len(got), len(expected), 2)
+             or diagnose("range-one-end", len(got), len(expected), 1)
+             or diagnose("one-range-only", len(got), [last - first + 1 for first, last in RANGES_09_2]))
     if named:
         return named
     if len(got) != len(expected):
@@ -84,13 +98,19 @@ def _check_09_2(answer: Any) -> str | None:
           hint="a request may wait up to the longest loop (1.65 s + 10%) plus the time of the reply; "
                "try loop_time_experiment([SLOW_LOOP], timeout=...) with a few values.",
           accepts=[1.9, 2.0, 2.5, 2],
-          refuses=[(2000, "milliseconds-for-seconds"), (1.5, None), (3.0, None)])
+          refuses=[(2000, "milliseconds-for-seconds"), (1.5, None), (3.0, None),
+                   (10, "timeout-far-too-long"), (1.65, "loop-time-for-timeout")])
 def _check_09_3(answer: Any) -> str | None:
     got = real_answer(answer, "a timeout in seconds")
     if isinstance(got, str):
         return got
     if got > 100 and got / 1000 <= 2.5:
         return name("milliseconds-for-seconds")
+    named = (diagnose("timeout-far-too-long", got, SLOW_LOOP * 1.1 + reply_time(7))
+             or diagnose("loop-time-for-timeout", got, SLOW_LOOP)
+             or diagnose("given-figure", got, {"1 s, the timeout of the experiment": EXPERIMENT_TIMEOUT}))
+    if named:
+        return named
     if got > 2.5:
         return f"{got:g} s works, but it is longer than needed: stay at or below 2.5 s."
     if got <= 0:
@@ -119,8 +139,11 @@ def _diagnose_answered(args, expected, got) -> str | None:
     loop_time, timeout, reply = args
     if isinstance(got, (int, float)) and abs(got - (timeout - reply) / loop_time) < 1e-9:
         return diagnose("fraction-unclamped", got)
-    named = diagnose("percentage-for-fraction", got, expected) if expected else None
-    return named or diagnose("fraction-unclamped", got)
+    named = (diagnose("percentage-for-fraction", got, expected) if expected else None) or diagnose(
+        "fraction-unclamped", got)
+    without_reply = expected_answered_fraction(loop_time, timeout)
+    return named or (diagnose("reply-time-forgotten", got, without_reply) if not math.isclose(
+        without_reply, expected) else None) or diagnose("missed-for-answered", got, expected)
 
 
 build_exercise(
@@ -136,5 +159,8 @@ build_exercise(
           "a 2 s loop, a 1 s timeout, a 0.2 s reply: (1 - 0.2) / 2 = 0.4; a 0.5 s loop: 1.6, so 1."),
     refuses=[(lambda loop_time, timeout, reply: 100 * _answered(loop_time, timeout, reply),
               "percentage-for-fraction"),
-             (lambda loop_time, timeout, reply: timeout / loop_time, "fraction-unclamped")],
+             (lambda loop_time, timeout, reply: timeout / loop_time, "fraction-unclamped"),
+             (lambda loop_time, timeout, reply: min(1.0, timeout / loop_time), "reply-time-forgotten"),
+             (lambda loop_time, timeout, reply: 1 - _answered(loop_time, timeout, reply),
+              "missed-for-answered")],
     diagnose=_diagnose_answered, compare=_fraction_close)

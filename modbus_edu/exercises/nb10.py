@@ -44,7 +44,8 @@ def _check_10_1(answer: Any) -> str | None:
                 "'uint32', 'ABCD') gives the same."),
           accepts=[[0x0004, 0x6884], (4, 26756)],
           refuses=[([0x6884, 0x0004], "word-order"), ([288900], "one-register-for-32-bits"),
-                   ([0, 2889], "current-not-in-milliamperes"), ([4, 0x6885], None)])
+                   ([0, 2889], "current-not-in-milliamperes"), ([4, 0x6885], None),
+                   ([4, 0x8468], "field-low-byte-first")])
 def _check_10_2(answer: Any) -> str | None:
     expected = METER_BY_NAME["AL1"].registers(_al1_of_trial_2())
     if not isinstance(answer, (list, tuple)) or any(
@@ -57,6 +58,7 @@ def _check_10_2(answer: Any) -> str | None:
     named = diagnose("one-register-for-32-bits", len(got), 2) or (
         diagnose("word-order", got, "uint32", value, "ABCD")
         or diagnose("current-not-in-milliamperes", got[0] * 65536 + got[1], _al1_of_trial_2())
+        or (diagnose("field-low-byte-first", got[1], expected[1]) if got[0] == expected[0] else None)
         if len(got) == 2 else None)
     if named:
         return named
@@ -77,7 +79,8 @@ _10_3_NAMES = ("THD_AL1", "THD_AL2", "THD_AL3")
           accepts=[(3, 54, 6), [3, 0x36, 6]],
           refuses=[((3, 55, 6), "one-based-address"), ((3, 54, 3), "one-register-for-32-bits"),
                    ((4, 54, 6), "holding-for-input"), ((3, 40055, 6), "reference-number"),
-                   ((3, 0x30, 6), None), ((3, 54, 5), None), ((3, 36, 6), "hex-read-as-decimal")])
+                   ((3, 0x30, 6), None), ((3, 54, 5), None), ((3, 54, 12), "bytes-for-registers"),
+                   ((3, 36, 6), "hex-read-as-decimal")])
 def _check_10_3(answer: Any) -> str | None:
     members = [METER_BY_NAME[name] for name in _10_3_NAMES]
     [(address, count, _)] = meter_blocks(members)
@@ -94,7 +97,8 @@ def _check_10_3(answer: Any) -> str | None:
         return (address_diagnosis(got_address, address) or field_diagnosis(got_address, address)
                 or f"address {got_address!r} is not where THD_AL1 starts.")
     if got_count != count:
-        named = diagnose("one-register-for-32-bits", got_count, count, len(members))
+        named = (diagnose("one-register-for-32-bits", got_count, count, len(members))
+                 or diagnose("bytes-for-registers", got_count, count))
         if named:
             return named
         return f"{got_count!r} registers do not cover exactly the three pairs."
@@ -120,7 +124,10 @@ def _float_inputs(rng) -> tuple:
 
 def _diagnose_float(args, expected, got) -> str | None:
     registers, order = args
-    return diagnose("word-order", registers, "float32", got, order) if isinstance(got, float) else None
+    if isinstance(got, float):
+        return (diagnose("word-order", registers, "float32", got, order)
+                or diagnose("result-rounded", got, expected, 2))
+    return diagnose("integer-for-float", got, registers, order)
 
 
 build_exercise(
@@ -133,5 +140,8 @@ build_exercise(
          "letters), then struct.unpack('>f', ...)[0]. CDAB swaps the registers; BADC swaps the bytes inside "
          "each register; DCBA does both.",
     refuses=[(lambda registers, order: _float32(registers, "ABCD"), "word-order"),
-             (lambda registers, order: _float32(registers[::-1], order), "word-order")],
+             (lambda registers, order: _float32(registers[::-1], order), "word-order"),
+             (lambda registers, order: decode_value(list(registers), "uint32", order), "integer-for-float"),
+             (lambda registers, order: round(decode_value(list(registers), "float32", order), 2),
+              "result-rounded")],
     diagnose=_diagnose_float)

@@ -35,7 +35,7 @@ _11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
                 "with its fields."),
           accepts=[(42, 6, 16, 500), [0x2A, 6, 0x10, 0x01F4]],
           refuses=[((0x2A00, 6, 16, 500), "mbap-little-endian"), ((42, 6, 17, 500), "one-based-address"),
-                   ((42, 6, 10, 500), "hex-read-as-decimal"), ((42, 17, 16, 500), None),
+                   ((42, 6, 10, 500), "hex-read-as-decimal"), ((42, 17, 16, 500), "another-field"),
                    ((42, 6, 16, 0xF401), None)])
 def _check_11_1(answer: Any) -> str | None:
     frame = TcpFrame.decode(parse_hex(_11_1_FRAME), role="request")
@@ -50,7 +50,8 @@ def _check_11_1(answer: Any) -> str | None:
                 or f"the transaction id is in bytes 0-1; {tid} is not it.")
     if function != expected[1]:
         if function == frame.unit:
-            return "byte 6 is the unit identifier; the function code is byte 7, right after it."
+            return (diagnose("another-field", function, {"unit identifier": frame.unit})
+                    + " The function code is byte 7, right after it.")
         return f"the function code is byte 7, right after the unit identifier; it is not {function}."
     if address != expected[2]:
         return (address_diagnosis(address, expected[2]) or diagnose("hex-read-as-decimal", address,
@@ -90,13 +91,20 @@ def _check_11_2(answer: Any) -> str | None:
 @exercise("11.3", "a pyserial URL for a serial device server",
           hint="pyserial's URL for a serial line carried over raw TCP is socket://<host>:<port>.",
           accepts=["socket://192.168.1.60:4001", " socket://192.168.1.60:4001 "],
-          refuses=[("tcp://192.168.1.60:4001", None), ("rfc2217://192.168.1.60:4001", None),
-                   ("socket://192.168.1.60:502", None), ("/dev/ttyUSB0", None)])
+          refuses=[("tcp://192.168.1.60:4001", "url-not-socket"),
+                   ("rfc2217://192.168.1.60:4001", "url-not-socket"),
+                   ("socket://192.168.1.60:502", "modbus-tcp-port-for-server"), ("/dev/ttyUSB0", None),
+                   ("socket://192.168.1.60", "url-without-port"),
+                   ("socket://192.168.1.60:99999", "port-out-of-range")])
 def _check_11_3(answer: Any) -> str | None:
     if serial is None:
         raise ImportError("exercise 11.3 asks pyserial, which is not installed: pip install pyserial")
     if not isinstance(answer, str):
         return "answer with a string, the URL."
+    named = diagnose("url-not-socket", answer)
+    if named:
+        rfc2217 = answer.strip().startswith("rfc2217://")
+        return named + (" rfc2217:// is for device servers in RFC 2217 (telnet) mode." if rfc2217 else "")
     try:
         port = serial.serial_for_url(answer.strip(), do_not_open=True)
     except (ValueError, serial.SerialException) as exc:
@@ -104,22 +112,25 @@ def _check_11_3(answer: Any) -> str | None:
     except Exception:  # pyserial fails in its own ways on some text: the URL is not one it reads
         return f"pyserial does not accept {answer!r} as a port or URL."
     if not isinstance(port, SocketSerial):
-        if "://" not in answer:
-            return f"{answer!r} is a local port name; a device on the network needs a URL."
-        scheme = answer.split("://")[0]
-        if scheme == "rfc2217":
-            return "rfc2217:// is for device servers in RFC 2217 (telnet) mode; this one runs raw TCP."
-        return f"{scheme}:// is another kind of pyserial port, not a serial line over raw TCP."
-    if not re.fullmatch(r"socket://[^:/]+:\d+/?", answer.strip()):
+        return f"{answer!r} is a local port name; a device on the network needs a URL."
+    named = diagnose("url-without-port", answer)
+    if named:
+        return named
+    whole = re.fullmatch(r"socket://[^:/]+:(\d+)/?", answer.strip())
+    if not whole:
         return (f"{answer.strip()!r} is not a whole socket URL: pyserial needs socket://<host>:<port>, the "
                 "device server's TCP port included.")
+    named = diagnose("port-out-of-range", int(whole.group(1)))
+    if named:
+        return named
     try:
         host, number = port.from_url(answer.strip())
     except Exception:  # pyserial's own refusal of a port outside 0..65535 fails in a format string
         return f"pyserial cannot read host and port from {answer!r}: a TCP port is a number 0..65535."
     expected = SocketSerial().from_url("socket://192.168.1.60:4001")
     if (host, number) != expected:
-        return f"that URL reaches {host}, TCP port {number}, not the device server."
+        return (diagnose("modbus-tcp-port-for-server", number, expected[1])
+                or f"that URL reaches {host}, TCP port {number}, not the device server.")
     return None
 
 
@@ -143,6 +154,8 @@ def _diagnose_split(got: Any, expected: Any) -> str | None:
         return diagnose("mbap-little-endian", got[0], expected[0])
     if got[2] != expected[2]:
         return diagnose("mbap-length", got[2], expected[2])
+    if got[3] != expected[3]:
+        return diagnose("another-field", got[3], {"function code": expected[4][0]})
     if got[4] != expected[4] and isinstance(got[4], (bytes, bytearray, list)):
         return pdu_envelope_diagnosis(bytes(got[4]), expected[4], expected[3])
     return None

@@ -85,7 +85,7 @@ _12_2_KEYS = ("role", "unit", "function", "address", "length", "interval")
                     "one-based-address"),
                    ({"role": "rtu_slave", "unit": 7, "function": 4, "address": 10, "length": 4,
                      "interval": 0.5},
-                    None)])
+                    "slave-for-master")])
 def _check_12_2(answer: Any) -> str | None:
     TestTool = _testtool()  # noqa: N806 (a class)
     config = answer.config() if isinstance(answer, TestTool) else answer
@@ -97,7 +97,8 @@ def _check_12_2(answer: Any) -> str | None:
         if key not in config:
             return f"the configuration has no {key!r}."
     if config["role"] not in reference_roles:
-        return f"a {config['role']!r} answers requests; the tool must ask: a master (or a client)."
+        return diagnose("slave-for-master", config["role"]) or (
+            f"a {config['role']!r} answers requests; the tool must ask: a master (or a client).")
     for key in _12_2_KEYS[1:]:
         if config[key] != reference[key]:
             named = (diagnose("holding-for-input", config[key], reference[key]) if key == "function" else
@@ -115,7 +116,8 @@ def _check_12_2(answer: Any) -> str | None:
                 "a client that starts at 510 and polls twice uses 510 and 511; its next request carries 512 "
                 "= 0x0200 and starts 02 00."),
           accepts=[(283, "01 1B"), (283, b"\x01\x1b"), [0x11B, "011b"]],
-          refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), None), ((283, "01 1C"), None)])
+          refuses=[((283, "1B 01"), "mbap-little-endian"), ((282, "01 1A"), "last-transaction-id"),
+                   ((283, "01 1C"), None)])
 def _check_12_3(answer: Any) -> str | None:
     if not isinstance(answer, (tuple, list)) or len(answer) != 2:
         return "answer with a pair: (transaction_id, 'XX XX')."
@@ -128,9 +130,8 @@ def _check_12_3(answer: Any) -> str | None:
     first_two = client.traffic.search(direction="tx")[-1].data[:2]
     got_tid, got_bytes = answer
     if got_tid != tid:
-        if got_tid == tid - 1:
-            return "that is the id of the third request; the question asks for the next one."
-        return (diagnose("mbap-little-endian", got_tid, tid) or field_diagnosis(got_tid, tid)
+        return (diagnose(("last-transaction-id", "mbap-little-endian"), got_tid, tid)
+                or field_diagnosis(got_tid, tid)
                 or f"the next transaction id is not {got_tid!r}.")
     got = as_bytes(got_bytes)
     named = diagnose("mbap-little-endian", got, first_two)

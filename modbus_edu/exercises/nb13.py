@@ -7,7 +7,7 @@ import random
 from typing import Any
 
 from ..datamodel import DataBank, parse_reference
-from ..devices.arduino import ArduinoSlave
+from ..devices.arduino import ArduinoSlave, expected_answered_fraction
 from ..errors import ConfigError
 from ..framing import RtuFrame, TcpFrame, parse_hex
 from ..links.loopback import loopback_serial
@@ -64,6 +64,10 @@ def _word_order_device(seed: int = _LAB_SEED) -> tuple[Any, str, float]:
     bank = DataBank(sparse=True)
     bank.holding_registers.declare(0, 2, encode_value(round(amperes * 1000), "uint32", order))
     return Slave(unit=1, bank=bank, name="current sensor"), order, amperes
+
+
+POLL_13_6 = {"timeout": 1.0, "interval": 5.0, "reply": 0.013}
+"""Exercise 13.6's poll: the master's timeout and poll interval, and the reply's time on the wire (s)."""
 
 
 def _slow_board(seed: int = _LAB_SEED) -> Any:
@@ -219,7 +223,8 @@ def _check_13_5(answer: Any) -> str | None:
                 "about (timeout - reply time) / loop time, with a reply of 0.013 s.",
                 "60% answered with a 2 s timeout: a loop of about (2 - 0.013) / 0.6 = 3.3 s."),
           accepts=[2.2, 2.0, 2.4, 2],
-          refuses=[(2200, "milliseconds-for-seconds"), (1.0, None), (5.0, None)])
+          refuses=[(2200, "milliseconds-for-seconds"), (1.0, "given-figure"), (5.0, "given-figure"),
+                   (3.0, None)])
 def _check_13_6(answer: Any) -> str | None:
     board = _slow_board()
     got = real_answer(answer, "a loop time in seconds")
@@ -229,6 +234,12 @@ def _check_13_6(answer: Any) -> str | None:
         return None
     if abs(got / 1000 - board.loop_time) <= 0.25 * board.loop_time:
         return misconception("milliseconds-for-seconds")
+    answered = expected_answered_fraction(board.loop_time, POLL_13_6["timeout"], POLL_13_6["reply"])
+    named = diagnose("given-figure", got, {"1 s, the master's timeout": POLL_13_6["timeout"],
+                                           "5 s, the poll interval": POLL_13_6["interval"],
+                                           "the share of requests answered": answered})
+    if named:
+        return named
     if got < board.loop_time:
         return (f"{got:g} s is too short: a loop that fast would answer more requests in time than this "
                 "one does.")
@@ -256,7 +267,8 @@ def _order_accepted(expected: frozenset, got) -> bool:
 def _diagnose_order(args, expected, got) -> str | None:
     registers, value = args
     if not expected:
-        return f"no order gives {value:g} from these registers: return None."
+        named = diagnose("an-order-when-none-fits", got, expected)
+        return f"no order gives {value:g} from these registers: return None." + (f" {named}" if named else "")
     if got is None:
         near = [decode_value(registers, "float32", order) for order in sorted(expected)]
         return diagnose("float-compared-exactly", got, near[0]) if near[0] != value else None
@@ -289,5 +301,7 @@ build_exercise(
           "registers [0x0000, 0x4120] give 10.0 read as CDAB and a tiny number as ABCD: a display showing "
           "10.0 means CDAB."),
     refuses=[(lambda registers, expected: "ABCD", "word-order"),
-             (lambda registers, expected: "CDAB", "word-order"), (_exact_order, "float-compared-exactly")],
+             (lambda registers, expected: "CDAB", "word-order"), (_exact_order, "float-compared-exactly"),
+             (lambda registers, expected: _exact_order(registers, expected) or "ABCD",
+              "an-order-when-none-fits")],
     compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words)

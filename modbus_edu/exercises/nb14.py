@@ -13,6 +13,9 @@ from .build import build_exercise
 from .core import exercise, field_diagnosis, int_answer, line_after_tries
 from .misconceptions import diagnose
 
+MASK_SLIPS = ("or-mask-forgotten", "mask-write-or", "mask-roles-swapped")
+"""The catalogue's slips of FC 22's two masks, tried on every mask exercise."""
+
 
 @exercise("14.1", "a register after Mask Write Register",
           hint=("FC 22 works bit by bit: where the AND mask has a 1 the register keeps its bit; where it "
@@ -21,7 +24,7 @@ from .misconceptions import diagnose
                 "AND-mask bit 1, copy the register's bit; 0, copy the OR mask's bit.",
                 "the specification's example: register 0x12 = 0001 0010, AND 0xF2 = 1111 0010, OR 0x25 = "
                 "0010 0101: bits 7-4 and 1 kept, bits 3, 2 and 0 from the OR mask: 0001 0111 = 0x17."),
-          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, None),
+          accepts=[0x0135, 309], refuses=[(0x00A5 | 0x0130, "mask-write-or"), (0x0005, "or-mask-forgotten"),
                                           (0x00A0, "mask-roles-swapped")])
 def _check_14_1(answer: Any) -> str | None:
     expected = mask_write(0x00A5, 0x000F, 0x0130)
@@ -30,7 +33,7 @@ def _check_14_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = (diagnose(("mask-write-or", "mask-roles-swapped"), 0x00A5, 0x000F, 0x0130, got)
+    named = (diagnose(MASK_SLIPS, 0x00A5, 0x000F, 0x0130, got)
              or field_diagnosis(got, expected))
     if named:
         return named
@@ -44,13 +47,18 @@ build_exercise(
     edge_cases=[(0x12, 0xF2, 0x25), (0, 0, 0xFFFF), (0xFFFF, 0xFFFF, 0), (0xFFFF, 0, 0)],
     hint="bit by bit: where the AND mask has a 1 the register keeps its bit; where it has a 0 the bit comes "
          "from the OR mask. The result stays a 16-bit value.",
-    refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or")],
-    diagnose=lambda args, expected, got: diagnose(("mask-write-or", "mask-roles-swapped"), *args, got))
+    refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or"),
+             (lambda current, and_mask, or_mask: current & and_mask, "or-mask-forgotten")],
+    diagnose=lambda args, expected, got: diagnose(MASK_SLIPS, *args, got))
 line_after_tries("14.2", "build it from two parts and OR them: the bits kept from the register (AND it with "
                  "the AND mask) and the bits taken from the OR mask where the AND mask has 0 (the OR mask "
                  "ANDed with the AND mask's inverse, ~, kept to 16 bits).",
                  "8 bits for short: register 0x5A, AND 0xF0, OR 0x33: kept 0x5A & 0xF0 = 0x50; inverse "
                  "0x0F; taken 0x33 & 0x0F = 0x03; result 0x50 | 0x03 = 0x53.")
+
+
+UNIT1_READS_14_3 = 2
+"""How many sound reads of unit 1 exercise 14.3's story makes: unit 1 sends a response to each."""
 
 
 def counters_scenario() -> dict[str, int]:
@@ -63,8 +71,8 @@ def counters_scenario() -> dict[str, int]:
     link = loopback_serial([Slave(unit=1), Slave(unit=2)], baudrate=19200)
     master = Master(link, timeout=0.1)
     master.diagnostics(unit=1, sub_function=0x0A)
-    master.read_holding_registers(unit=1, address=0, count=1)
-    master.read_holding_registers(unit=1, address=0, count=1)
+    for _ in range(UNIT1_READS_14_3):
+        master.read_holding_registers(unit=1, address=0, count=1)
     master.read_holding_registers(unit=2, address=0, count=1)
     link.faults.flip_bits(1, target="request")
     try:
@@ -84,7 +92,8 @@ def counters_scenario() -> dict[str, int]:
                 "to 0x0C, not here.",
                 "after a clear, one read of unit 3 and one of unit 4, then 0x0B to unit 3: unit 3 counts "
                 "the request for it, the request for unit 4, unit 4's response and the 0x0B request: 4."),
-          accepts=[5, 0x05], refuses=[(6, "damaged-message-counted"), (4, None), (3, "others-not-heard")])
+          accepts=[5, 0x05], refuses=[(6, "damaged-message-counted"), (4, "count-request-forgotten"),
+                                      (3, "others-not-heard"), (7, "own-frames-counted")])
 def _check_14_3(answer: Any) -> str | None:
     got = int_answer(answer, "a number of messages")
     if isinstance(got, str):
@@ -94,10 +103,15 @@ def _check_14_3(answer: Any) -> str | None:
         return None
     if got == expected + 1:
         return diagnose("damaged-message-counted", got, expected) + " Here the damaged request is the one."
-    if got == expected - 1:
-        return ("one message is missing: unit 1 also hears unit 2's response (every node hears the line), "
-                "and the 0x0B request is itself a message, counted before it is answered.")
-    named = diagnose("others-not-heard", got, 3)
+    named = diagnose("count-request-forgotten", got, expected)
+    if named:
+        return (f"{named} Unless the one missing is unit 2's response: unit 1 hears that too, as every node "
+                "hears the line.")
+    named = diagnose("own-frames-counted", got, expected + UNIT1_READS_14_3)
+    if named:
+        return named
+    named = (diagnose("others-not-heard", got, UNIT1_READS_14_3 + 1)
+             or diagnose("others-not-heard", got, UNIT1_READS_14_3))
     if named:
         return named + (" Those are only the requests for unit 1; it also hears the request for unit 2 and "
                         "its response.")

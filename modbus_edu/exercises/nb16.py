@@ -54,8 +54,9 @@ def _map_problem(points: list[Any]) -> str | None:
                         "numbering='reference' already subtracts the 30001.")
             return f"{label} loads as address {mine.address}, expected {theirs.address}. " + (slip or "")
         if mine.type != theirs.type:
-            return (f"{label} has type {mine.type}: each value is a 32-bit IEEE 754 float in two registers, "
-                    "type float32.")
+            named = diagnose("integer-for-float", mine.type) if theirs.type.startswith("float") else None
+            return (f"{label} has type {mine.type}: " + (f"{named} " if named else "")
+                    + "Each value is a 32-bit IEEE 754 float in two registers, type float32.")
         if mine.order != theirs.order:
             named = name("word-order", used=mine.order, used_words=ORDER_WORDS.get(mine.order, mine.order),
                          right=theirs.order)
@@ -84,7 +85,8 @@ def _map_problem(points: list[Any]) -> str | None:
                    (_WORKSHEET_MAP.replace(",input,", ",holding,"), "holding-for-input"),
                    (_WORKSHEET_MAP.replace(",30001,", ",0,").replace(",30007,", ",6,").replace(
                        ",30013,", ",12,").replace(",30071,", ",70,").replace(",30073,", ",72,"), None),
-                   ("voltage,input,30001", None)])
+                   ("voltage,input,30001", None),
+                   (_WORKSHEET_MAP.replace("float32", "uint32"), "integer-for-float")])
 def _check_16_1(answer: Any) -> str | None:
     if not isinstance(answer, str):
         return (f"give the file's text as a str (a header row, then one row per value), not {show(answer)}: "
@@ -200,6 +202,9 @@ _AB_PATTERN = re.compile(r"\bswap|\bpolarity\b|\ba\s*/\s*b\b|\bb\s*/\s*a\b|\ba a
                          r"|\bd0\s*/\s*d1\b")
 """Free spellings of the same answer: swap ..., polarity, A/B, A and B, reversed ..."""
 
+RULED_OUT_16_3 = ("port", "baud", "parity", "settings", "unit", "address", "timeout")
+"""The checks of 16.3's flowchart that the LED, the scan and the menu have already ruled out."""
+
 REFUSED_16_3 = {
     "wiring": "you checked that A, B and the common wire are connected; the question is which way round.",
     "common": "you checked that the common wire is connected; the question is about the other two.",
@@ -226,8 +231,9 @@ def _squeeze(text: str) -> str:
           hint="follow the timeout row of the flowchart: port, wiring, A/B, settings, unit. Which one have "
                "the LED, the scan and the menu not ruled out yet?",
           accepts=["swap A and B", "A/B", "polarity", "the A and B wires are reversed"],
-          refuses=[("parity", None), ("baud rate", None), ("termination", None), ("the unit", None),
-                   ("echo", None)])
+          refuses=[("parity", "check-ruled-out"), ("baud rate", "check-ruled-out"),
+                   ("termination", "termination-for-silence"),
+                   ("the unit", "check-ruled-out"), ("echo", None)])
 def _check_16_3(answer: Any) -> str | None:
     if not isinstance(answer, str):
         return f"name the check in a few words (a str), not {show(answer)}."
@@ -236,7 +242,9 @@ def _check_16_3(answer: Any) -> str | None:
         return None
     for key, message in REFUSED_16_3.items():
         if key in text:
-            return message
+            named = diagnose("check-ruled-out", text, RULED_OUT_16_3) or diagnose("termination-for-silence",
+                                                                                  text)
+            return f"{named} {message[:1].upper()}{message[1:]}" if named else message
     return f"{show(answer)} is not the check the flowchart leads to here."
 
 

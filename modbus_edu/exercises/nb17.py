@@ -114,7 +114,10 @@ def _diagnose(args: Any, expected: Any, got: Any) -> str | None:
     if isinstance(got, int) and not isinstance(got, bool):
         return "return the whole exception PDU as bytes (function code + 0x80, then 01), not a number."
     if expected is None and got is not None:
-        return f"{role} may send this request: return None."
+        last = int.from_bytes(pdu[1:3], "big") + int.from_bytes(pdu[3:5], "big") - 1
+        named = diagnose("range-one-extra", last + 1, last) if role == "operator" and pdu[0] in (15,
+                                                                                                 16) else None
+        return f"{role} may send this request: return None." + (f" {named}" if named else "")
     if expected is not None and got is None:
         if role == "operator" and pdu[0] in (15, 16):
             return diagnose("first-address-only", pdu, 99, got) or (
@@ -122,7 +125,8 @@ def _diagnose(args: Any, expected: Any, got: Any) -> str | None:
                 "quantity - 1: check the last address too.")
         return f"{role} may not send this request: return bytes([function | 0x80, 0x01])."
     if isinstance(got, (bytes, bytearray)) and len(got) == 2 and got[1] != 1:
-        return "a refused request gets exception 01, illegal function (the role may not use it)."
+        return ("a refused request gets exception 01, illegal function (the role may not use it). "
+                + (diagnose("exception-code-confused", got[1], 1) or ""))
     return None
 
 
