@@ -25,14 +25,12 @@ import builtins
 import hashlib
 import importlib
 import json
+import sys
 from collections.abc import Callable
 from importlib.resources import files
 from typing import Any
 
-from IPython import get_ipython  # this module runs in a notebook's kernel, which IPython is
-from IPython.core.inputtransformer2 import TransformerManager
-from IPython.display import Image, display
-
+from ._optional import load_transformer_manager
 from .errors import MissingDependencyError
 from .platform import BINDER
 
@@ -122,19 +120,33 @@ def run_statements(source: str, namespace: dict, show: Callable[[Any], None] | N
     return lines
 
 
+def _shell() -> Any:
+    """The IPython shell this runs in (a kernel puts ``get_ipython`` among the builtins), or None."""
+    get = getattr(builtins, "get_ipython", None)
+    return get() if get is not None else None
+
+
+def _display() -> Any:
+    """IPython's display module, which the kernel this runs in has loaded: this module is imported by the
+    library without the course extra too, so it never imports IPython itself."""
+    module = sys.modules.get("IPython.display")
+    if module is None:
+        raise MissingDependencyError("modbus_edu.pictures shows pictures in a notebook's kernel (IPython)")
+    return module
+
+
 def run_drawing(source: str) -> None:
     """Run a cell that draws where matplotlib is missing: its other statements, then its pictures."""
-    shell = get_ipython()
-    code = TransformerManager().transform_cell(source)  # IPython's own transforms, not run_drawing again
-    namespace = shell.user_ns if shell is not None else vars(builtins)
-    skipped = run_statements(code, namespace, show=shell.displayhook if shell is not None else display,
-                             unbound=UNBOUND)
+    shell, display = _shell(), _display()
+    code = load_transformer_manager()().transform_cell(source)  # IPython's transforms, not run_drawing again
+    namespace, show = (shell.user_ns, shell.displayhook) if shell is not None else ({}, display.display)
+    skipped = run_statements(code, namespace, show=show, unbound=UNBOUND)
     stored = stored_pictures()
     pictures = stored.get(cell_key(source))
     if not skipped or pictures == []:  # it drew nothing here, or the build drew nothing from it either
         return
     for picture in pictures or []:
-        display(Image(data=base64.b64decode(picture), format="png"))
+        display.display(display.Image(data=base64.b64decode(picture), format="png"))
     if pictures:
         print(f"(This picture was drawn from this cell when the course was built: this copy of the course "
               f"runs without matplotlib. To change it, use the published site ({PUBLISHED}) or Binder "
@@ -162,7 +174,7 @@ def draw_offline() -> bool:
     transformer of this IPython); True if it did, False where matplotlib imports (nothing to do)."""
     if has_matplotlib():
         return False
-    shell = get_ipython()
+    shell = _shell()
     if shell is None:
         return False
     if _transform not in shell.input_transformers_cleanup:

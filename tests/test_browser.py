@@ -519,6 +519,8 @@ def _keyboard_action(page, name: str, panel) -> None:
         panel.locator(".mbe-field-role select").focus()
         page.keyboard.press("e")  # "exception response"
         _shows(page, ".mbe-framebuilder .mbe-frame-hex", "01 83 02 C0 F1")
+        panel.locator(".mbe-field-role select").select_option(index=0)  # a request again, for the tests after
+        panel.locator(".mbe-field-count input").wait_for(state="visible", timeout=15_000)
     elif name == "frame decoder":
         panel.locator(".mbe-decoder-input textarea").focus()
         page.keyboard.press("Control+A")
@@ -658,7 +660,9 @@ def test_the_grid_s_head_stays_over_its_columns_and_is_no_scroll_box(panels_page
     page, console = panels_page
     slave = page.locator(".mbe-testtool.mbe-role-rtu_slave")
     slave.scroll_into_view_if_needed()
+    slave.locator(".lm-TabBar-tab").nth(0).click()  # the tab with the device's parameters
     length = slave.get_by_label("length", exact=True)
+    length.wait_for(state="visible", timeout=15_000)
     length.fill("12")
     length.press("Enter")
     slave.locator(".lm-TabBar-tab", has_text="data").click()
@@ -666,7 +670,7 @@ def test_the_grid_s_head_stays_over_its_columns_and_is_no_scroll_box(panels_page
                            "'.mbe-role-rtu_slave .mbe-tt-grid-head');"
                            " return !!h && h.innerText.includes('+9'); }", timeout=15_000)
     grid = slave.locator(".mbe-tt-grid")
-    shape = grid.evaluate("""grid => {
+    measure = """grid => {
       const head = grid.querySelector('.mbe-tt-grid-head'), last = [...head.children].pop();
       const cells = [...grid.querySelectorAll('.mbe-tt-cell')];
       const rows = [...grid.children].filter(r => r.classList.contains('widget-hbox'));
@@ -675,7 +679,16 @@ def test_the_grid_s_head_stays_over_its_columns_and_is_no_scroll_box(panels_page
               aligned: Math.abs((h.left + h.right) / 2 - (c.left + c.right) / 2),
               rowScrolls: rows.filter(r => r.scrollWidth > r.clientWidth + 1
                                       && getComputedStyle(r).overflowX !== 'visible').length};
-    }""")
+    }"""
+    # the grid is redrawn as the twelve cells arrive: measure once its layout has settled (or the deadline)
+    settled = ("() => { const s = (" + measure + ")(document.querySelector("
+               "'.mbe-role-rtu_slave .mbe-tt-grid')); return s.wide && s.head === '+9' && s.aligned < 2 "
+               "&& !s.rowScrolls; }")
+    try:
+        page.wait_for_function(settled, timeout=15_000)
+    except Exception:  # playwright's timeout: the assertions below say what the layout is
+        pass
+    shape = grid.evaluate(measure)
     assert shape["rowScrolls"] == 0, f"a row of the grid scrolls on its own: {shape}"
     assert shape["wide"], f"ten columns fit: the test shows nothing ({shape})"
     assert shape["head"] == "+9" and shape["aligned"] < 2, shape

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+import modbus_edu
 from modbus_edu import pictures
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,6 +33,7 @@ def no_matplotlib(monkeypatch):
     drawing = ("matplotlib.", "modbus_edu.plot")
     for name in [n for n in sys.modules if n == "matplotlib" or n.startswith(drawing)]:
         monkeypatch.delitem(sys.modules, name)
+    monkeypatch.delattr(modbus_edu, "plotstyle", raising=False)  # imported by a test before: forgotten
     monkeypatch.setitem(sys.modules, "matplotlib", None)
 
 
@@ -80,7 +82,9 @@ def test_with_matplotlib_nothing_is_skipped():
 def _displayed(monkeypatch, stored: dict) -> tuple[list, list]:
     images, printed = [], []
     monkeypatch.setattr(pictures, "stored_pictures", lambda: stored)
-    monkeypatch.setattr(pictures, "display", lambda *items, **kw: images.extend(items))
+    import IPython.display  # what a kernel has loaded
+
+    monkeypatch.setattr(IPython.display, "display", lambda *items, **kw: images.extend(items))
     monkeypatch.setattr("builtins.print", lambda *args, **kw: printed.append(" ".join(map(str, args))))
     return images, printed
 
