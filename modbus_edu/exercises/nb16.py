@@ -19,7 +19,7 @@ from ..pdu import ReadHoldingRegistersRequest, ReadInputRegistersRequest, ReadIn
 from ..registermap import RegisterMapError, load_map
 from .build import build_exercise
 from .core import AnswerError, address_diagnosis, as_bytes, exercise, show
-from .misconceptions import ORDER_WORDS, diagnose, name
+from .misconceptions import CATALOGUE, ORDER_WORDS, detect, diagnose, name
 
 WORKSHEET_UNIT = 1
 """The bench meter's address in the worksheet (its factory setting)."""
@@ -241,10 +241,12 @@ def _check_16_3(answer: Any) -> str | None:
     if text in ACCEPTED_AB or _AB_PATTERN.search(text):
         return None
     for key, message in REFUSED_16_3.items():
-        if key in text:
-            named = diagnose("check-ruled-out", text, RULED_OUT_16_3) or diagnose("termination-for-silence",
-                                                                                  text)
-            return f"{named} {message[:1].upper()}{message[1:]}" if named else message
+        if key in text:  # the misconception's name, then this check's own evidence (short: the hint follows)
+            for slip, found in (("check-ruled-out", detect("check-ruled-out", text, RULED_OUT_16_3)),
+                                ("termination-for-silence", detect("termination-for-silence", text))):
+                if found:
+                    return f"{CATALOGUE[slip].label}: {message}"
+            return message
     return f"{show(answer)} is not the check the flowchart leads to here."
 
 
