@@ -437,3 +437,29 @@ def test_command_argv_at_the_limited_level(tmp_path, monkeypatch):
         assert seal.inside(seal.notebooks[0]) == str(seal.notebooks[0])
     finally:
         seal.close()
+
+
+def test_the_grader_writes_no_file_in_the_room_through_a_link_a_learner_left(tmp_path):
+    """A learner's process left in its room may plant a link where the grader will write (the next
+    kernel's connection file) to a file of the machine: the grader's connection file lies outside the
+    room, and the kernel's copy in the room is written as a new file, never through the link."""
+    from modbus_edu.course import runner, sandbox
+
+    room = tmp_path / "learner-0"
+    (room / "run").mkdir(parents=True)
+    victim = tmp_path / "a file of the machine"
+    victim.write_text("untouched")
+
+    class Manager:
+        connection_file = ""
+
+    manager = runner.connect_in(Manager(), room / "run", 2)
+    assert Path(manager.connection_file).parent == tmp_path  # beside the room, not in it
+    Path(manager.connection_file).write_text(json.dumps({"transport": "ipc", "ip": str(room / "run" / "k2")}))
+    planted = room / "run" / (Path(manager.connection_file).stem + "-sealed.json")
+    planted.symlink_to(victim)
+    config = {"folder": str(room), "rest": [manager.connection_file], "uid": os.getuid()}
+    inside = sandbox._sealed_connection(config)
+    assert victim.read_text() == "untouched"
+    assert not planted.is_symlink() and json.loads(planted.read_text())["ip"] == "/tmp/run/k2"
+    assert inside == f"/tmp/run/{planted.name}"

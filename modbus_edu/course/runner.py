@@ -214,11 +214,14 @@ SOCKET_PATH = 100
 
 def connect_in(manager, runtime: Path, number: int = 1):
     """``manager`` set to reach its kernel through ``runtime``, the learner's room's ``run`` folder: the
-    connection file there, and (where Unix sockets exist) the kernel's five ZeroMQ sockets too, as
+    kernel's five ZeroMQ sockets (where Unix sockets exist), as
     ``ipc://`` sockets ``runtime/kN-1`` ... (N: ``number``, the worker's Nth kernel) instead of TCP ports.
     A sealed kernel has no network but its own loopback and no other learner sees its room, so only the
     grader can reach it."""
-    manager.connection_file = str(runtime / f"kernel-{os.getpid()}-{number}.json")
+    # the grader's connection file lies beside the room, in the grader's own folder: a file the grader
+    # writes inside the room could be a link a learner's process planted there, to a file of the machine
+    room = runtime.parent
+    manager.connection_file = str(room.parent / f"{room.name}-kernel-{os.getpid()}-{number}.json")
     if os.name == "posix":
         sockets = str(runtime / f"k{number}")
         if len(sockets) + 6 > SOCKET_PATH:

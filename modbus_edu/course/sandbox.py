@@ -39,6 +39,7 @@ library, so that it starts fast.
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import errno
 import fcntl
@@ -568,15 +569,20 @@ def _inside(config: dict, path: str) -> str:
 
 
 def _sealed_connection(config: dict) -> str:
-    """The kernel's own copy of its connection file, beside the grader's: the room's paths (the ``ipc``
-    sockets' ``ip``) as seen from inside; owned by the learner.  Its path from inside."""
+    """The kernel's own copy of the grader's connection file (which lies outside the room), in the room's
+    ``run`` folder: the room's paths (the ``ipc`` sockets' ``ip``) as seen from inside; owned by the
+    learner.  Written as a new file, never through a link a learner's process left.  Its path from
+    inside."""
     connection = config["rest"][0]
     with open(connection, encoding="utf-8") as stream:
         info = json.load(stream)
     if info.get("transport") == "ipc":
         info["ip"] = _inside(config, info["ip"])
-    copy = connection.removesuffix(".json") + "-sealed.json"
-    handle = os.open(copy, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    copy = os.path.join(config["folder"], "run", os.path.basename(connection).removesuffix(".json")
+                        + "-sealed.json")
+    with contextlib.suppress(FileNotFoundError):  # whatever a learner's process left there, a link too
+        os.unlink(copy)
+    handle = os.open(copy, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)  # a new file only
     with os.fdopen(handle, "w", encoding="utf-8") as stream:
         json.dump(info, stream)
     os.chown(copy, config["uid"], config["uid"])
