@@ -75,8 +75,8 @@ class Budget:
     """Bytes inflated so far, per learner (any key: the learner's name as the zip's names give it) and
     for the class, against :data:`LEARNER_BYTES` and :data:`CLASS_BYTES`."""
 
-    learner: int = LEARNER_BYTES
-    whole: int = CLASS_BYTES
+    learner: int = field(default_factory=lambda: LEARNER_BYTES)
+    whole: int = field(default_factory=lambda: CLASS_BYTES)
     spent: dict[str, int] = field(default_factory=dict)
     total: int = 0
 
@@ -88,7 +88,7 @@ class Budget:
         self.total += size
 
     def spent_reason(self, owner: str) -> str:
-        if self.total >= self.whole:
+        if self.whole - self.total <= self.learner - self.spent.get(owner, 0):
             return (f"the class's zips have inflated to {self.whole / 1e6:g} MB, all the grader unpacks for "
                     "one class (not unpacked)")
         return (f"this learner's zips have inflated to {self.learner / 1e6:g} MB, all the grader unpacks for "

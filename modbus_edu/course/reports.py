@@ -61,13 +61,31 @@ def printable(text: object) -> str:
     return _printable(str(text))
 
 
-def page_name(learner: str) -> str:
-    """The file name of a learner's page: the name itself when it is plain, else a plain form of it and a
-    short hash (so that no name can reach outside ``learners/`` or clash with another)."""
+def page_name(learner: str, digits: int = 12) -> str:
+    """The file name of a learner's page: the name itself when it is plain (``[a-z0-9_-]``), else a plain
+    form of it, a dot and a hash: no name reaches outside ``learners/``, and a plain name (which holds no
+    dot) never takes a hashed one's place (``ada-99a563ab`` is not ``Ada``'s page)."""
     plain = re.sub(r"[^a-z0-9_-]+", "_", learner.casefold()).strip("_")[:40]
     if plain == learner:
         return f"{plain}.html"
-    return f"{plain or 'learner'}-{hashlib.sha256(learner.encode()).hexdigest()[:8]}.html"
+    digest = hashlib.sha256(learner.encode("utf-8", "surrogatepass")).hexdigest()
+    return f"{plain or 'learner'}.{digest[:digits]}.html"
+
+
+def page_names(learners: list[str]) -> dict[str, str]:
+    """Each learner's page name (:func:`page_name`), the hash made longer for any two that would share
+    one, so that no page ever overwrites another."""
+    pages: dict[str, str] = {}
+    taken: set[str] = set()
+    for learner in sorted(set(learners)):
+        digits = 12
+        page = page_name(learner, digits)
+        while page in taken and digits < 64:
+            digits += 4
+            page = page_name(learner, digits)
+        pages[learner] = page
+        taken.add(page)
+    return pages
 
 
 def _counts(row: dict, exercises: list[str]) -> Counter:

@@ -32,7 +32,8 @@ out of the zip, a link beside the learners' folders) is one line of :attr:`Found
 
 **One learner, one row, keyed by the platform's id.**  Two learners of one name are told apart by their
 ids ("Sam Lee (21)"); a learner whose name is literally that of a disambiguated classmate is told apart
-further ("Sam Lee (21) (Moodle 555)"), so no two identities ever share a row.
+further (participant 555 named "Sam Lee (21)" is "Sam Lee (21) (555)", and participant 21 "Sam Lee (Moodle
+21)"), so no two identities ever share a row.
 
 Each layout read, each merge of differently written names and each zip unpacked is one line of
 :attr:`Found.notes`.  Hidden files and folders (``.ipynb_checkpoints``, ``.git``) are skipped.  A
@@ -487,7 +488,7 @@ def _platform_note(platform: str, files: int, learners: int, late: int, again: i
 def _labels(people: set[Identity], plain: set[str]) -> dict[Identity, str]:
     """Each identity's row name, never another's nor a learner's gathered by hand: the platform's name,
     with the id when two share it ("Sam Lee (21)"), with the platform too when that is still someone
-    else's name ("Sam Lee (21) (Moodle 555)" beside a disambiguated "Sam Lee (21)")."""
+    else's name (participant 21 is "Sam Lee (Moodle 21)" beside participant 555 named "Sam Lee (21)")."""
     shared = Counter((person.platform, person.name) for person in people)
     level = {person: 0 if shared[(person.platform, person.name)] == 1 else 1 for person in people}
 

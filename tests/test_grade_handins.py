@@ -1,0 +1,315 @@
+"""Hand-ins read without trusting them, and the grade the instructor assigned.
+
+Each hole found in how the gradebook reads a class is one test here, all without a kernel: a learner's
+zip that names a classmate, an entry that stops the class (a name too long, a bad encoding, a file that
+is no notebook), refusals in another learner's row or in a row of their own, zip bombs, names and pages
+that collide; then what counts towards the grade, which copy counts, the exports and the reports."""
+
+from __future__ import annotations
+
+import json
+import os
+import stat
+import struct
+import time
+import zipfile
+from pathlib import Path
+
+from modbus_edu.course import archives
+from modbus_edu.course.export import export
+from modbus_edu.course.reports import page_name
+from modbus_edu.course.submissions import collect
+
+EMPTY = {"nbformat": 4, "nbformat_minor": 5, "metadata": {}, "cells": []}
+NOTEBOOK = json.dumps(EMPTY)
+
+
+def notebook(path: Path, text: str = NOTEBOOK, mtime: float | None = None) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text, encoding="utf-8")
+    if mtime is not None:
+        os.utime(path, (mtime, mtime))
+    return path
+
+
+def zipped(archive: Path, entries: dict[str, str | bytes], method: int = zipfile.ZIP_DEFLATED) -> Path:
+    archive.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(archive, "w", method) as out:
+        for name, data in entries.items():
+            out.writestr(name, data)
+    return archive
+
+
+def rows(found) -> dict[str, list[str]]:
+    table: dict[str, list[str]] = {}
+    for submission in found.submissions:
+        table.setdefault(submission.learner, []).append(submission.path.name)
+    return {learner: sorted(files) for learner, files in table.items()}
+
+
+def refusals(found) -> str:
+    return " | ".join(f"{learner}: {reason}" for learner, reasons in found.refused.items()
+                      for reason in reasons)
+
+
+# --- a zip never names another learner -------------------------------------------------------------------
+
+def test_a_learners_zip_never_names_a_classmate(tmp_path):
+    """``ada.zip`` carried ``hal/03_rtu_and_crc.ipynb``: it took hal's row, and ada's own file made a row
+    named ``03_rtu_and_crc``."""
+    moodle_like = "Hal Jordan_9_assignsubmission_file_01_data_model.ipynb"
+    zipped(tmp_path / "class" / "ada.zip", {"03_rtu_and_crc.ipynb": NOTEBOOK,
+                                            "hal/03_rtu_and_crc.ipynb": NOTEBOOK, moodle_like: NOTEBOOK})
+    zipped(tmp_path / "class" / "hal.zip", {"03_rtu_and_crc.ipynb": NOTEBOOK})
+    found = collect([tmp_path / "class"])
+    try:
+        assert sorted(found.learners) == ["ada", "hal"]
+        hal = [s for s in found.submissions if s.learner == "hal"]
+        assert [s.path.relative_to(found.scratch).parts[1:] for s in hal] == [("hal", "03_rtu_and_crc.ipynb")]
+        ada = sorted(s.path.relative_to(found.scratch).as_posix().split("/", 1)[1]
+                     for s in found.submissions if s.learner == "ada")
+        assert ada == ["ada/03_rtu_and_crc.ipynb", f"ada/{moodle_like}", "ada/hal/03_rtu_and_crc.ipynb"]
+        assert not found.identities  # nothing in a learner's zip is a platform's name
+        assert any("a folder of learners, one zip one learner" in note for note in found.notes)
+    finally:
+        found.cleanup()
+
+
+def test_a_folder_of_platform_downloads_still_names_learners(tmp_path):
+    zipped(tmp_path / "drop" / "moodle.zip", {
+        "Ada Lovelace_12_assignsubmission_file_03_rtu_and_crc.ipynb": NOTEBOOK,
+        "Hal Jordan_9_assignsubmission_file_/01_data_model.ipynb": NOTEBOOK})
+    found = collect([tmp_path / "drop"])
+    try:
+        assert sorted(found.learners) == ["Ada Lovelace", "Hal Jordan"]
+    finally:
+        found.cleanup()
+
+
+# --- one bad entry never stops the class -----------------------------------------------------------------
+
+LONG = "Mal Icious_666_assignsubmission_file_" + "é" * 110 + ".ipynb"
+
+
+def _bad_utf8(archive: Path, good: bytes, bad: bytes) -> Path:
+    """The zip with ``good`` (part of a UTF-8 name) replaced by the invalid ``bad``, flag kept."""
+    data = archive.read_bytes()
+    assert data.count(good) == 2 and len(good) == len(bad)  # the local header and the directory
+    archive.write_bytes(data.replace(good, bad))
+    return archive
+
+
+def test_an_entry_that_cannot_be_written_out_is_refused_in_its_learners_row(tmp_path):
+    """A Moodle name of 263 bytes ended the run with "File name too long"; a name that is not the UTF-8
+    it says it is ended it in the reader."""
+    assert len(LONG.encode()) > 255
+    archive = zipped(tmp_path / "moodle.zip", {
+        LONG: NOTEBOOK,
+        "Ada Lovelace_12_assignsubmission_file_03_rtu_and_crc.ipynb": NOTEBOOK,
+        "Eve Bad_77_assignsubmission_file_03_rtu_and_crc_é.ipynb": NOTEBOOK,
+        "Cy Old_88_assignsubmission_file_03_rtu_and_crc.ipynb": json.dumps({"nbformat": 3, "worksheets": []}),
+        "Dee Text_99_assignsubmission_file_03_rtu_and_crc.ipynb": "print('not json')",
+    })
+    _bad_utf8(archive, "_é.ipynb".encode(), b"_\xff\xfe.ipynb")
+    found = collect([archive])
+    try:
+        assert rows(found) == {"Ada Lovelace": ["Ada Lovelace_12_assignsubmission_file_03_rtu_and_crc.ipynb"]}
+        assert sorted(found.learners) == ["Ada Lovelace", "Cy Old", "Dee Text", "Eve Bad", "Mal Icious"]
+        assert "longer than a file name may be" in found.refused["Mal Icious"][0]
+        assert "not valid UTF-8" in found.refused["Eve Bad"][0]
+        assert "nbformat 3" in found.refused["Cy Old"][0]
+        assert "not JSON" in found.refused["Dee Text"][0]
+        assert {person.id for person in found.identities.values()} == {"12", "77", "88", "99", "666"}
+    finally:
+        found.cleanup()
+
+
+def test_a_folder_of_unreadable_notebooks_refuses_each_in_its_own_row(tmp_path):
+    root = tmp_path / "class"
+    notebook(root / "ada" / "03_rtu_and_crc.ipynb")
+    big = notebook(root / "bob" / "03_rtu_and_crc.ipynb")
+    os.truncate(big, 500_000_000)  # sparse: 500 MB that take no disk
+    notebook(root / "cy" / "03_rtu_and_crc.ipynb", "{ not json")
+    notebook(root / "dee" / "03_rtu_and_crc.ipynb", json.dumps({"nbformat": 3, "worksheets": []}))
+    notebook(root / "eve" / "03_rtu_and_crc.ipynb", '{"nbformat": 4, "cells": [' * 10 + "\xe9")
+    (root / "fay").mkdir()
+    with open(os.fsencode(root / "fay") + b"/03_rtu_and_crc_\xff.ipynb", "w") as stream:
+        stream.write(NOTEBOOK)
+    (root / "gus").mkdir()
+    (root / "gus" / "01_data_model.ipynb").write_bytes(b"\xff\xfe not text")
+    os.makedirs(os.fsencode(root) + b"/h\xffl")
+    with open(os.fsencode(root) + b"/h\xffl/03_rtu_and_crc.ipynb", "w") as stream:
+        stream.write(NOTEBOOK)
+    start = time.monotonic()
+    found = collect([root])
+    assert time.monotonic() - start < 5
+    assert [(s.learner, s.path.name) for s in found.submissions] == [
+        ("ada", "03_rtu_and_crc.ipynb"), ("h\ufffdl", "03_rtu_and_crc.ipynb")]
+    assert sorted(found.refused) == ["bob", "cy", "dee", "eve", "fay", "gus"]
+    assert "500.0 MB" in found.refused["bob"][0]
+    assert "not JSON" in found.refused["cy"][0] and "not JSON" in found.refused["eve"][0]
+    assert "nbformat 3" in found.refused["dee"][0] and "not valid UTF-8" in found.refused["fay"][0]
+    assert "not UTF-8" in found.refused["gus"][0]
+    for learner, reasons in found.refused.items():  # every line can be written into the reports
+        (learner + " ".join(reasons)).encode("utf-8")
+
+
+# --- refusals land in their learner's row, and make no row of their own ----------------------------------
+
+def _link(name: str) -> zipfile.ZipInfo:
+    info = zipfile.ZipInfo(name)
+    info.external_attr = (stat.S_IFLNK | 0o777) << 16
+    return info
+
+
+def test_refused_entries_make_no_rows_of_their_own(tmp_path):
+    archive = tmp_path / "class.zip"
+    with zipfile.ZipFile(archive, "w") as out:
+        out.writestr("ada/03_rtu_and_crc.ipynb", NOTEBOOK)
+        out.writestr("/abs_03_rtu_and_crc.ipynb", NOTEBOOK)
+        out.writestr("c:/drive_03_rtu_and_crc.ipynb", NOTEBOOK)
+        out.writestr(_link("link"), "/etc/passwd")
+        out.writestr(_link("link.ipynb"), "/etc/passwd")
+        out.writestr(_link(" (1).ipynb"), "/etc/passwd")
+    found = collect([archive])
+    try:
+        assert found.learners == ["ada"]
+        assert sum("in no row" in note for note in found.notes) == 4
+    finally:
+        found.cleanup()
+
+
+def test_one_learners_refusals_land_in_their_row_only(tmp_path):
+    root = tmp_path / "class"
+    with zipfile.ZipFile(root.mkdir() or root / "ada.zip", "w") as out:
+        out.writestr("03_rtu_and_crc.ipynb", NOTEBOOK)
+        out.writestr("hal/../../escape_03_rtu_and_crc.ipynb", NOTEBOOK)
+        out.writestr(_link("hal/01_data_model.ipynb"), "/etc/passwd")
+    zipped(root / "hal.zip", {"03_rtu_and_crc.ipynb": NOTEBOOK})
+    found = collect([root])
+    try:
+        assert sorted(found.learners) == ["ada", "hal"]
+        assert list(found.refused) == ["ada"] and len(found.refused["ada"]) == 2
+        assert "leads outside" in refusals(found) and "symbolic link" in refusals(found)
+    finally:
+        found.cleanup()
+
+
+# --- zip bombs ----------------------------------------------------------------------------------------
+
+def _repeated(archive: Path, times: int) -> Path:
+    """``archive`` (one entry) with its central directory listing that one entry ``times`` times."""
+    data = archive.read_bytes()
+    end = data.rindex(b"PK\x05\x06")
+    signature, disk, start_disk, _, _, size, offset, comment = struct.unpack("<4s4H2LH", data[end:end + 22])
+    entry = data[offset:offset + size]
+    table = entry * times
+    archive.write_bytes(data[:offset] + table + struct.pack("<4s4H2LH", signature, disk, start_disk, times,
+                                                            times, len(table), offset, comment))
+    return archive
+
+
+def test_a_directory_that_lists_one_inner_zip_three_times_is_refused_before_a_byte_is_inflated(tmp_path):
+    """968 KB that listed one deflated inner zip 3 times wrote 3 GB in 47 s."""
+    inner = tmp_path / "inner.zip"
+    zipped(inner, {"03_rtu_and_crc.ipynb": b"\0" * 4_000_000, "01_data_model.ipynb": b"\0" * 4_000_000},
+           zipfile.ZIP_STORED)  # 8 MB of zeros, stored: the outer zip deflates it to kilobytes
+    root = tmp_path / "class"
+    bomb = _repeated(zipped(root / "bomb.zip", {"work.zip": inner.read_bytes()}), 3)
+    assert bomb.stat().st_size < 100_000
+    zipped(root / "ada.zip", {"03_rtu_and_crc.ipynb": NOTEBOOK})
+    spent: list[str] = []
+    original = getattr(archives, "_write", None)
+    if original is not None:  # every entry written out, seen
+        archives._write = lambda *args: spent.append(args[1].name) or original(*args)
+    start = time.monotonic()
+    try:
+        found = collect([root])
+    finally:
+        if original is not None:
+            archives._write = original
+    try:
+        assert time.monotonic() - start < 2
+        assert spent == ["03_rtu_and_crc.ipynb"]  # ada's, and nothing of the bomb inflated
+        assert rows(found) == {"ada": ["03_rtu_and_crc.ipynb"]}
+        assert list(found.refused) == ["bomb"] and "the same bytes as" in found.refused["bomb"][0]
+    finally:
+        found.cleanup()
+
+
+def test_entries_that_overlap_are_refused(tmp_path):
+    """An entry whose bytes lie inside another's (a second name for part of the first one's data)."""
+    inner = zipped(tmp_path / "inner.zip", {"03_rtu_and_crc.ipynb": NOTEBOOK}, zipfile.ZIP_STORED)
+    inner = inner.read_bytes()
+    outer = zipped(tmp_path / "class" / "x.zip", {"01_data_model.ipynb": inner}, zipfile.ZIP_STORED)
+    data = outer.read_bytes()
+    end = data.rindex(b"PK\x05\x06")
+    signature, disk, start_disk, _, count, size, offset, comment = struct.unpack("<4s4H2LH",
+                                                                                 data[end:end + 22])
+    inside = data.index(inner)  # where the inner zip's local header lies in the outer zip's data
+    inner_end = inner.rindex(b"PK\x05\x06")
+    inner_table = inner[struct.unpack_from("<L", inner, inner_end + 16)[0]:inner_end]
+    second = bytearray(inner_table)
+    struct.pack_into("<L", second, 42, inside)
+    table = data[offset:offset + size] + bytes(second)
+    outer.write_bytes(data[:offset] + table + struct.pack("<4s4H2LH", signature, disk, start_disk, count + 1,
+                                                          count + 1, len(table), offset, comment))
+    assert [info.filename for info in zipfile.ZipFile(outer).infolist()] == ["01_data_model.ipynb",
+                                                                             "03_rtu_and_crc.ipynb"]
+    found = collect([tmp_path / "class"])
+    try:
+        assert not found.submissions and "bytes that overlap" in found.refused["x"][0]
+    finally:
+        found.cleanup()
+
+
+def test_every_byte_inflated_counts_against_the_learners_and_the_classs_budget(tmp_path, monkeypatch):
+    monkeypatch.setattr(archives, "LEARNER_BYTES", 12_000_000, raising=False)
+    monkeypatch.setattr(archives, "CLASS_BYTES", 22_000_000, raising=False)
+    inner = tmp_path / "inner.zip"
+    zipped(inner, {f"0{n}_notebook.ipynb": b"\0" * 4_000_000 for n in range(5)})  # 20 MB, deflated
+    root = tmp_path / "class"
+    for learner in ("ada", "bob", "cy"):
+        zipped(root / f"{learner}.zip", {"work.zip": inner.read_bytes(), "03_rtu_and_crc.ipynb": NOTEBOOK})
+    start = time.monotonic()
+    found = collect([root])
+    try:
+        assert time.monotonic() - start < 10
+        reasons = {learner: " | ".join(lines) for learner, lines in found.refused.items()}
+        assert "all the grader unpacks for one learner" in reasons["ada"]
+        assert "all the grader unpacks for one learner" in reasons["bob"]
+        assert "all the grader unpacks for one class" in reasons["cy"]
+        inflated = sum(p.stat().st_size for p in found.scratch.rglob("*") if p.is_file())
+        assert inflated <= 22_000_000
+        assert all(reasons[learner].count("refused") >= 2 for learner in ("ada", "bob"))
+    finally:
+        found.cleanup()
+
+
+# --- rows and pages keyed by the platform's id ------------------------------------------------------------
+
+def test_a_learner_named_like_a_disambiguated_classmate_keeps_a_row_and_the_export(tmp_path):
+    for name in ("Sam Lee_21", "Sam Lee_7654321", "Sam Lee (21)_555"):
+        notebook(tmp_path / "moodle" / f"{name}_assignsubmission_file_05_tcp_and_mbap.ipynb")
+    found = collect([tmp_path / "moodle"])
+    assert len(found.learners) == 3 and len(set(found.learners)) == 3
+    assert sorted(person.id for person in found.identities.values()) == ["21", "555", "7654321"]
+    ids = {found.identities[learner].id: learner for learner in found.learners}
+    assert ids == {"21": "Sam Lee (Moodle 21)", "555": "Sam Lee (21) (555)", "7654321": "Sam Lee (7654321)"}
+    scores = {learner: (1, 2) for learner in found.learners}
+    export(tmp_path / "moodle.csv", "moodle", scores, found.identities)
+    exported = (tmp_path / "moodle.csv").read_text(encoding="utf-8")
+    for number in ("21", "555", "7654321"):
+        assert f"Participant {number}," in exported
+
+
+def test_page_names_cannot_collide():
+    old = page_name("Ada")
+    assert page_name(old.removesuffix(".html")) != old  # "ada-99a563ab" could overwrite Ada's page
+    names = ["Ada", "ada", "ADA", old.removesuffix(".html"), "ada lovelace", "ada_lovelace", "../ada", "é",
+             "e", "Sam Lee (21)", "Sam Lee (21) (Moodle 555)"]
+    from modbus_edu.course.reports import page_names  # the class's page names, made together
+
+    pages = page_names(names)
+    assert len(set(pages.values())) == len(names)
+    assert all("/" not in page and not page.startswith(".") for page in pages.values())
