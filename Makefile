@@ -22,6 +22,10 @@ UV     := uv==0.13.9
 RELEASE ?= release
 SUBMISSIONS ?= submissions
 OUT ?= grades
+EXPORT ?=
+NOTEBOOKS ?=
+# one shell word, whatever it holds: a Moodle zip's name has spaces ('$(SUBMISSIONS)' stays whole)
+quote = '$(subst ','\'',$(1))'
 
 LITE_VENV := .venv-lite
 LITE_WHEELS := build/lite/wheels
@@ -134,12 +138,14 @@ release:
 	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
 	$(BIN)/python -m modbus_edu.course release $(RELEASE)
 
-## grade: grade a class's notebooks (SUBMISSIONS=folder, default submissions/) into a gradebook,
-##     a page per learner and a class summary in $(OUT)/ (OUT=dir to change it); each notebook runs
-##     in a fresh, limited kernel (modbus-edu grade --help for the time and memory limits)
+## grade: grade a class's notebooks (SUBMISSIONS=one folder or zip, spaces kept, default submissions/)
+##     into a gradebook, a page per learner and a class summary in $(OUT)/ (OUT=dir to change it);
+##     NOTEBOOKS=00,01,03 says which notebooks count, EXPORT=moodle|canvas writes the platform's grade
+##     import; each notebook runs in a fresh, limited kernel (modbus-edu grade --help for the rest)
 grade:
 	$(call venv,$(LEARNER_PINS),$(TEST_PINS))
-	$(BIN)/python -m modbus_edu grade $(SUBMISSIONS) --out $(OUT)
+	$(BIN)/python -m modbus_edu grade $(call quote,$(SUBMISSIONS)) --out $(call quote,$(OUT))$(if \
+	  $(NOTEBOOKS), --notebooks $(call quote,$(NOTEBOOKS)))$(if $(EXPORT), --export $(call quote,$(EXPORT)))
 
 ## lite: build the course as a JupyterLite site in _site/ (notebooks on Pyodide, in the browser; any static
 ##     host serves it). Published (default): Pyodide and matplotlib from Pyodide's CDN, at the version the

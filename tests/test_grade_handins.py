@@ -7,6 +7,7 @@ that collide; then what counts towards the grade, which copy counts, the exports
 
 from __future__ import annotations
 
+import html
 import json
 import os
 import stat
@@ -14,6 +15,8 @@ import struct
 import time
 import zipfile
 from pathlib import Path
+
+import pytest
 
 from modbus_edu.course import archives
 from modbus_edu.course.export import export
@@ -313,3 +316,264 @@ def test_page_names_cannot_collide():
     pages = page_names(names)
     assert len(set(pages.values())) == len(names)
     assert all("/" not in page and not page.startswith(".") for page in pages.values())
+
+
+# --- the grade the instructor assigned ---------------------------------------------------------------------
+
+KEYS_03 = ["03.1", "03.2", "03.3", "03.4", "03.5"]
+KEYS_05 = ["05.1", "05.2", "05.3", "05.4", "05.5"]
+
+
+def cell_notebook(path: Path, cells: list[str], mtime: float | None = None) -> Path:
+    book = dict(EMPTY, cells=[{"cell_type": "code", "source": source, "metadata": {}, "outputs": [],
+                               "execution_count": None} for source in cells])
+    return notebook(path, json.dumps(book), mtime)
+
+
+def fake_grading(monkeypatch, answers: dict[str, dict[str, bool | None]]) -> list[str]:
+    """Grade without kernels: the notebook ``learner/file`` checks the keys ``answers`` gives it, right
+    (True), wrong (False) or blank (None); returns the notebooks run."""
+    from modbus_edu.course import grade as grading
+    from modbus_edu.course.runner import NotebookRun
+
+    class Level:
+        note = "isolation: none (the kernels are faked)"
+
+    ran: list[str] = []
+
+    def learner(sandbox, index, notebooks, *args):
+        runs = []
+        for path in notebooks:
+            ran.append(f"{path.parent.name}/{path.name}")
+            keys = answers.get(f"{path.parent.name}/{path.name}", {})
+            said = {True: "Right!", False: "Not yet: no.", None: "..."}
+            records = [{"key": key, "ok": ok, "message": said[ok]} for key, ok in keys.items()]
+            runs.append(NotebookRun(path.name, keys=list(keys), records=records))
+        return runs
+
+    monkeypatch.setattr(grading, "detect", lambda container=None: Level())
+    monkeypatch.setattr(grading, "_grade_learner", learner)
+    return ran
+
+
+def gradebook(out: Path) -> dict[str, dict[str, str]]:
+    import csv
+
+    with (out / "gradebook.csv").open(encoding="utf-8") as stream:
+        return {row["learner"]: {key.removeprefix("'"): value for key, value in row.items()}
+                for row in csv.DictReader(stream)}
+
+
+def small_class(root: Path) -> None:
+    """ada: 03 all right, and 02 (not assigned); bob: 03 with two right, 05 handed in blank."""
+    notebook(root / "ada" / "03_rtu_and_crc.ipynb")
+    notebook(root / "ada" / "02_registers.ipynb")
+    notebook(root / "bob" / "03_rtu_and_crc.ipynb")
+    notebook(root / "bob" / "05_tcp_and_mbap.ipynb")
+
+
+SMALL = {"ada/03_rtu_and_crc.ipynb": dict.fromkeys(KEYS_03, True),
+         "ada/02_registers.ipynb": {"02.1": True, "02.2": False},
+         "bob/03_rtu_and_crc.ipynb": {"03.1": True, "03.2": True, "03.3": False},
+         "bob/05_tcp_and_mbap.ipynb": dict.fromkeys(KEYS_05)}
+
+
+def test_the_grade_is_out_of_the_notebooks_assigned_and_the_rest_is_graded_not_counted(tmp_path, monkeypatch,
+                                                                                        capsys):
+    from modbus_edu.cli import main
+
+    small_class(tmp_path / "class")
+    fake_grading(monkeypatch, SMALL)
+    out = tmp_path / "grades"
+    assert main(["grade", str(tmp_path / "class"), "--out", str(out), "-q", "--notebooks", "03,5"]) == 0
+    printed = capsys.readouterr().out
+    assert "The grade is out of the 10 exercise(s) of notebook(s) 03, 05 (--notebooks)." in printed
+    assert "graded but not counted (beyond the assignment): 02.1, 02.2" in printed
+    rows = gradebook(out)
+    assert (rows["ada"]["right"], rows["ada"]["out of"]) == ("5", "10")  # 02.1 right, not counted
+    assert (rows["bob"]["right"], rows["bob"]["out of"]) == ("2", "10")
+    assert rows["ada"]["02.1 (not counted)"] == "right"
+    assert rows["ada"]["05.1"] == "not handed in" and rows["bob"]["05.1"] == "not answered"
+    assert rows["bob"]["03.5"] == "not answered"  # 03 handed in: blank, not "not handed in"
+    assert (rows["ada"]["not handed in"], rows["bob"]["not answered"]) == ("5", "7")
+    summary = html.unescape((out / "summary.html").read_text(encoding="utf-8"))
+    assert "Graded but not counted (handed in beyond the assignment): 02.1 (1 learner(s)), 02.2" in summary
+    pages = {page.name: page.read_text(encoding="utf-8") for page in (out / "learners").iterdir()}
+    ada = pages["ada.html"]
+    assert ada.count("<tr><td>") == 6  # 03.1 to 03.5, and notebook 05 in one row
+    assert "05.1, 05.2, 05.3, 05.4, 05.5</td><td class='not'>not handed in" in ada
+    assert "<td>02.1</td>" not in ada
+    assert "Also graded, not counted (not in the assignment): 02.1 right" in ada
+    saved = json.loads((out / "gradebook.json").read_text(encoding="utf-8"))
+    assert saved["learners"]["ada"]["right"] == 5 and saved["learners"]["ada"]["out of"] == 10
+
+
+def test_without_an_assignment_one_line_says_what_the_grade_is_out_of(tmp_path, monkeypatch, capsys):
+    from modbus_edu.cli import main
+
+    small_class(tmp_path / "class")
+    fake_grading(monkeypatch, SMALL)
+    assert main(["grade", str(tmp_path / "class"), "--out", str(tmp_path / "grades"), "-q"]) == 0
+    line = ("No assignment given (--notebooks 00,01,03, or assignment.json beside the class): the grade is "
+            "out of the 12 exercise(s) that the class's notebooks check, whoever handed them in.")
+    assert line in capsys.readouterr().out
+    assert line in html.unescape((tmp_path / "grades" / "summary.html").read_text(encoding="utf-8"))
+
+
+def test_an_assignment_file_beside_the_class_gives_the_exercises_and_the_points(tmp_path, monkeypatch,
+                                                                                 capsys):
+    from modbus_edu.cli import main
+    from modbus_edu.course.assignment import AssignmentError, read
+
+    root = tmp_path / "moodle"
+    notebook(root / "Ada Lovelace_12_assignsubmission_file_03_rtu_and_crc.ipynb")
+    notebook(root / "Hal Jordan_9_assignsubmission_file_03_rtu_and_crc.ipynb")
+    (root / "assignment.json").write_text('{"exercises": ["03.1", "03.2", "03.5", "03.4"], "points": 20}')
+    answers = {"moodle/Ada Lovelace_12_assignsubmission_file_03_rtu_and_crc.ipynb":
+               dict.fromkeys(KEYS_03, True),
+               "moodle/Hal Jordan_9_assignsubmission_file_03_rtu_and_crc.ipynb": {"03.1": True, "03.3": True}}
+    fake_grading(monkeypatch, answers)
+    out = tmp_path / "grades"
+    assert main(["grade", str(root), "--out", str(out), "-q", "--export", "moodle"]) == 0
+    assert "The grade is out of the 4 exercise(s) of exercise(s) 03.1, 03.2, 03.4, 03.5 (assignment.json)." \
+        in capsys.readouterr().out
+    worksheet = (out / "moodle-import.csv").read_text(encoding="utf-8").splitlines()
+    assert worksheet[1].startswith("Participant 9,Hal Jordan,,5.0,20,")  # 1 of 4 counted: 03.3 is not
+    assert worksheet[2].startswith("Participant 12,Ada Lovelace,,20.0,20,")
+    for bad, message in [('{"notebooks": ["03", "99"]}', "notebook 99 has no exercises"),
+                         ('{"exercises": ["00.0"]}', "not exercises a grade can count"),
+                         ('{"notebooks": "03"}', "are a list"), ("notebooks = 03", "cannot be read as JSON"),
+                         ('{"notebooks": ["03"], "points": -1}', "points must be a number above 0")]:
+        (tmp_path / "bad.json").write_text(bad)
+        with pytest.raises(AssignmentError, match=message):
+            read(tmp_path / "bad.json")
+
+
+# --- the newest of two copies -----------------------------------------------------------------------------
+
+def test_of_two_copies_with_equal_answers_the_newest_by_the_zips_time_counts_not_the_last_unpacked(tmp_path):
+    from modbus_edu.course.runner import NotebookRun
+    from modbus_edu.course.verdicts import pick_copies
+
+    archive = tmp_path / "class" / "ada.zip"
+    archive.parent.mkdir()
+    with zipfile.ZipFile(archive, "w") as out:  # the newer copy first, the older one last
+        out.writestr(zipfile.ZipInfo("03_rtu_and_crc-Copy1.ipynb", (2026, 11, 3, 10, 22, 0)), NOTEBOOK)
+        out.writestr(zipfile.ZipInfo("03_rtu_and_crc.ipynb", (2026, 11, 1, 9, 0, 0)), NOTEBOOK)
+    (tmp_path / "class" / "hal").mkdir()
+    for name in ("03_rtu_and_crc.ipynb", "03_rtu_and_crc (1).ipynb"):  # the same time: the (1) is later
+        notebook(tmp_path / "class" / "hal" / name, mtime=1_700_000_000)
+    found = collect([tmp_path / "class"])
+    try:
+        graded = [(s, NotebookRun(s.path.name, keys=["03.1"], records=[{"key": "03.1", "ok": True,
+                                                                         "message": "Right!"}]))
+                  for s in found.submissions]
+        chosen, choices = pick_copies(graded)
+        assert [s.path.name for s, _ in chosen["ada"]] == ["03_rtu_and_crc-Copy1.ipynb"]
+        assert "as many answers, and the newest: 2026-11-03 10:22:00 by the zip's or the file's time" \
+            in choices["ada"][0]
+        assert [s.path.name for s, _ in chosen["hal"]] == ["03_rtu_and_crc (1).ipynb"]
+        assert "the later copy by its (1) mark" in choices["hal"][0]
+    finally:
+        found.cleanup()
+
+
+# --- exports ----------------------------------------------------------------------------------------------
+
+def test_a_wrong_export_stops_before_anything_is_graded(tmp_path, monkeypatch, capsys):
+    from modbus_edu.cli import main
+
+    small_class(tmp_path / "class")
+    ran = fake_grading(monkeypatch, SMALL)
+    out = tmp_path / "grades"
+    assert main(["grade", str(tmp_path / "class"), "--out", str(out), "-q", "--export", "canvas"]) == 1
+    assert ran == [] and not out.exists()
+    error = capsys.readouterr().err
+    assert "none of the learners came from a Canvas download (they were gathered by hand)" in error
+    assert "nothing was graded" in error
+
+
+def test_a_finished_gradebook_exports_again_without_grading(tmp_path, monkeypatch, capsys):
+    from modbus_edu.cli import main
+
+    root = tmp_path / "canvas"
+    notebook(root / "lovelaceada_12345_678901_03_rtu_and_crc.ipynb")
+    notebook(root / "hoppergrace_23456_678903_03_rtu_and_crc.ipynb")
+    ran = fake_grading(monkeypatch, {"canvas/lovelaceada_12345_678901_03_rtu_and_crc.ipynb":
+                                     dict.fromkeys(KEYS_03, True),
+                                     "canvas/hoppergrace_23456_678903_03_rtu_and_crc.ipynb": {"03.1": True}})
+    out = tmp_path / "grades"
+    assert main(["grade", str(root), "--out", str(out), "-q", "--notebooks", "03"]) == 0
+    assert len(ran) == 2
+    capsys.readouterr()
+    assert main(["grade", "--from", str(out), "--export", "canvas", "--points", "20"]) == 0
+    assert "grades out of 20" in capsys.readouterr().out
+    assert len(ran) == 2  # nothing graded again
+    lines = (out / "canvas-import.csv").read_text(encoding="utf-8").splitlines()
+    assert lines == ["Student,ID,SIS User ID,SIS Login ID,Section,Modbus notebooks",
+                     "hoppergrace,23456,,,,4.0", "lovelaceada,12345,,,,20.0"]
+    assert main(["grade", "--from", str(out), "--export", "canvas", "--assignment", "4321"]) == 0
+    assert (out / "canvas-import.csv").read_text(encoding="utf-8").splitlines()[0].endswith(
+        ",Modbus notebooks (4321)")
+    assert main(["grade", "--from", str(out)]) == 2  # --from without --export: nothing to do
+    assert main(["grade", "--from", str(tmp_path), "--export", "moodle"]) == 1  # no gradebook there
+
+
+def test_canvas_without_an_assignment_id_says_what_its_import_will_do(tmp_path, monkeypatch, capsys):
+    from modbus_edu.cli import main
+
+    notebook(tmp_path / "canvas" / "lovelaceada_12345_678901_03_rtu_and_crc.ipynb")
+    fake_grading(monkeypatch, {})
+    out = tmp_path / "grades"
+    assert main(["grade", str(tmp_path / "canvas"), "--out", str(out), "-q", "--export", "canvas",
+                 "--points", "15"]) == 0
+    assert ("Canvas: no assignment id (--assignment 4321, the number in the assignment's address), so its "
+            "import makes a new assignment column 'Modbus notebooks', out of 15 points"
+            ) in capsys.readouterr().out
+    assert main(["grade", str(tmp_path / "canvas"), "--out", str(out), "-q", "--export", "canvas",
+                 "--assignment", "Notebooks (4321)"]) == 0
+    assert "no assignment id" not in capsys.readouterr().out
+
+
+# --- identical answers --------------------------------------------------------------------------------
+
+def test_byte_identical_answer_cells_are_flagged_for_the_instructor_never_as_a_verdict(tmp_path, monkeypatch):
+    from modbus_edu.cli import main
+
+    built = ("def crc16(data: bytes) -> int:\n    register = 0xFFFF\n    for byte in data:\n"
+             "        register ^= byte\n        for _ in range(8):\n"
+             "            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1\n    return register\n\n\ncheck('03.5', crc16)")
+    own = built.replace("register", "crc")
+    short = "answer = 0x4B37\ncheck('03.1', answer)"
+    for learner, cell in (("ada", built), ("hal", built), ("cy", own), ("dee", built.replace("0xFFFF", "0"))):
+        cell_notebook(tmp_path / "class" / learner / "03_rtu_and_crc.ipynb", [short, cell])
+    answered = {"03.1": True, "03.5": True}
+    fake_grading(monkeypatch, {f"{learner}/03_rtu_and_crc.ipynb": answered
+                               for learner in ("ada", "hal", "cy")}
+                 | {"dee/03_rtu_and_crc.ipynb": {"03.1": True, "03.5": False}})
+    out = tmp_path / "grades"
+    assert main(["grade", str(tmp_path / "class"), "--out", str(out), "-q"]) == 0
+    summary = html.unescape((out / "summary.html").read_text(encoding="utf-8"))
+    assert "Identical answers (for you to look at; never a verdict)" in summary
+    assert f"03.5: the same answer cell, byte for byte ({len(built)} characters), from 2 learners: ada, hal" \
+        in summary
+    assert "03.1: the same" not in summary  # a short answer: what every right answer looks like
+    rows = gradebook(out)
+    assert rows["ada"]["03.5"] == rows["hal"]["03.5"] == "right" and not rows["ada"]["flags"]
+
+
+# --- make grade -------------------------------------------------------------------------------------------
+
+def test_make_grade_keeps_a_name_with_spaces_whole_and_exports():
+    import subprocess
+
+    root = Path(__file__).resolve().parents[1]
+    shown = subprocess.run(["make", "-n", "grade", "SUBMISSIONS=MOD 101-Assignment 1-12345.zip",
+                            "OUT=my grades", "EXPORT=moodle", "NOTEBOOKS=00,01,03"], cwd=root,
+                           capture_output=True, text=True, timeout=60, check=True).stdout
+    command = [line for line in shown.splitlines() if "modbus_edu grade" in line][-1]
+    assert command.endswith("grade 'MOD 101-Assignment 1-12345.zip' --out 'my grades' --notebooks '00,01,03' "
+                            "--export 'moodle'")
+    quoted = subprocess.run(["make", "-n", "grade", "SUBMISSIONS=Ada's work.zip"], cwd=root,
+                            capture_output=True, text=True, timeout=60, check=True).stdout.splitlines()[-1]
+    assert quoted.endswith("grade 'Ada'\\''s work.zip' --out 'grades'")

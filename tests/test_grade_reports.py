@@ -135,7 +135,7 @@ def test_copies_of_one_notebook_are_resolved_by_answers_then_age_and_said(tmp_pa
     assert [s.path.name for s, _ in chosen["hal"]] == ["03_rtu_and_crc-Copy1.ipynb"]
     assert [s.path.name for s, _ in chosen["ada"]] == ["03_rtu_and_crc (1).ipynb"]  # one answer each: newest
     assert choices["hal"] == [f"03_rtu_and_crc graded from '03_rtu_and_crc-Copy1.ipynb' ({len(KEYS_03)} "
-                              "answered; the most, then the newest), not '03_rtu_and_crc.ipynb' (0 answered)"]
+                              "answered; the most answers), not '03_rtu_and_crc.ipynb' (0 answered)"]
     _, runs_kept, _ = course_keys(chosen)
     assert {verdict.status for verdict in verdicts(runs_kept["hal"]).values()} == {RIGHT}
 

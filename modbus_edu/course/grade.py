@@ -51,6 +51,7 @@ concept inventory, the notebooks to look at, and how the submissions were read),
 from __future__ import annotations
 
 import functools
+import json
 import os
 import secrets
 import shutil
@@ -61,20 +62,27 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
+from .assignment import Assignment, unassigned_line
 from .cleanroom import trace_built
-from .reports import _counts, _write_csv, _write_learner, _write_summary, page_name
+from .export import ExportError, check_layout
+from .reports import _counts, _write_csv, _write_learner, _write_summary, page_names
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .sandbox import MARKER, Sandbox, Seal, detect
-from .submissions import Found, Submission, collect, find_submissions
+from .submissions import Found, Identity, Submission, collect, find_submissions
 from .verdicts import (
     ERRORED,
     NOT_ANSWERED,
+    NOT_HANDED_IN,
     RIGHT,
     WRONG,
     Verdict,
+    _key_order,
     concerns,
+    copy_order,
     course_keys,
+    filled,
     handed_in,
+    identical_answers,
     inventory_marks,
     misconception,
     pick_copies,
@@ -84,7 +92,10 @@ from .verdicts import (
 MAX_COPIES = 2
 """The most copies of one notebook run for one learner: the newest ones."""
 
-__all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "exercise_keys",
+GRADEBOOK_JSON = "gradebook.json"
+"""What an export reads from a finished gradebook (``--from``): each learner's score and platform id."""
+
+__all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "NOT_HANDED_IN", "RIGHT", "WRONG", "Verdict", "exercise_keys",
            "find_submissions", "grade", "instrument", "misconception", "rebinds_check", "verdicts"]
 
 
@@ -108,7 +119,7 @@ def newest_copies(tasks: list[Submission]) -> tuple[list[Submission], list[str]]
     kept: list[Submission] = []
     lines = []
     for notebook, copies in groups.items():
-        copies.sort(key=lambda task: (task.version, task.mtime, task.path.name), reverse=True)
+        copies.sort(key=copy_order, reverse=True)
         kept += copies[:MAX_COPIES]
         if len(copies) > MAX_COPIES:
             left = ", ".join(repr(task.path.name) for task in copies[MAX_COPIES:MAX_COPIES + 3])
@@ -146,19 +157,24 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
 
 
 def grade(paths: list[Path], out: Path, *, timeout: float = 300, memory_mb: int = 1024,
-          jobs: int | None = None, progress: bool = True, container: str | None = None) -> dict:
+          jobs: int | None = None, progress: bool = True, container: str | None = None,
+          assignment: Assignment | None = None, export: str | None = None) -> dict:
     """Grade a class; write the gradebook, the learners' pages and the summary into ``out``; the summary
-    also holds each learner's (right, out of) exercises and identity on the platform (for an export)."""
+    also holds each learner's (right, out of) counted exercises and identity on the platform (for an
+    export).  ``assignment`` says what counts (:mod:`.assignment`); ``export`` (a platform) is checked
+    against the class's layout before anything is graded."""
     found = collect(paths)
     try:
+        if export:
+            check_layout(export, found.identities)
         return _grade(found, paths, out, timeout=timeout, memory_mb=memory_mb, jobs=jobs, progress=progress,
-                      container=container)
+                      container=container, assignment=assignment)
     finally:
         found.cleanup()
 
 
 def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory_mb: int, jobs: int | None,
-           progress: bool, container: str | None) -> dict:
+           progress: bool, container: str | None, assignment: Assignment | None = None) -> dict:
     tqdm = load_tqdm()
     by_learner: dict[str, list[Submission]] = {}
     for task in found.submissions:
@@ -187,10 +203,23 @@ def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory
                 bar.update()
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+    return _report(found, graded, out, capped, assignment, {"seconds": time.monotonic() - start,
+                                                             "isolation": sandbox.note})
+
+
+def _report(found: Found, graded: list[tuple[Submission, NotebookRun]], out: Path,
+            capped: dict[str, list[str]], assignment: Assignment | None, extra: dict) -> dict:
+    """Decide the class's verdicts from its runs and write the gradebook, the pages, the summary and
+    ``gradebook.json`` (what ``--from`` exports)."""
     chosen, choices = pick_copies(graded)
-    exercises, runs, foreign = course_keys(chosen)
+    checked, runs, foreign = course_keys(chosen)
+    counted = list(assignment.exercises) if assignment else checked
+    exercises = sorted(set(checked) | set(counted), key=_key_order)
+    beyond = [key for key in exercises if key not in counted]
     learners = found.learners
-    table = {learner: verdicts(runs.get(learner, [])) for learner in learners}
+    handed = handed_in(chosen)
+    table = {learner: filled(verdicts(runs.get(learner, [])), exercises, handed.get(learner, set()))
+             for learner in learners}
     flags = {learner: sorted({f"{run.notebook}: {problem}" for run in runs.get(learner, [])
                               for problem in run.problems}) + found.refused.get(learner, [])
              + ([foreign[learner]] if learner in foreign else []) + choices.get(learner, [])
@@ -200,17 +229,52 @@ def _grade(found: Found, paths: list[Path], out: Path, *, timeout: float, memory
                          for concern in concerns(run)] + found.refused.get(learner, [])
                for learner in learners}
     marks = {learner: inventory_marks(runs.get(learner, [])) for learner in learners}
+    out_of = assignment.line() if assignment else unassigned_line(len(counted))
     out.mkdir(parents=True, exist_ok=True)
-    _write_csv(out / "gradebook.csv", table, exercises, flags, marks)
+    _write_csv(out / "gradebook.csv", table, exercises, flags, marks, counted)
     (out / "learners").mkdir(exist_ok=True)
+    pages = page_names(learners)
     for learner in learners:
-        _write_learner(out / "learners" / page_name(learner), learner, table[learner], exercises,
-                       flags[learner])
+        _write_learner(out / "learners" / pages[learner], learner, table[learner], counted, flags[learner],
+                       out_of, {key: table[learner][key] for key in beyond})
     notes = found.notes + [f"{learner}: {choice}" for learner, made in choices.items() for choice in made]
-    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks, handed_in(chosen))
-    summary["scores"] = {learner: (_counts(table[learner], exercises)[RIGHT], len(exercises))
+    shared = identical_answers(chosen)
+    summary = _write_summary(out, table, exercises, flags, look_at, notes, marks, handed, counted=counted,
+                             out_of=out_of, shared=shared)
+    summary["scores"] = {learner: (_counts(table[learner], counted)[RIGHT], len(counted))
                          for learner in learners}
     summary["identities"] = dict(found.identities)
-    summary["seconds"] = time.monotonic() - start
-    summary["isolation"] = sandbox.note
+    summary["out of"] = out_of
+    summary["beyond"] = beyond
+    summary["identical"] = shared
+    summary["points"] = assignment.points if assignment else None
+    summary.update(extra)
+    _write_json(out / GRADEBOOK_JSON, summary, pages)
     return summary
+
+
+def _write_json(path: Path, summary: dict, pages: dict[str, str]) -> None:
+    """``gradebook.json``: what the grade is out of, the points, and each learner's score, page and id on
+    the platform: enough to export again without grading again (``--from``)."""
+    identities = summary["identities"]
+    learners = {learner: {"right": right, "out of": total, "page": f"learners/{pages[learner]}",
+                          "identity": vars(identities[learner]) if learner in identities else None}
+                for learner, (right, total) in summary["scores"].items()}
+    data = {"out of": summary["out of"], "points": summary["points"], "learners": learners}
+    path.write_text(json.dumps(data, indent=1, ensure_ascii=False), encoding="utf-8")
+
+
+def load(folder: Path) -> dict:
+    """A finished gradebook's summary as :func:`grade` returns it (scores, identities, points, what the
+    grade is out of), read from ``folder/gradebook.json``."""
+    path = folder / GRADEBOOK_JSON
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        learners = data["learners"]
+        return {"scores": {name: (int(row["right"]), int(row["out of"])) for name, row in learners.items()},
+                "identities": {name: Identity(**row["identity"]) for name, row in learners.items()
+                               if row.get("identity")},
+                "points": data.get("points"), "out of": str(data.get("out of", ""))}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise ExportError(f"{path}: not a finished gradebook ({type(exc).__name__}: {exc}); grade the class "
+                          "into that folder first (modbus-edu grade SUBMISSIONS --out FOLDER)") from exc

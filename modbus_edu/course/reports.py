@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ..codes import _printable
 from ..exercises import inventory
-from .verdicts import ERRORED, NOT_ANSWERED, RIGHT, WRONG, Verdict, feedback, slip
+from .verdicts import ERRORED, NOT_ANSWERED, NOT_HANDED_IN, RIGHT, WRONG, Verdict, feedback, slip
 
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 MONTH = r"(?:jan|feb|mar|apr|may|jun|jul|aug|sep|oct|nov|dec)[a-z]*\.?"
@@ -47,7 +47,7 @@ def csv_cell(value: object) -> str:
 
 
 def _csv(path: Path, rows: list[list]) -> None:
-    with path.open("w", newline="", encoding="utf-8") as stream:
+    with path.open("w", newline="", encoding="utf-8", errors="replace") as stream:
         csv.writer(stream).writerows([[csv_cell(cell) for cell in row] for row in rows])
 
 
@@ -102,19 +102,27 @@ OUT_OF = "out of"
 INVENTORY_QUESTIONS = "inventory questions"
 
 
+NOT_COUNTED = " (not counted)"
+"""What the gradebook's header adds to an exercise graded beyond the assignment."""
+
+
 def _write_csv(path: Path, table: dict, exercises: list[str], flags: dict,
-               marks: dict[str, dict] | None = None) -> None:
-    """``gradebook.csv``: a row per learner, each exercise's verdict, the counts of each verdict (``right``
-    is the score, ``out of`` how many exercises), the concept inventory's right answers before and after
-    (of ``inventory questions``), and the flags; every score a number."""
-    rows: list[list] = [["learner", *exercises, RIGHT, WRONG, NOT_ANSWERED, ERRORED, OUT_OF,
+               marks: dict[str, dict] | None = None, counted: list[str] | None = None) -> None:
+    """``gradebook.csv``: a row per learner, each exercise's verdict (an exercise beyond the assignment,
+    ``counted``, headed "03.4 (not counted)"), the counts of each verdict over the counted exercises
+    (``right`` is the score, ``out of`` how many exercises), the concept inventory's right answers before
+    and after (of ``inventory questions``), and the flags; every score a number."""
+    counted = exercises if counted is None else counted
+    header = [key if key in counted else key + NOT_COUNTED for key in exercises]
+    rows: list[list] = [["learner", *header, RIGHT, WRONG, NOT_ANSWERED, NOT_HANDED_IN, ERRORED, OUT_OF,
                          "inventory pre", "inventory post", INVENTORY_QUESTIONS, "flags"]]
     for learner, row in table.items():
-        counts = _counts(row, exercises)
+        counts = _counts(row, counted)
         quiz = (marks or {}).get(learner, {})
         answered = quiz.get(inventory.PRE) is not None or quiz.get(inventory.POST) is not None
         rows.append([learner, *(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises),
-                     counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[ERRORED], len(exercises),
+                     counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[NOT_HANDED_IN],
+                     counts[ERRORED], len(counted),
                      inventory_score(quiz.get(inventory.PRE)), inventory_score(quiz.get(inventory.POST)),
                      len(inventory.QUESTIONS) if answered else "", " | ".join(flags[learner])])
     _csv(path, rows)
@@ -133,17 +141,34 @@ def _list(items: list[str]) -> str:
     return "<ul>" + "".join(f"<li>{item}</li>" for item in items) + "</ul>"
 
 
-def _write_learner(path: Path, learner: str, row: dict, exercises: list[str], flags: list[str]) -> None:
-    parts = [f"<p>{_counts(row, exercises)[RIGHT]} of {len(exercises)} exercises right.</p>"]
+def _write_learner(path: Path, learner: str, row: dict, exercises: list[str], flags: list[str],
+                   out_of: str = "", beyond: dict[str, Verdict] | None = None) -> None:
+    """A learner's page: the score, what it is out of, the flags, then one row per exercise asked
+    (``exercises``: the counted ones), a notebook not handed in as one row, and the exercises handed in
+    beyond the assignment in one line (graded, not counted)."""
+    parts = [f"<p>{_counts(row, exercises)[RIGHT]} of {len(exercises)} exercises right. {_h(out_of)}</p>"]
     if flags:
         parts.append("<h2>About the notebooks</h2>" + _list([_h(flag) for flag in flags]))
     parts.append("<table><tr><th>exercise</th><th>result</th><th>the checker's feedback</th></tr>")
+    missing: dict[str, list[str]] = {}
     for key in exercises:
         verdict = row.get(key, Verdict(NOT_ANSWERED, "no cell of the notebooks checks this exercise"))
+        if verdict.status == NOT_HANDED_IN:
+            missing.setdefault(key.split(".")[0], []).append(key)
+            continue
         parts.append(f"<tr><td>{_h(key)}</td><td class='{_h(verdict.status.split()[0])}'>{_h(verdict.status)}"
                      f"</td><td><pre>{_h(verdict.message)}</pre></td></tr>")
+    for number, keys in missing.items():
+        parts.append(f"<tr><td>{_h(', '.join(keys))}</td><td class='not'>{NOT_HANDED_IN}</td><td><pre>"
+                     f"notebook {_h(number)} was not handed in</pre></td></tr>")
     parts.append("</table>")
-    path.write_text(PAGE.format(title=f"Feedback for {_h(learner)}", body="".join(parts)), encoding="utf-8")
+    if beyond:
+        shown = "; ".join(f"{key} {verdict.status}" for key, verdict in beyond.items()
+                          if verdict.status != NOT_HANDED_IN)
+        if shown:
+            parts.append(f"<p>Also graded, not counted (not in the assignment): {_h(shown)}.</p>")
+    path.write_text(PAGE.format(title=f"Feedback for {_h(learner)}", body="".join(parts)), encoding="utf-8",
+                    errors="replace")
 
 
 def _slips(table: dict, key: str) -> list[dict]:
@@ -209,18 +234,27 @@ def _gain_html(marks: dict[str, dict]) -> tuple[str, list[inventory.Gain]]:
 def _handed(table: dict, key: str, handed: dict[str, set[str]] | None) -> list[str]:
     """The learners who handed in the notebook of exercise ``key`` (by its number, as
     :func:`.verdicts.handed_in` gives them; without that, those whose notebooks check it)."""
+    def checked(row: dict) -> bool:  # a verdict, and not the "not handed in" of a filled row
+        return row.get(key, Verdict(NOT_HANDED_IN)).status != NOT_HANDED_IN
+
     if handed is None:
-        return [learner for learner, row in table.items() if key in row]
+        return [learner for learner, row in table.items() if checked(row)]
     number = key.split(".")[0]
-    return [learner for learner in table if number in handed.get(learner, set()) or key in table[learner]]
+    return [learner for learner in table if number in handed.get(learner, set()) or checked(table[learner])]
 
 
 def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
                    look_at: dict[str, list[str]] | None = None, notes: list[str] | None = None,
-                   marks: dict[str, dict] | None = None, handed: dict[str, set[str]] | None = None) -> dict:
-    """``summary.csv`` and ``summary.html``: each exercise's success rate (among the learners who handed
-    its notebook in) and slips, the class's slips by their catalogue names, the concept inventory's
-    gains, the notebooks to look at and how the submissions were read."""
+                   marks: dict[str, dict] | None = None, handed: dict[str, set[str]] | None = None, *,
+                   counted: list[str] | None = None, out_of: str = "", shared: list[str] | None = None
+                   ) -> dict:
+    """``summary.csv`` and ``summary.html``: what the grade is out of (``out_of``) and the exercises
+    graded beyond it (not ``counted``), each exercise's success rate (among the learners who handed its
+    notebook in) and slips, the class's slips by their catalogue names, the concept inventory's gains,
+    the answer cells learners share byte for byte (``shared``), the notebooks to look at and how the
+    submissions were read."""
+    counted = exercises if counted is None else counted
+    beyond = [key for key in exercises if key not in counted]
     look_at = {learner: found for learner, found in (look_at or {}).items() if found}
     rows = []
     for key in exercises:
@@ -229,18 +263,25 @@ def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
         rows.append({"exercise": key, "learners": len(learners), **{s: counts[s] for s in
                      (RIGHT, WRONG, NOT_ANSWERED, ERRORED)},
                      "success rate": counts[RIGHT] / len(learners) if learners else 0.0,
-                     "slips": _slips(table, key)})
+                     "slips": _slips(table, key), "counted": key in counted})
     lines: list[list] = [["exercise", "learners who handed it in", RIGHT, WRONG, NOT_ANSWERED, ERRORED,
                           "success rate (%)", "most frequent misconception", "learners with it", "who",
-                          "example feedback"]]
+                          "example feedback", "counted"]]
     for row in rows:
         top = row["slips"][0] if row["slips"] else {"slip": "", "learners": [], "example": ""}
         lines.append([row["exercise"], row["learners"], row[RIGHT], row[WRONG], row[NOT_ANSWERED],
                       row[ERRORED], round(100 * row["success rate"], 1), top["slip"], len(top["learners"]),
-                      ", ".join(top["learners"]), top["example"]])
+                      ", ".join(top["learners"]), top["example"], "yes" if row["counted"] else "no"])
     _csv(out / "summary.csv", lines)
 
-    parts = [f"<p>{len(table)} learners, {len(exercises)} exercises.</p>"]
+    parts = [f"<p>{len(table)} learners, {len(exercises)} exercises graded. {_h(out_of)}</p>"]
+    if beyond:
+        handing = {key: len(_handed(table, key, handed)) for key in beyond}
+        parts.append("<p>Graded but not counted (handed in beyond the assignment): " + _h(", ".join(
+            f"{key} ({handing[key]} learner(s))" for key in beyond)) + ".</p>")
+    if shared:
+        parts.append("<h2>Identical answers (for you to look at; never a verdict)</h2>" + _list(
+            [_h(line) for line in shared]))
     named: dict[str, dict] = {}
     for row in rows:
         for entry in row["slips"]:
@@ -269,7 +310,8 @@ def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
     if notes:
         parts.append("<h2>How the submissions were read</h2>" + _list([_h(note) for note in notes]))
     page = PAGE.format(title="Class summary", body="".join(parts))
-    (out / "summary.html").write_text(page, encoding="utf-8")
+    (out / "summary.html").write_text(page, encoding="utf-8", errors="replace")
     flagged = {learner: found for learner, found in flags.items() if found}
     return {"learners": len(table), "exercises": rows, "flags": flagged, "look_at": look_at,
-            "notes": list(notes or []), "inventory": gain_rows}
+            "notes": list(notes or []), "inventory": gain_rows, "out of": out_of, "beyond": beyond,
+            "identical": list(shared or [])}

@@ -12,16 +12,24 @@ with), and each learner's marks on the concept inventory (:func:`inventory_marks
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import re
 from dataclasses import dataclass
+from datetime import datetime
 
 from ..exercises import EXERCISES, PLACEHOLDER, inventory
 from ..exercises.misconceptions import CATALOGUE
 from ..exercises.plain import PlainError, revive
-from .runner import NotebookRun
+from .runner import NotebookRun, exercise_keys
 from .submissions import Submission
 
 RIGHT, WRONG, NOT_ANSWERED, ERRORED = "right", "wrong", "not answered", "errored"
+NOT_HANDED_IN = "not handed in"
+"""An exercise of a notebook the learner did not hand in (``not answered``: handed in, left blank)."""
+SHARED_CELL = 80
+"""The fewest characters an answer cell must have for two identical copies of it to be worth a look
+(shorter ones, ``answer = 0x4B37``, are what every right answer looks like)."""
 COURSE_NOTEBOOK = re.compile(r"\d\d_")
 """A course notebook's title starts with its number: ``03_rtu_and_crc``."""
 SHOWN_KEYS = 5
@@ -105,29 +113,51 @@ def _scratch(submission: Submission, run: NotebookRun, handed: set[str]) -> tupl
     return _only(run, lambda key: key not in EXERCISES or _number(key) not in handed), line
 
 
+def _when(seconds: float) -> str:
+    return datetime.fromtimestamp(seconds).strftime("%Y-%m-%d %H:%M:%S")
+
+
+def _why(best: tuple[Submission, NotebookRun], others: list[tuple[Submission, NotebookRun]]) -> str:
+    """Why ``best`` counts over ``others``: the first of the marks that told them apart."""
+    chosen, run = best
+    if all(other.version < chosen.version for other, _ in others):
+        return "the platform's newest resubmission"
+    if all(answers(other_run) < answers(run) for _, other_run in others):
+        return "the most answers"
+    if all(other.mtime < chosen.mtime for other, _ in others):
+        return f"as many answers, and the newest: {_when(chosen.mtime)} by the zip's or the file's time"
+    if all(other.mark < chosen.mark for other, _ in others):
+        return f"as many answers, the same time, and the later copy by its ({chosen.mark}) mark"
+    return "as many answers, the same time and marks: the last by name"
+
+
+def copy_order(submission: Submission) -> tuple:
+    """The order of a learner's copies of one notebook, newest last: the platform's resubmission, then the
+    zip's or the file's time, then the download's ``(N)`` mark, then the name."""
+    return submission.version, submission.mtime, submission.mark, submission.path.name
+
+
 def pick_copies(graded: list[tuple[Submission, NotebookRun]]
                 ) -> tuple[dict[str, list[tuple[Submission, NotebookRun]]], dict[str, list[str]]]:
     """Per learner, one run per notebook: of several copies, the platform's newest resubmission, else the
-    one with the most answers, then the newest file; a notebook not named after a course notebook counts
-    only for exercises of course notebooks the learner did not hand in.  And, per learner, one line for
-    each choice made."""
+    one with the most answers, then the newest by the zip's (or the file's) time, then the download's
+    ``(N)`` mark; a notebook not named after a course notebook counts only for exercises of course
+    notebooks the learner did not hand in.  And, per learner, one line for each choice made, saying which
+    copy counted and why."""
     groups: dict[tuple[str, str], list[tuple[Submission, NotebookRun]]] = {}
     for submission, run in graded:
         groups.setdefault((submission.learner, submission.notebook), []).append((submission, run))
     chosen: dict[str, list[tuple[Submission, NotebookRun]]] = {}
     choices: dict[str, list[str]] = {}
     for (learner, notebook), copies in sorted(groups.items()):
-        best = max(copies, key=lambda pair: (pair[0].version, answers(pair[1]), pair[0].mtime,
-                                             pair[0].path.name))
+        best = max(copies, key=lambda pair: (pair[0].version, answers(pair[1]), *copy_order(pair[0])[1:]))
         chosen.setdefault(learner, []).append(best)
         if len(copies) > 1:
-            others = ", ".join(f"{other.path.name!r} ({answers(run)} answered)" for other, run in copies
-                               if other is not best[0])
-            newest = all(other.version < best[0].version for other, _ in copies if other is not best[0])
-            why = ("the platform's newest resubmission" if newest else "the most, then the newest")
+            rest = [pair for pair in copies if pair[0] is not best[0]]
+            others = ", ".join(f"{other.path.name!r} ({answers(run)} answered)" for other, run in rest)
             choices.setdefault(learner, []).append(
-                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answered; {why}), not "
-                f"{others}")
+                f"{notebook} graded from {best[0].path.name!r} ({answers(best[1])} answered; "
+                f"{_why(best, rest)}), not {others}")
     for learner, pairs in chosen.items():
         handed = {s.notebook[:2] for s, _ in pairs if COURSE_NOTEBOOK.match(s.notebook)}
         for index, (submission, run) in enumerate(pairs):
@@ -137,6 +167,62 @@ def pick_copies(graded: list[tuple[Submission, NotebookRun]]
                 if line:
                     choices.setdefault(learner, []).append(line)
     return chosen, choices
+
+
+def filled(row: dict[str, Verdict], columns: list[str], handed: set[str]) -> dict[str, Verdict]:
+    """A learner's verdicts with every column: an exercise no cell checked is "not answered" when its
+    notebook was handed in (blank), "not handed in" when it was not."""
+    full = dict(row)
+    for key in columns:
+        if key not in full:
+            number = key.split(".")[0]
+            full[key] = (Verdict(NOT_ANSWERED, "no cell of the notebook handed in checks this exercise")
+                         if number in handed else
+                         Verdict(NOT_HANDED_IN, f"notebook {number} was not handed in"))
+    return full
+
+
+def _answer_cells(path, keys: set[str]) -> list[tuple[str, str]]:
+    """(exercise, source) of each code cell of a notebook file that checks one of ``keys``."""
+    try:
+        cells = json.loads(path.read_text(encoding="utf-8")).get("cells", [])
+    except (OSError, ValueError, AttributeError):
+        return []
+    found = []
+    for cell in cells if isinstance(cells, list) else []:
+        if not isinstance(cell, dict) or cell.get("cell_type") != "code":
+            continue
+        source = cell.get("source", "")
+        source = "".join(source) if isinstance(source, list) else str(source)
+        checked = [key for key in exercise_keys(source) if key in keys]
+        if checked and len(source.strip()) >= SHARED_CELL:
+            found.append((checked[-1], source))
+    return found
+
+
+def identical_answers(chosen: dict[str, list[tuple[Submission, NotebookRun]]]) -> list[str]:
+    """The answer cells that two or more learners handed in byte for byte (a hash of each answered cell of
+    :data:`SHARED_CELL` characters or more), one line each: for the instructor to look at, never a
+    verdict.  A cell every one of three or more learners shares is the notebook's own, not a copy."""
+    holders: dict[str, dict] = {}
+    answered_by: dict[str, set[str]] = {}
+    for learner, pairs in chosen.items():
+        for submission, run in pairs:
+            keys = {str(r["key"]) for r in run.records if r["ok"] is not None}
+            for key in keys:
+                answered_by.setdefault(key, set()).add(learner)
+            for key, source in _answer_cells(submission.path, keys):
+                digest = hashlib.sha256(source.encode("utf-8", "surrogatepass")).hexdigest()
+                entry = holders.setdefault(digest, {"key": key, "learners": set(), "size": len(source)})
+                entry["learners"].add(learner)
+    lines = []
+    for entry in sorted(holders.values(), key=lambda e: (_key_order(e["key"]), sorted(e["learners"]))):
+        learners, everyone = entry["learners"], answered_by.get(entry["key"], set())
+        if len(learners) < 2 or (len(everyone) >= 3 and learners >= everyone):
+            continue
+        lines.append(f"{entry['key']}: the same answer cell, byte for byte ({entry['size']} characters), "
+                     f"from {len(learners)} learners: {', '.join(sorted(learners))}")
+    return lines
 
 
 def handed_in(chosen: dict[str, list[tuple[Submission, NotebookRun]]]) -> dict[str, set[str]]:
