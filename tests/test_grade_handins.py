@@ -542,7 +542,8 @@ def test_byte_identical_answer_cells_are_flagged_for_the_instructor_never_as_a_v
 
     built = ("def crc16(data: bytes) -> int:\n    register = 0xFFFF\n    for byte in data:\n"
              "        register ^= byte\n        for _ in range(8):\n"
-             "            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1\n    return register\n\n\ncheck('03.5', crc16)")
+             "            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1\n"
+             "    return register\n\n\ncheck('03.5', crc16)")
     own = built.replace("register", "crc")
     short = "answer = 0x4B37\ncheck('03.1', answer)"
     for learner, cell in (("ada", built), ("hal", built), ("cy", own), ("dee", built.replace("0xFFFF", "0"))):
