@@ -28,10 +28,17 @@ the grader's checker fails on: that exercise is errored, with a flag, and the gr
 
 One learner is one row however the files were named (:mod:`.submissions`); of several copies of one
 notebook (copies, resubmissions), only the newest :data:`MAX_COPIES` run (a flag names the others), and
-of those the platform's newest resubmission counts, else the one with the most answers, then the newest;
-a notebook not named after a course notebook (``Untitled.ipynb``) counts only for notebooks the learner did
-not hand in; the columns are the course's exercises
-that the class's notebooks check, and a key the course does not have is a flag (:mod:`.verdicts`).
+of those the platform's newest resubmission counts, else the one with the most answers, then the newest
+by the zip's time, then the download's ``(N)``; a notebook not named after a course notebook
+(``Untitled.ipynb``) counts only for notebooks the learner did not hand in; the columns are the course's
+exercises that the class's notebooks check and those assigned, and a key the course does not have is a
+flag (:mod:`.verdicts`).
+
+**What counts** (:mod:`.assignment`): the grade is out of the exercises the instructor assigned
+(``--notebooks``, ``assignment.json``), else out of every column, said in one line; an exercise of a
+notebook not handed in is "not handed in", one left blank "not answered".  ``export`` is checked against
+the class as read before anything is graded, and ``gradebook.json`` lets an export run again without
+grading (:func:`load`).
 
 **Time.** A notebook's cells get ``--timeout`` seconds in all, then each of its own build exercises
 :data:`~.runner.TRACE_TIMEOUT` seconds to be traced, besides the kernel's start; so a learner takes at
