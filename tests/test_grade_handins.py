@@ -198,6 +198,21 @@ def test_one_learners_refusals_land_in_their_row_only(tmp_path):
         found.cleanup()
 
 
+def test_a_thousand_refusals_are_ten_lines_and_a_count(tmp_path):
+    with zipfile.ZipFile(tmp_path / "class.zip", "w") as out:
+        out.writestr("ada/03_rtu_and_crc.ipynb", NOTEBOOK)
+        for number in range(1000):
+            out.writestr(f"../{number}_03_rtu_and_crc.ipynb", NOTEBOOK)
+            out.writestr(_link(f"ada/{number}_01_data_model.ipynb"), "/etc/passwd")
+    found = collect([tmp_path / "class.zip"])
+    try:
+        assert len(found.refused["ada"]) == 11 and found.refused["ada"][-1] == "and 990 more entries refused"
+        ownerless = [note for note in found.notes if "in no row" in note or "name no learner" in note]
+        assert len(ownerless) == 11 and ownerless[-1] == "and 990 entries that name no learner refused"
+    finally:
+        found.cleanup()
+
+
 # --- zip bombs ----------------------------------------------------------------------------------------
 
 def _repeated(archive: Path, times: int) -> Path:
@@ -435,8 +450,8 @@ def test_an_assignment_file_beside_the_class_gives_the_exercises_and_the_points(
     fake_grading(monkeypatch, answers)
     out = tmp_path / "grades"
     assert main(["grade", str(root), "--out", str(out), "-q", "--export", "moodle"]) == 0
-    assert "The grade is out of the 4 exercise(s) of exercise(s) 03.1, 03.2, 03.4, 03.5 (assignment.json)." \
-        in capsys.readouterr().out
+    assert (f"The grade is out of the 4 exercise(s) of exercise(s) 03.1, 03.2, 03.4, 03.5 "
+            f"({root / 'assignment.json'}).") in capsys.readouterr().out  # which file said so
     worksheet = (out / "moodle-import.csv").read_text(encoding="utf-8").splitlines()
     assert worksheet[1].startswith("Participant 9,Hal Jordan,,5.0,20,")  # 1 of 4 counted: 03.3 is not
     assert worksheet[2].startswith("Participant 12,Ada Lovelace,,20.0,20,")

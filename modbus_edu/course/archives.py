@@ -175,6 +175,7 @@ def directory(stream, length: int) -> list[Entry]:
     stream.seek(cd_end - cd_size)
     table = stream.read(cd_size)
     entries: list[Entry] = []
+    starts: dict[int, str] = {}  # a local header's offset -> the entry there (a repeat is refused at once)
     pos = 0
     for _ in range(count):
         if pos + CENTRAL.size > len(table) or table[pos:pos + 4] != b"PK\x01\x02":
@@ -196,6 +197,10 @@ def directory(stream, length: int) -> list[Entry]:
         else:
             name = raw.decode("cp437")
         start = offset + shift
+        if start in starts:
+            raise ArchiveError(f"entries {starts[start]!r} and {name!r} are the same bytes as one another (a "
+                               "zip bomb's trick, never a platform's download: not unpacked)")
+        starts[start] = name
         stream.seek(start)
         local = stream.read(LOCAL.size)
         if len(local) != LOCAL.size or local[:4] != b"PK\x03\x04":

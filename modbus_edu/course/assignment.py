@@ -143,8 +143,8 @@ def read(path: Path) -> Assignment:
     if not isinstance(listed, list):
         raise AssignmentError(f"{path}: the notebooks or exercises are a list, [\"03\", \"05\"]")
     if "notebooks" in data:
-        return from_notebooks(listed, points, path.name)
-    return from_exercises(listed, points, path.name)
+        return from_notebooks(listed, points, str(path))
+    return from_exercises(listed, points, str(path))
 
 
 def beside(paths: list[Path]) -> list[Path]:

@@ -302,6 +302,16 @@ def is_download(archive: Path) -> bool:
 
 
 LEADS_OUT = "leads outside"
+SHOWN_REFUSALS = 10
+"""The refusals one learner's row (or the notes) names; the rest are counted."""
+
+
+def _bounded(lines: list[str], what: str) -> list[str]:
+    """At most :data:`SHOWN_REFUSALS` lines, then one that counts the rest (a zip of 10,000 bad entries is
+    ten lines and a count, not 10,000)."""
+    if len(lines) <= SHOWN_REFUSALS:
+        return lines
+    return lines[:SHOWN_REFUSALS] + [f"and {len(lines) - SHOWN_REFUSALS} {what}"]
 
 
 class _Walk:
@@ -316,6 +326,7 @@ class _Walk:
         self.refused: list[tuple[str | None, Path, str, bool]] = []
         self.onlinetext = 0
         self.budget = Budget()
+        self.ownerless: list[str] = []  # refusals that name no learner: lines of the notes
 
     def unpacked(self, archive: Path, learner: str | None = None) -> Path:
         """``archive`` unpacked: a learner's own zip when ``learner`` is given (every entry theirs), else a
@@ -335,8 +346,8 @@ class _Walk:
             elif any(part.lower().endswith(".zip") for part in parts[:-1]):  # inside a learner's own zip
                 self.refused.append((parts[0].removesuffix(".zip"), file, line, True))
             elif LEADS_OUT in reason or not parts:
-                self.found.notes.append(readable(f"{archive.name}: {entry!r} refused, {reason}; it names "
-                                                 "no learner, so it is in no row"))
+                self.ownerless.append(readable(f"{archive.name}: {entry!r} refused, {reason}; it names "
+                                               "no learner, so it is in no row"))
             else:
                 self.refused.append((parts[0] if len(parts) > 1 else None, file, line, False))
         return result.folder
@@ -435,9 +446,9 @@ class _Walk:
             for archive in zips:  # a learner's own zip: a folder of its name
                 self.learner_zip(archive, None)
             for entry in linked:
-                self.found.notes.append(readable(f"{path.name or path}/{entry.name}: refused, "
-                                                 f"{_refusal(entry) or ''}; it names no learner, so it is "
-                                                 "in no row"))
+                self.ownerless.append(readable(f"{path.name or path}/{entry.name}: refused, "
+                                               f"{_refusal(entry) or ''}; it names no learner, so it is "
+                                               "in no row"))
             for entry in notebooks:
                 self.consider(entry, None)
             self.count_onlinetext(entries)
@@ -537,8 +548,9 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
         if owned or folder is not None or reading[1] is not None or split_name(file.stem, titles)[0]:
             kept.append((file, reading, reason))
         else:
-            found.notes.append(readable(f"{file.name}: refused, {reason}; it names no learner, so it is in "
-                                        "no row"))
+            walk.ownerless.append(readable(f"{file.name}: refused, {reason}; it names no learner, so it is "
+                                           "in no row"))
+    found.notes += _bounded(walk.ownerless, "entries that name no learner refused")
     people = {identity for _, _, (_, identity, _, _) in readings if identity is not None}
     people |= {reading[1] for _, reading, _ in kept if reading[1] is not None}
     plain_names = {reading[0] or UNNAMED for _, _, reading in readings if reading[1] is None}
@@ -584,6 +596,8 @@ def collect(paths: list[Path], scratch: Path | None = None) -> Found:
     for file, (plain, identity, _, _), reason in kept:
         learner = shown[identity] if identity is not None else plain or UNNAMED
         found.refused.setdefault(learner, []).append(readable(f"{file.name}: refused, {reason}"))
+    found.refused = {learner: _bounded(lines, "more entries refused")
+                     for learner, lines in found.refused.items()}
     found.submissions.sort(key=lambda s: (s.learner, s.notebook, str(s.path)))
     for learner, spelt in sorted(spellings.items()):
         if set(spelt.values()) != {learner}:
