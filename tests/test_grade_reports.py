@@ -322,7 +322,7 @@ def test_a_class_named_the_way_platforms_name_files_graded_in_real_kernels(tmp_p
     assert list(next(iter(rows.values())))[1:5] == keys  # no made-up key is a column
     assert [rows["hal"][k] for k in keys] == ["right", "not answered", "right", "wrong"]
     assert (rows["hal"]["right"], rows["hal"]["out of"]) == ("2", "4") and rows["hal"]["flags"] == ""
-    assert [rows["cy"][k] for k in keys] == ["not answered", "not answered", "right", "not answered"]
+    assert [rows["cy"][k] for k in keys] == ["not handed in", "not handed in", "right", "not answered"]
     assert "graded from 'cy - 03_rtu_and_crc-Copy1.ipynb' (1 answered;" in rows["cy"]["flags"]
     assert rows["mal"]["right"] == "0" and "symbolic link" in rows["mal"]["flags"]
     assert "'99.1'" in rows["'" + formula.casefold()]["flags"]
