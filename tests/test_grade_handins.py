@@ -593,3 +593,27 @@ def test_make_grade_keeps_a_name_with_spaces_whole_and_exports():
     quoted = subprocess.run(["make", "-n", "grade", "SUBMISSIONS=Ada's work.zip"], cwd=root,
                             capture_output=True, text=True, timeout=60, check=True).stdout.splitlines()[-1]
     assert quoted.endswith("grade 'Ada'\\''s work.zip' --out 'grades'")
+
+
+def test_a_damaged_zip_is_an_archive_error_never_a_crash(tmp_path):
+    """Bytes flipped anywhere in a zip (its directory, headers, data, a zip inside it), or the zip cut
+    short: an :class:`~modbus_edu.course.archives.ArchiveError` or a refused entry, never another error."""
+    import random
+
+    inner = zipped(tmp_path / "inner.zip", {"03_rtu_and_crc.ipynb": NOTEBOOK}).read_bytes()
+    source = zipped(tmp_path / "source.zip", {"ada/03_rtu_and_crc.ipynb": NOTEBOOK, "x.zip": inner,
+                                              "hal/01_data_model.ipynb": NOTEBOOK * 50}).read_bytes()
+    rng = random.Random(36)
+    for case in range(400):
+        data = bytearray(source)
+        for _ in range(rng.randint(1, 8)):
+            data[rng.randrange(len(data))] = rng.randrange(256)
+        if case % 5 == 0:
+            data = data[:rng.randrange(len(data))]
+        damaged = tmp_path / f"{case}.zip"
+        damaged.write_bytes(bytes(data))
+        try:
+            archives.names(damaged)
+            archives.unpack(damaged, tmp_path / f"out{case}")
+        except archives.ArchiveError:
+            pass
