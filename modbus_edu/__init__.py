@@ -62,6 +62,7 @@ from .links import (  # noqa: F401
     loopback_serial,
     loopback_tcp,
 )
+from .links.browser_serial import BrowserSerialLink, browser_serial  # noqa: F401
 from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
 from .links.tcp_client import TcpLink, tcp_link  # noqa: F401
 from .links.tcp_server import TcpServer  # noqa: F401

@@ -500,14 +500,15 @@ class Master(AsyncCalls):
         )
 
     def _read(self, function: int, unit: int, address: int, count: int) -> list:
-        return run_steps(self.link, self._read_steps(function, unit, address, count))
+        return run_steps(self.link, self.read_steps(function, unit, address, count))
 
-    def _read_steps(self, function: int, unit: int, address: int, count: int) -> Steps:
+    def read_steps(self, function: int, unit: int, address: int, count: int) -> Steps:
+        """:meth:`read_once` as steps (:mod:`modbus_edu.master_steps`): the values read, once run."""
         if function not in _READS:
             raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {shown(function)}")
         self._check_broadcast(unit, function)
         request = _READS[function](address=address, count=count)
-        response = yield from self._execute_steps(unit, request, True)
+        response = yield from self.execute_steps(unit, request, True)
         if function in (1, 2):
             return list(response.bits[:count])  # type: ignore[attr-defined]
         return list(response.registers)  # type: ignore[attr-defined]
@@ -617,11 +618,11 @@ class Master(AsyncCalls):
         (unit 0 on a serial line) returns ``None``; on Modbus/TCP unit 0 is the device itself and is
         answered.  See the module's documentation for timeouts, retries and mismatches.
         """
-        return run_steps(self.link, self._execute_steps(unit, request, check))
+        return run_steps(self.link, self.execute_steps(unit, request, check))
 
-    def _execute_steps(self, unit: int, request: Pdu, check: bool) -> Steps:
-        """:meth:`execute` as steps (see :mod:`modbus_edu.master_steps`): driven by ``execute`` and by
-        ``aexecute`` alike, so the two cannot drift apart."""
+    def execute_steps(self, unit: int, request: Pdu, check: bool) -> Steps:
+        """:meth:`execute` as steps (:mod:`modbus_edu.master_steps`): run by ``execute`` (blocking) and by
+        ``aexecute`` (awaited) alike, so the two cannot drift apart."""
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
         self._check_broadcast(unit, request)
@@ -742,7 +743,9 @@ class Master(AsyncCalls):
                 f"(waited {waited:.6f} s); {ignored} frame(s) came that did not belong to "
                 f"it: {'; '.join(mismatched)}{more}"
             )
+        hint = getattr(self.link, "silence_hint", None)  # a link that can tell why (the browser's port)
+        hint = hint() if callable(hint) else ""
         return ModbusTimeoutError(
             f"no response from unit {unit} to {request.title} within {self.timeout:g} s "
-            f"(waited {waited:.6f} s on the link's clock)"
+            f"(waited {waited:.6f} s on the link's clock){'; ' + hint if hint else ''}"
         )

@@ -98,19 +98,19 @@ class AsyncCalls:
 
     link: Any
 
-    def _execute_steps(self, unit: int, request: Any, check: bool) -> Steps:  # pragma: no cover - Master's
+    def execute_steps(self, unit: int, request: Any, check: bool) -> Steps:  # pragma: no cover - Master's
         raise NotImplementedError
 
-    def _read_steps(self, function: int, unit: int, address: int, count: int) -> Steps:  # pragma: no cover
+    def read_steps(self, function: int, unit: int, address: int, count: int) -> Steps:  # pragma: no cover
         raise NotImplementedError
 
     async def aexecute(self, unit: int, request: Any, *, check: bool = True) -> Any:
         """:meth:`~modbus_edu.master.Master.execute`, awaited."""
-        return await arun_steps(self.link, self._execute_steps(unit, request, check))
+        return await arun_steps(self.link, self.execute_steps(unit, request, check))
 
     async def aread_once(self, function: int, unit: int, address: int, count: int) -> list:
         """One read with function 1, 2, 3 or 4, awaited."""
-        return await arun_steps(self.link, self._read_steps(function, unit, address, count))
+        return await arun_steps(self.link, self.read_steps(function, unit, address, count))
 
     async def aread_coils(self, unit: int, address: int, count: int) -> list[bool]:
         """FC 1, awaited: ``count`` coils from ``address``."""
