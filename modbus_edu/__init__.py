@@ -128,7 +128,7 @@ from .registermap import (  # noqa: F401
     load_map,
     plan_polls,
 )
-from .scan import ScanHit, ScanReport, scan  # noqa: F401
+from .scan import ScanHit, ScanReport, ascan, scan  # noqa: F401
 from .slave import Slave, SlaveCounters  # noqa: F401
 from .traffic import Traffic, TrafficLog  # noqa: F401
 from .values import (  # noqa: F401
