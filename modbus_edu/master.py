@@ -698,7 +698,7 @@ class Master(AsyncCalls):
     def _wait(self, unit: int, request: Pdu, tid: int, sent: float) -> Steps:
         """Receive until the response to ``request`` comes (or the deadline passes): what arrives is
         judged by :func:`classify_response`; this loop counts, logs and waits on."""
-        link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
+        clock, mode, stats, log = self.link.clock, self.link.mode, self.stats, self.log
         deadline = sent + self.timeout  # absolute: whatever arrives meanwhile, the wait ends here
         mismatched: list[str] = []  # the first MAX_MISMATCH_NOTES reasons; `ignored` counts them all
         ignored = 0
