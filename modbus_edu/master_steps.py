@@ -60,7 +60,12 @@ def run_steps(link: Any, steps: Steps) -> Any:
     """Run ``steps`` to their end, each wait a blocking call on ``link``; return what they return.
 
     An error raised by the link is thrown into the steps, so that their ``finally`` clauses run in order
-    (the master notes when the transaction ended) before it reaches the caller."""
+    (the master notes when the transaction ended) before it reaches the caller. A link that cannot be
+    waited for by blocking here (``link.check_blocking``: the browser's port inside a kernel) says so
+    before anything is sent."""
+    check = getattr(link, "check_blocking", None)
+    if check is not None:
+        check()
     try:
         step = next(steps)
         while True:

@@ -236,6 +236,19 @@ def test_a_blocking_call_inside_an_event_loop_is_refused_at_once_not_a_hang() ->
     assert values == [1234]
 
 
+def test_a_blocking_call_inside_an_event_loop_sends_nothing() -> None:
+    page = StandInPage(_slave())
+
+    async def main() -> mb.Master:
+        master = mb.Master(_link(page), timeout=5.0)
+        with pytest.raises(LinkError, match="await"):
+            master.write_single_register(unit=1, address=0, value=7)
+        return master
+
+    master = asyncio.run(main())
+    assert page.written == [] and master.stats.requests == 0
+
+
 def test_a_script_outside_any_loop_may_block_while_the_page_answers_from_another_thread() -> None:
     master = mb.Master(_link(StandInPage(_slave(), thread=True)), timeout=2.0)
     master.write_multiple_registers(unit=1, address=10, values=[11, 22])

@@ -69,8 +69,8 @@ MAX_TRANSCRIPT = 1000
 
 #: The states the page reports, and what a request says in each when no port is open.
 _NOT_OPEN = {
-    "waiting": "no serial port chosen yet: display the port (its button is above), press 'choose serial "
-               "port' and pick the adapter (Chrome or Edge)",
+    "waiting": "no serial port chosen yet: press 'choose serial port' where the port is shown and pick "
+               "the adapter (the browser's serial port needs Chrome or Edge)",
     "unavailable": NO_WEB_SERIAL,
     "lost": "the serial port was lost",
     "closed": "the serial port was closed: choose it again",
@@ -207,6 +207,15 @@ class BrowserSerialLink(Link):
             raise self._not_open()
         return None
 
+    def check_blocking(self) -> None:
+        """Raise :class:`LinkError` if a blocking wait here would stop the loop that brings the page's
+        bytes (this thread runs an event loop, as a kernel's cells do). The master asks before it sends."""
+        if _in_event_loop():
+            raise LinkError(
+                "the browser's serial port cannot be waited for by a blocking call here: its bytes reach "
+                "this kernel through the loop the call would block. Await the call instead, e.g. `await "
+                "master.aread_holding_registers(unit=1, address=0, count=2)`, or poll from the test tool")
+
     def _gave_up(self, timeout: float) -> None:
         if timeout > 0:
             self.timeouts += 1
@@ -227,12 +236,7 @@ class BrowserSerialLink(Link):
                 if now >= deadline:
                     self._gave_up(timeout)
                     return None
-                if _in_event_loop():
-                    raise LinkError(
-                        "the browser's serial port cannot be waited for by a blocking call here: its bytes "
-                        "reach this kernel through the loop the call would block. Await the call instead, "
-                        "e.g. `await master.aread_holding_registers(unit=1, address=0, count=2)`, or poll "
-                        "from the test tool")
+                self.check_blocking()
                 wake = deadline
                 silence = self._cutter.silence_deadline()
                 if silence is not None:

@@ -80,8 +80,10 @@ async function close(model, state, quiet) {
 }
 
 function initialize({ model }) {
+  // the port's state lives here, once per model; a view's button asks for a port by counting a click
+  // (render may get another wrapper of the same model, so nothing is hung on the model object itself)
   const state = { port: null, reader: null, closing: false, writing: Promise.resolve() };
-  model.__webserial = state;
+  model.on("change:choose_clicks", () => choose(model, state));
   const available = typeof navigator !== "undefined" && "serial" in navigator;
   model.send(available ? { type: "ready" } : { type: "unavailable", reason: "no navigator.serial" });
   if (available && navigator.serial.addEventListener) {
@@ -108,7 +110,6 @@ function initialize({ model }) {
 }
 
 function render({ model, el }) {
-  const state = model.__webserial;
   const box = document.createElement("div");
   box.className = "mbe-webserial";
   if (!(typeof navigator !== "undefined" && "serial" in navigator)) {
@@ -125,7 +126,10 @@ function render({ model, el }) {
   button.type = "button";
   button.textContent = "choose serial port";
   button.title = "ask the browser for the serial port of your USB adapter";
-  button.addEventListener("click", () => choose(model, state));
+  button.addEventListener("click", () => {
+    model.set("choose_clicks", model.get("choose_clicks") + 1);  // initialize's listener asks for the port
+    model.save_changes();
+  });
   const status = document.createElement("span");
   status.className = "mbe-webserial-status";
   status.setAttribute("role", "status");

@@ -49,6 +49,8 @@ def port_class() -> type:
         status = traitlets.Unicode("").tag(sync=True)
         """What the page says of its port, in one line (set by the page)."""
         no_web_serial = traitlets.Unicode(NO_WEB_SERIAL).tag(sync=True)
+        choose_clicks = traitlets.Int(0).tag(sync=True)
+        """Clicks on *choose serial port* (the page's views tell its port owner this way)."""
 
         def __init__(self, **kwargs: Any) -> None:
             super().__init__(**kwargs)
