@@ -6,9 +6,10 @@ server on the pty's other end, answering at the line's baud rate.
 prints ``READY <port>`` once the WebSocket (``ws://127.0.0.1:<port>/serial``) and the slave are up. What
 the page writes goes into the pty at once; what the slave answers comes back to the page one byte per
 character time (start bit, 8 data bits, parity, stop bits at the baud rate), as a line at that speed
-delivers it (the pty's own end opens without parity: a Linux pty refuses the parity bit). Every byte each way is written to the transcript (seconds since start, direction, hex).
-A new page connection replaces the previous one (a port chosen again). Ends on SIGTERM, or after
-``--lifetime`` seconds at the latest.
+delivers it (the pty's own end opens without parity: a Linux pty refuses the parity bit). Every byte
+each way is written to the transcript (seconds since start, direction, hex). A new page connection
+replaces the previous one (a port chosen again). Ends on SIGTERM, or after ``--lifetime`` seconds at
+the latest.
 """
 
 from __future__ import annotations
