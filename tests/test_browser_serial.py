@@ -341,3 +341,17 @@ def test_the_widget_carries_the_line_settings_and_the_page_messages() -> None:
         assert needed in script
     with pytest.raises(ConfigError, match="1 or 2 stop bits"):
         mb.browser_serial(9600, "N", stopbits=1.5)
+
+
+def test_without_anywidget_a_request_says_why_in_one_line(monkeypatch) -> None:
+    from modbus_edu.links import webserial_port
+
+    def missing() -> type:
+        raise mb.errors.MissingDependencyError("the browser's serial port needs anywidget, absent here")
+
+    monkeypatch.setattr(webserial_port, "port_class", missing)
+    link = mb.browser_serial(9600, "E")
+    with pytest.raises(LinkError) as caught:
+        asyncio.run(mb.Master(link).aread_holding_registers(unit=1, address=0, count=1))
+    assert "\n" not in str(caught.value) and "needs anywidget" in str(caught.value)
+    assert "text/html" in link._repr_mimebundle_()

@@ -46,6 +46,7 @@ that a notebook can print and go on.
 from __future__ import annotations
 
 import asyncio
+import html
 import threading
 import time
 from collections import deque
@@ -322,9 +323,19 @@ class BrowserSerialLink(Link):
         """The page's side, when it is a widget (what a notebook displays)."""
         return self.port
 
-    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
+    def _repr_mimebundle_(self, **kwargs: Any) -> dict[str, Any]:
+        """The widget's view where a page runs it; a still picture of its button (``text/html``) where
+        none does (GitHub, a notebook opened without running it), and one line of text."""
         show = getattr(self.port, "_repr_mimebundle_", None)
-        return show(**kwargs) if show is not None else {"text/plain": repr(self)}
+        bundle = show(**kwargs) if show is not None else {}
+        if isinstance(bundle, tuple):  # (data, metadata)
+            bundle = bundle[0]
+        bundle = dict(bundle or {})
+        bundle["text/plain"] = f"{self.description}: {self.state}"
+        bundle["text/html"] = (
+            '<div class="mbe-webserial-picture"><button disabled>choose serial port</button> '
+            f"<span>{html.escape(self.description)}: run this cell to use it, in Chrome or Edge</span></div>")
+        return bundle
 
 
 def _wake(waiter: asyncio.Future[None]) -> None:

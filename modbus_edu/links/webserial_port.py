@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from ..errors import ConfigError, require
+from ..errors import ConfigError, MissingDependencyError, require
 from .wire import SerialTiming
 
 __all__ = ["NO_WEB_SERIAL", "PARITY_NAMES", "make_port", "port_class"]
@@ -87,5 +87,26 @@ def make_port(timing: SerialTiming) -> Any:
         raise ConfigError(f"the browser's serial port has 1 or 2 stop bits, not {timing.stopbits}")
     if timing.bytesize not in (7, 8):
         raise ConfigError(f"the browser's serial port has 7 or 8 data bits, not {timing.bytesize}")
-    return port_class()(baudrate=int(timing.baudrate), parity=PARITY_NAMES[timing.parity],
-                        stopbits=int(timing.stopbits), databits=int(timing.bytesize))
+    try:
+        cls = port_class()
+    except MissingDependencyError as exc:  # no anywidget here: say so on every request, go on
+        return NoWidget(str(exc))
+    return cls(baudrate=int(timing.baudrate), parity=PARITY_NAMES[timing.parity],
+               stopbits=int(timing.stopbits), databits=int(timing.bytesize))
+
+
+class NoWidget:
+    """The page's side where the widget cannot be made (anywidget is not installed): no port can be
+    chosen, and each request says why in one line, so that a notebook prints it and goes on."""
+
+    def __init__(self, reason: str) -> None:
+        self.reason = reason
+
+    def listen(self, callback: Callable[[dict[str, Any]], None]) -> None:
+        callback({"type": "error", "reason": self.reason})
+
+    def write(self, data: bytes) -> None:  # pragma: no cover - the link never writes without an open port
+        raise ConfigError(self.reason)
+
+    def close(self) -> None:
+        """Nothing to close."""
