@@ -355,3 +355,22 @@ def test_without_anywidget_a_request_says_why_in_one_line(monkeypatch) -> None:
         asyncio.run(mb.Master(link).aread_holding_registers(unit=1, address=0, count=1))
     assert "\n" not in str(caught.value) and "needs anywidget" in str(caught.value)
     assert "text/html" in link._repr_mimebundle_()
+
+
+def test_an_older_ipykernel_is_named_when_nothing_reached_the_kernel(monkeypatch) -> None:
+    """ipykernel before 7.4 handles comm messages only between cells: an awaited call there times out,
+    and its message says why and what works instead."""
+    import sys
+    import types
+
+    class Silent(StandInPage):
+        def write(self, data: bytes) -> None:
+            self.written.append(data)
+
+    monkeypatch.setitem(sys.modules, "ipykernel", types.SimpleNamespace(__version__="7.3.0"))
+    master = mb.Master(_link(Silent(_slave())), timeout=0.1)
+    with pytest.raises(ModbusTimeoutError, match="ipykernel 7.3.0 handles the page's messages only between"):
+        asyncio.run(master.aread_holding_registers(unit=1, address=0, count=1))
+    monkeypatch.setitem(sys.modules, "ipykernel", types.SimpleNamespace(__version__="7.4.0"))
+    with pytest.raises(ModbusTimeoutError, match="nothing came back at all: check the unit id"):
+        asyncio.run(master.aread_holding_registers(unit=1, address=0, count=1))

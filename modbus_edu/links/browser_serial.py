@@ -27,8 +27,10 @@ master has an awaitable form of every everyday call (``await master.aread_holdin
 :mod:`modbus_edu.master_steps`: the same transaction, only the waiting differs). While a cell awaits,
 the loop goes on: ipykernel 7.4 dispatches ``comm_msg`` even while an async cell holds the shell
 (``kernelbase.py``: "A running async cell may be waiting for a widget reply on this channel"), which is
-what ipykernel issue #646 asked for. Polling in the background - the test tool's *start*, a task on the
-kernel's loop - works on every kernel, since between polls the loop is free. A blocking call
+what ipykernel issue #646 asked for; ipykernel 7.3 and older (the pin on Python 3.10) dispatch them only
+between cells, so there an awaited call times out and its message says to poll from the test tool.
+Polling in the background - the test tool's *start* and *read once*, tasks on the kernel's loop - works
+on every kernel, since between polls the loop is free. A blocking call
 (``master.read_holding_registers``) inside a kernel does not wait at all: it raises a
 :class:`~modbus_edu.errors.LinkError` at once that says to ``await`` instead, rather than hang. Outside an
 event loop (a script whose page side runs in another thread, as the tests' stand-in does), blocking
@@ -47,6 +49,7 @@ from __future__ import annotations
 
 import asyncio
 import html
+import sys
 import threading
 import time
 from collections import deque
@@ -296,6 +299,10 @@ class BrowserSerialLink(Link):
             return (f"{junk} byte(s) came back that made no frame: the device answers, but not at "
                     f"{self.timing}; check the baud rate, parity and stop bits against the device's")
         if self.state == "open" and self.bytes_in == 0 and self.bytes_out:
+            old = _kernel_without_comms_while_awaiting()
+            if old:
+                return (f"nothing reached this kernel while the cell waited: {old} handles the page's "
+                        "messages only between cells; poll from the test tool, or use ipykernel 7.4 or later")
             return ("nothing came back at all: check the unit id, the wiring (A/B, ground), the "
                     "adapter's direction control, and that the device is powered")
         return ""
@@ -336,6 +343,19 @@ class BrowserSerialLink(Link):
             '<div class="mbe-webserial-picture"><button disabled>choose serial port</button> '
             f"<span>{html.escape(self.description)}: run this cell to use it, in Chrome or Edge</span></div>")
         return bundle
+
+
+def _kernel_without_comms_while_awaiting() -> str:
+    """'ipykernel X' when this runs in an ipykernel older than 7.4, which dispatches comm messages only
+    between cells (not while a cell awaits); '' otherwise (7.4 and later, another kernel, a script)."""
+    kernel = sys.modules.get("ipykernel")
+    version = str(getattr(kernel, "__version__", ""))
+    parts = version.split(".")
+    try:
+        major, minor = int(parts[0]), int(parts[1])
+    except (IndexError, ValueError):
+        return ""
+    return f"ipykernel {version}" if (major, minor) < (7, 4) else ""
 
 
 def _wake(waiter: asyncio.Future[None]) -> None:
