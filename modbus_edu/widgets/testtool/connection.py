@@ -155,6 +155,9 @@ class ConnectionMixin:
         self.link = port
         self.master = Master(port, timeout=float(self.timeout.value),
                              transaction_id=self.transaction_id.value)
+        if port.state in ("error", "unavailable"):  # no widget here, or no Web Serial in this browser
+            self.message.show(f"{port.description}: {port.reason or port.state}", "warn")
+            return
         opened = "the port is open" if port.state == "open" else "press 'choose serial port' below"
         self.message.show(f"connected: {port.description}; {opened}", "ok")
 
