@@ -315,6 +315,9 @@ def test_the_test_tool_polls_the_browser_port_on_the_loop() -> None:
         first = await tool.apoll_once()
         assert tool.poll_once() is None  # a button's click: the poll runs on the loop
         second = await tool._pending_poll
+        tool.continuous.value = False
+        assert tool.start()  # the panel's start: polls as a task on the loop, each awaited
+        await tool._poll_task
         tool.function.value = 6
         tool.bank.holding_registers[0] = 4321
         await tool.apoll_once()
@@ -322,7 +325,7 @@ def test_the_test_tool_polls_the_browser_port_on_the_loop() -> None:
 
     first, second, counts, tool = asyncio.run(main())
     assert first == second == [1234, 5678, 42]
-    assert counts["polls"] == 3 and counts["valid"] == 3
+    assert counts["polls"] == 4 and counts["valid"] == 4
     assert tool.master.link.port.written[-1][:2] == b"\x01\x06"
 
 
