@@ -62,6 +62,7 @@ from .links import (  # noqa: F401
     loopback_serial,
     loopback_tcp,
 )
+from .links.browser_serial import BrowserSerialLink, browser_serial  # noqa: F401
 from .links.serial import SerialLink, SerialServer, TcpSerialPort, serial_link  # noqa: F401
 from .links.tcp_client import TcpLink, tcp_link  # noqa: F401
 from .links.tcp_server import TcpServer  # noqa: F401
@@ -127,7 +128,7 @@ from .registermap import (  # noqa: F401
     load_map,
     plan_polls,
 )
-from .scan import ScanHit, ScanReport, scan  # noqa: F401
+from .scan import ScanHit, ScanReport, ascan, scan  # noqa: F401
 from .slave import Slave, SlaveCounters  # noqa: F401
 from .traffic import Traffic, TrafficLog  # noqa: F401
 from .values import (  # noqa: F401

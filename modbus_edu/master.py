@@ -76,6 +76,7 @@ from .errors import (
 )
 from .framing import decode_frame, make_frame
 from .links.base import Link
+from .master_steps import FLUSH, RECEIVE, SLEEP, AsyncCalls, Steps, run_steps
 from .pdu import ExceptionResponse, Pdu
 from .traffic import TrafficLog, pdu_note
 
@@ -291,7 +292,7 @@ def classify_response(data: bytes, mode: str, request: Pdu, unit: int, tid: int)
             f"the response of unit {unit} does not fit {request.title}: {problem}"))
     return Verdict("valid", source, pdu_note(response), response=response)
 
-class Master:
+class Master(AsyncCalls):
     """A Modbus master on a link: ``Master(link, timeout=1.0, retries=0, delay=0.0, transaction_id=1)``.
 
     >>> from modbus_edu.slave import Slave
@@ -499,9 +500,15 @@ class Master:
         )
 
     def _read(self, function: int, unit: int, address: int, count: int) -> list:
+        return run_steps(self.link, self.read_steps(function, unit, address, count))
+
+    def read_steps(self, function: int, unit: int, address: int, count: int) -> Steps:
+        """:meth:`read_once` as steps (:mod:`modbus_edu.master_steps`): the values read, once run."""
+        if function not in _READS:
+            raise ConfigError(f"read_once reads with function 1, 2, 3 or 4, got {shown(function)}")
         self._check_broadcast(unit, function)
         request = _READS[function](address=address, count=count)
-        response = self.execute(unit, request)
+        response = yield from self.execute_steps(unit, request, True)
         if function in (1, 2):
             return list(response.bits[:count])  # type: ignore[attr-defined]
         return list(response.registers)  # type: ignore[attr-defined]
@@ -611,6 +618,11 @@ class Master:
         (unit 0 on a serial line) returns ``None``; on Modbus/TCP unit 0 is the device itself and is
         answered.  See the module's documentation for timeouts, retries and mismatches.
         """
+        return run_steps(self.link, self.execute_steps(unit, request, check))
+
+    def execute_steps(self, unit: int, request: Pdu, check: bool) -> Steps:
+        """:meth:`execute` as steps (:mod:`modbus_edu.master_steps`): run by ``execute`` (blocking) and by
+        ``aexecute`` (awaited) alike, so the two cannot drift apart."""
         if not isinstance(request, Pdu) or getattr(request, "role", None) != "request":
             raise ConfigError(f"execute() takes a request PDU, got {type(request).__name__}")
         self._check_broadcast(unit, request)
@@ -619,7 +631,7 @@ class Master:
             if attempt:
                 self.stats.retries += 1
             try:
-                response = self._attempt(unit, request)
+                response = yield from self._attempt(unit, request)
             except (ModbusTimeoutError, TransactionMismatchError, FrameError, PduError) as exc:
                 error = exc
                 continue
@@ -635,13 +647,13 @@ class Master:
         self.last_transaction_id = tid
         return tid
 
-    def _attempt(self, unit: int, request: Pdu) -> Pdu | None:
+    def _attempt(self, unit: int, request: Pdu) -> Steps:
         link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
         # 1. turnaround delay since the previous transaction
         if self._last_end is not None and self.delay:
             due = self._last_end + self.delay
             if due > clock.now:
-                clock.sleep(due - clock.now)
+                yield SLEEP, due - clock.now
         # 2. stale frames (at most MAX_STALE: a peer that never stops sending cannot hold the master here)
         for _ in range(MAX_STALE):
             stale = link.receive(0)
@@ -669,30 +681,30 @@ class Master:
         link.send(frame)
         if broadcast:
             stats.broadcasts += 1
-            link.flush()
+            yield FLUSH, None
             if self.delay:
-                clock.sleep(self.delay)
+                yield SLEEP, self.delay
             self._last_end = clock.now
             return None
         # 4. wait for the answer
         try:
-            return self._wait(unit, request, tid, sent)
+            return (yield from self._wait(unit, request, tid, sent))
         finally:
             self._last_end = clock.now
 
     def _source(self, data: bytes) -> str:
         return _source(data, self.link.mode)
 
-    def _wait(self, unit: int, request: Pdu, tid: int, sent: float) -> Pdu:
+    def _wait(self, unit: int, request: Pdu, tid: int, sent: float) -> Steps:
         """Receive until the response to ``request`` comes (or the deadline passes): what arrives is
         judged by :func:`classify_response`; this loop counts, logs and waits on."""
-        link, clock, mode, stats, log = self.link, self.link.clock, self.link.mode, self.stats, self.log
+        clock, mode, stats, log = self.link.clock, self.link.mode, self.stats, self.log
         deadline = sent + self.timeout  # absolute: whatever arrives meanwhile, the wait ends here
         mismatched: list[str] = []  # the first MAX_MISMATCH_NOTES reasons; `ignored` counts them all
         ignored = 0
         while True:
             remaining = deadline - clock.now
-            data = link.receive(remaining) if remaining > 0 else None
+            data = (yield RECEIVE, remaining) if remaining > 0 else None
             if data is None:
                 stats.timeouts += 1
                 raise self._no_response(unit, request, clock.now - sent, ignored, mismatched)
@@ -731,7 +743,9 @@ class Master:
                 f"(waited {waited:.6f} s); {ignored} frame(s) came that did not belong to "
                 f"it: {'; '.join(mismatched)}{more}"
             )
+        hint = getattr(self.link, "silence_hint", None)  # a link that can tell why (the browser's port)
+        hint = hint() if callable(hint) else ""
         return ModbusTimeoutError(
             f"no response from unit {unit} to {request.title} within {self.timeout:g} s "
-            f"(waited {waited:.6f} s on the link's clock)"
+            f"(waited {waited:.6f} s on the link's clock){'; ' + hint if hint else ''}"
         )

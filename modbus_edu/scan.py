@@ -22,8 +22,9 @@ from ._optional import load_tqdm
 from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError, shown
 from .links.base import Link
 from .master import Master
+from .master_steps import Steps, arun_steps, run_steps
 
-__all__ = ["ScanHit", "ScanReport", "scan"]
+__all__ = ["ScanHit", "ScanReport", "ascan", "scan"]
 
 
 @dataclass(frozen=True)
@@ -51,9 +52,10 @@ class ScanReport:
         return len(self.hits)
 
 
-def _probe(master: Master, unit: int) -> str | None:
+def _probe(master: Master, unit: int) -> Steps:
+    """One unit's question, as steps (:mod:`modbus_edu.master_steps`): what it answered, or None."""
     try:
-        regs = master.read_holding_registers(unit=unit, address=0, count=1)
+        regs = yield from master.read_steps(3, unit, 0, 1)
     except ModbusExceptionError as exc:
         if exc.code in (0x0A, 0x0B):  # a gateway saying: nobody there
             return None
@@ -63,6 +65,27 @@ def _probe(master: Master, unit: int) -> str | None:
     except ModbusError as exc:  # a garbled answer: something is there, maybe at other settings
         return f"garbled answer: {exc}"
     return f"register 0 = {regs[0]}"
+
+
+def _scan_setting(master: Master, units: list[int], setting: dict[str, Any], budget: float,
+                  report: ScanReport, bar: Any) -> Steps:
+    """Every unit under one line setting, as steps; False once the budget is spent."""
+    clock = master.link.clock
+    start = clock.now
+    try:
+        for unit in units:
+            if report.elapsed + (clock.now - start) >= budget:
+                report.complete = False
+                return False
+            answer = yield from _probe(master, unit)
+            report.asked += 1
+            bar.update(1)
+            if answer is not None:
+                report.hits.append(ScanHit(unit, dict(setting), answer))
+                bar.set_postfix(found=len(report.hits))
+    finally:
+        report.elapsed += clock.now - start
+    return True
 
 
 def scan(
@@ -81,6 +104,57 @@ def scan(
     ``settings=[{"baudrate": 9600, "parity": "N"}, {"baudrate": 19200, "parity": "E"}]``).
     ``timeout`` is each question's wait; ``budget`` bounds the whole scan (seconds on the link's clock).
     """
+    units, settings, tqdm = _check(link, units, settings, timeout, budget)
+    report = ScanReport()
+    bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")
+    try:
+        for setting in settings:
+            current = link if isinstance(link, Link) else link(**setting)
+            try:
+                master = Master(current, timeout=timeout)
+                if not run_steps(current, _scan_setting(master, units, setting, budget, report, bar)):
+                    break
+            finally:
+                if current is not link:
+                    current.close()
+    finally:
+        bar.close()
+    return report
+
+
+async def ascan(
+    link: Link | Callable[..., Link],
+    units: Iterable[int] = range(1, 248),
+    *,
+    settings: Sequence[dict[str, Any]] | None = None,
+    timeout: float = 0.1,
+    budget: float = 60.0,
+    progress: bool = False,
+) -> ScanReport:
+    """:func:`scan`, awaited: for a link whose bytes come through the event loop (the browser's serial
+    port: ``await mb.ascan(port, range(1, 11))`` in a notebook cell). The same questions, the same
+    report."""
+    units, settings, tqdm = _check(link, units, settings, timeout, budget)
+    report = ScanReport()
+    bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")
+    try:
+        for setting in settings:
+            current = link if isinstance(link, Link) else link(**setting)
+            try:
+                master = Master(current, timeout=timeout)
+                if not await arun_steps(current, _scan_setting(master, units, setting, budget, report, bar)):
+                    break
+            finally:
+                if current is not link:
+                    current.close()
+    finally:
+        bar.close()
+    return report
+
+
+def _check(link: Any, units: Iterable[int], settings: Sequence[dict[str, Any]] | None, timeout: float,
+           budget: float) -> tuple[list[int], Sequence[dict[str, Any]], Any]:
+    """The scan's settings, checked: (units, settings, tqdm)."""
     units = list(units)
     for u in units:
         if isinstance(u, bool) or not isinstance(u, int) or not 1 <= u <= 247:
@@ -95,33 +169,4 @@ def scan(
     for name, value in (("timeout", timeout), ("budget", budget)):
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < math.inf:
             raise ConfigError(f"{name} must be a number of seconds above 0 (and finite), got {shown(value)}")
-    tqdm = load_tqdm()
-
-    report = ScanReport()
-    bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")
-    try:
-        for setting in settings:
-            current = link if isinstance(link, Link) else link(**setting)
-            try:
-                master = Master(current, timeout=timeout)
-                clock = current.clock
-                start = clock.now
-                for unit in units:
-                    if report.elapsed + (clock.now - start) >= budget:
-                        report.complete = False
-                        break
-                    answer = _probe(master, unit)
-                    report.asked += 1
-                    bar.update(1)
-                    if answer is not None:
-                        report.hits.append(ScanHit(unit, dict(setting), answer))
-                        bar.set_postfix(found=len(report.hits))
-                report.elapsed += clock.now - start
-            finally:
-                if current is not link:
-                    current.close()
-            if not report.complete:
-                break
-    finally:
-        bar.close()
-    return report
+    return units, settings, load_tqdm()

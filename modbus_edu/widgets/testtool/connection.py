@@ -6,14 +6,17 @@ import asyncio
 import contextlib
 from typing import Any
 
+from ... import pdu as _pdu
 from ...clock import VirtualClock
 from ...datamodel import Table
 from ...errors import ConfigError, ModbusError, ModbusTimeoutError, shown
+from ...links.browser_serial import browser_serial
 from ...links.loopback import loopback_serial, loopback_tcp
 from ...links.serial import SerialServer, serial_link
 from ...links.tcp_client import tcp_link
 from ...links.tcp_server import TcpServer
 from ...master import Master
+from ...master_steps import Steps, arun_steps, run_steps
 from ...pdu import FunctionCode
 from ...slave import Slave
 from ..common import esc
@@ -69,6 +72,8 @@ class ConnectionMixin:
             self._connect_loopback(partner)
         elif kind == "serial":
             self._connect_serial()
+        elif kind == "browser":
+            self._connect_browser()
         else:
             self._connect_tcp()
 
@@ -138,6 +143,24 @@ class ConnectionMixin:
             self.server = SerialServer(slave, url, *settings, mode="rtu").start()
             self._serving(f"serving unit {slave.unit} on {url}")
 
+    def _connect_browser(self) -> None:
+        """The browser's serial port (Web Serial): its *choose serial port* button shows under the
+        settings; requests wait on the kernel's loop (polling is awaited there)."""
+        settings = (self.baudrate.value, self.parity.value, self.stopbits.value)
+        port = self._browser_port
+        if port is None or port.closed or port.state in ("lost", "closed") or \
+                (port.timing.baudrate, port.timing.parity, port.timing.stopbits) != settings:
+            port = self._browser_port = browser_serial(*settings, mode="rtu")
+        self.browser_box.children = (port.widget,) if hasattr(port.widget, "_repr_mimebundle_") else ()
+        self.link = port
+        self.master = Master(port, timeout=float(self.timeout.value),
+                             transaction_id=self.transaction_id.value)
+        if port.state in ("error", "unavailable"):  # no widget here, or no Web Serial in this browser
+            self.message.show(f"{port.description}: {port.reason or port.state}", "warn")
+            return
+        opened = "the port is open" if port.state == "open" else "press 'choose serial port' below"
+        self.message.show(f"connected: {port.description}; {opened}", "ok")
+
     def _connect_tcp(self) -> None:
         host = self.host.value.strip()
         if self.is_master:
@@ -158,8 +181,8 @@ class ConnectionMixin:
             with contextlib.suppress(Exception):
                 self.server.close()
             self.server = None
-        if self.link is not None and self.partner is None:
-            with contextlib.suppress(Exception):
+        if self.link is not None and self.partner is None and self.link is not self._browser_port:
+            with contextlib.suppress(Exception):  # the browser's port stays open for the next connect
                 self.link.close()
         if partner_link is not None:
             with contextlib.suppress(Exception):
@@ -234,29 +257,65 @@ class ConnectionMixin:
         them.  Errors (timeout, exception response, a bad setting) are counted, shown on the message
         line and returned as ``None``: nothing raises.
         """
+        if not self._begin_poll():
+            return None
+        assert self.master is not None
+        if getattr(self.master.link, "needs_await", False):  # the browser's port: wait on the loop
+            loop = running_loop()
+            if loop is None:
+                self._end_poll(None, ConfigError("this link is waited for on an asyncio loop (a Jupyter "
+                                                 "kernel has one): await tool.apoll_once()"))
+                return None
+            self._pending_poll = loop.create_task(self._apoll_begun())
+            return None
+        try:
+            result = run_steps(self.master.link, self._transact_steps())
+        except ModbusError as exc:
+            return self._end_poll(None, exc)
+        return self._end_poll(result, None)
+
+    async def apoll_once(self) -> Any:
+        """:meth:`poll_once`, awaited: the way to poll a link whose bytes come through the kernel's loop
+        (the browser's serial port)."""
+        if not self._begin_poll():
+            return None
+        return await self._apoll_begun()
+
+    async def _apoll_begun(self) -> Any:
+        assert self.master is not None
+        try:
+            result = await arun_steps(self.master.link, self._transact_steps())
+        except ModbusError as exc:
+            return self._end_poll(None, exc)
+        return self._end_poll(result, None)
+
+    def _begin_poll(self) -> bool:
+        """Whether a poll can go out now (else the message line says why); count it."""
         if not self.is_master:
             self.message.show("a slave answers, it does not poll: poll from the master tool", "warn")
-            return None
+            return False
         if self.master is None:
             self.message.show("not connected: press connect (or give a partner)", "error")
-            return None
+            return False
         if self._autofill is not None:
             self._autofill.update(self.clock.now)
         self.counts["polls"] += 1
-        result: Any = None
-        try:
-            result = self._transact()
-        except ModbusTimeoutError as exc:
+        return True
+
+    def _end_poll(self, result: Any, exc: ModbusError | None) -> Any:
+        """Count how the poll ended and say so; ``result`` is returned (None after an error)."""
+        if isinstance(exc, ModbusTimeoutError):
             self.counts["timeouts"] += 1
             self._note_outcome(exc)
-        except ModbusError as exc:
+        elif exc is not None:
             self.counts["errors"] += 1
             self._note_outcome(exc)
         else:
             self.counts["valid"] += 1
             self._note_outcome(None)
             fc = FunctionCode(self.function.value)
-            lat = self.master.stats.latencies[-1] * 1000 if self.master.stats.latencies else 0.0
+            stats = self.master.stats if self.master is not None else None
+            lat = stats.latencies[-1] * 1000 if stats is not None and stats.latencies else 0.0
             self.message.show(f"poll {self.counts['polls']}: {fc.title}, unit {self.unit.value}, "
                               f"{len(result)} value(s) from address {self.address.value} ({lat:.2f} ms)",
                               "ok")
@@ -266,41 +325,47 @@ class ConnectionMixin:
 
     read_once = poll_once
 
-    def _transact(self) -> list:
+    def _transact_steps(self) -> Steps:
+        """One exchange with the chosen function, as the master's steps (run blocking or awaited)."""
         master, fc = self.master, self.function.value
         assert master is not None
         unit, address, length = self.unit.value, self.address.value, self.length.value
         table = self.table
+
+        def ask(request: Any) -> Steps:
+            return master.execute_steps(unit, request, True)
+
         if fc in (1, 2, 3, 4):
-            values = master.read_once(fc, unit, address, length)
+            values = yield from master.read_steps(fc, unit, address, length)
             table.write(address, values)
             return values
         if fc == 5:
             value = table[address]
-            master.write_single_coil(unit, address, value)
+            yield from ask(_pdu.WriteSingleCoilRequest(address=address, value=value))
             return [value]
         if fc == 6:
             value = table[address]
-            master.write_single_register(unit, address, value)
+            yield from ask(_pdu.WriteSingleRegisterRequest(address=address, value=value))
             return [value]
         if fc == 22:  # the register at the start address, with the grid's first two cells as AND, OR masks
             and_mask, or_mask = table.read(address, 2)
-            master.mask_write_register(unit, address, and_mask, or_mask)
+            yield from ask(_pdu.MaskWriteRegisterRequest(address, and_mask, or_mask))
             return [and_mask, or_mask]
         if fc == 23:  # write the grid's values, read the same registers back in the same transaction
-            values = master.read_write_multiple_registers(unit, address, length, address,
-                                                          table.read(address, length))
+            written = table.read(address, length)
+            request = _pdu.ReadWriteMultipleRegistersRequest(address, length, address, written)
+            values = list((yield from ask(request)).registers)
             table.write(address, values)
             return values
         if fc == 24:  # the queue behind the pointer at the start address: its values follow it
-            values = master.read_fifo_queue(unit, address)
+            values = list((yield from ask(_pdu.ReadFifoQueueRequest(address))).values)
             table.write(address + 1, values)
             return values
         values = table.read(address, length)
         if fc == 15:
-            master.write_multiple_coils(unit, address, values)
+            yield from ask(_pdu.WriteMultipleCoilsRequest(address=address, values=values))
         else:
-            master.write_multiple_registers(unit, address, values)
+            yield from ask(_pdu.WriteMultipleRegistersRequest(address=address, values=values))
         return values
 
     def run_polls(self, n: int) -> list:
@@ -352,7 +417,10 @@ class ConnectionMixin:
                     due = start + k * float(self.interval.value)
                     if due > clock.now:
                         clock.sleep(due - clock.now)
-                self.poll_once()
+                if getattr(self.master.link, "needs_await", False):
+                    await self.apoll_once()  # the loop runs while the answer comes
+                else:
+                    self.poll_once()
                 k += 1
                 if not self.continuous.value:
                     break

@@ -123,6 +123,8 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         self.slave: Slave | None = None
         self.master: Master | None = None
         self.link: Any = None
+        self._browser_port: Any = None  # the browser's serial port, kept open between connects
+        self._pending_poll: Any = None  # a poll awaiting the browser's port on the kernel's loop
         self.server: Any = None
         self.partner: TestTool | None = None
         self.counts = {"polls": 0, "valid": 0, "timeouts": 0, "errors": 0}
@@ -315,6 +317,7 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
 
         self.serial_box = row(self.url, self.baudrate, self.parity, self.stopbits)
         self.tcp_box = row(self.host, self.port)
+        self.browser_box = W.Box()  # the browser's serial port: its "choose serial port" button
         # always on screen: who this is, what happened, whether it is connected, start/stop and the counters
         self.polling_box = W.VBox([
             row(self.interval, self.continuous, self.read_button, self.start_button, self.stop_button,
@@ -325,6 +328,7 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
             section("Connection"),
             row(self.connection, self.timeout, self.connect_button, self.disconnect_button),
             self.serial_box,
+            self.browser_box,
             self.tcp_box,
             section("Device parameters"),
             row(self.unit, self.address, self.length, self.function),
@@ -398,8 +402,11 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         r = self.role_info
         real = ("serial", "serial port / pyserial URL") if r.mode == "rtu" else ("tcp", "TCP host and port")
         current = self.connection.value
-        self.connection.options = [("loopback partner", "loopback"), (real[1], real[0])]
-        self.connection.value = current if current in ("loopback", real[0]) else "loopback"
+        options = [("loopback partner", "loopback"), (real[1], real[0])]
+        if r.key == "rtu_master":  # the learner's own adapter, through the page (Chrome, Edge)
+            options.append(("browser serial port (Web Serial)", "browser"))
+        self.connection.options = options
+        self.connection.value = current if current in [value for _, value in options] else "loopback"
         if r.side == "slave":
             self._ensure_slave()
         for b in (self.read_button,):
@@ -430,14 +437,15 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
 
     def _show_connection(self) -> None:
         kind = self.connection.value
-        shown(self.serial_box, kind == "serial")
+        shown(self.serial_box, kind in ("serial", "browser"))
+        shown(self.browser_box, kind == "browser")
         shown(self.tcp_box, kind == "tcp")
         # on a loopback wire the master's line settings are the wire's: show them for RTU
         if kind == "loopback" and self.role_info.mode == "rtu":
             shown(self.serial_box, True)
             shown(self.url, False)
         else:
-            shown(self.url, True)
+            shown(self.url, kind != "browser")
         self._render_status()
 
     def _ensure_slave(self) -> Slave:
