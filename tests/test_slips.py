@@ -13,10 +13,11 @@ import builtins
 import re
 from collections import defaultdict
 
+import build_slips
 import pytest
+import slips
 
 from modbus_edu import exercises
-from modbus_edu.exercises import build_slips, slips
 from modbus_edu.exercises.inventory import PRE
 from modbus_edu.exercises.misconceptions import CATALOGUE
 

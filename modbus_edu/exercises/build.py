@@ -26,7 +26,7 @@ import modbus_edu
 from ..errors import ModbusError, ReferenceUnavailable
 from .calls import call_all, follow_plan, is_unwritten
 from .core import EXERCISES, Exercise, Raised, kind, register, show
-from .misconceptions import name as misconception
+from .diagnosis.misconceptions import name as misconception
 from .plain import revive
 
 TIME_LIMIT = 2.0

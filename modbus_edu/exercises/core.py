@@ -36,8 +36,8 @@ from ..crc import crc16
 from ..errors import ModbusError
 from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
-from .frameslip import frame_slip
-from .misconceptions import CATALOGUE, diagnose
+from .diagnosis.frameslip import frame_slip
+from .diagnosis.misconceptions import CATALOGUE, diagnose
 from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...

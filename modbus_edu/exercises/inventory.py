@@ -28,7 +28,7 @@ from typing import Any
 
 from ..errors import ModbusError
 from .core import AFTER_CHECK, Recorded, Result, exercise
-from .misconceptions import CATALOGUE
+from .diagnosis.misconceptions import CATALOGUE
 
 PRE = "00.0"
 POST = "17.0"

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..datamodel import DataBank, format_reference, parse_reference, table_kind
-from ..errors import ModbusError
-from .build import build_exercise
-from .core import address_diagnosis, exercise, field_diagnosis, int_answer
-from .misconceptions import diagnose
+from ...datamodel import DataBank, format_reference, parse_reference, table_kind
+from ...errors import ModbusError
+from ..build import build_exercise
+from ..core import address_diagnosis, exercise, field_diagnosis, int_answer
+from ..diagnosis.misconceptions import diagnose
 
 
 @exercise("01.1", "the address behind a reference number",

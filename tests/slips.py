@@ -19,10 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .. import errors as mb_errors
-from ..crc import crc_bytes, lrc
-from ..datamodel import DataBank
-from .inventory import POST, PRE, key_letters
+from modbus_edu import errors as mb_errors
+from modbus_edu.crc import crc_bytes, lrc
+from modbus_edu.datamodel import DataBank
+from modbus_edu.exercises.inventory import POST, PRE, key_letters
 
 
 @dataclass(frozen=True)

@@ -4,16 +4,16 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import crc_bytes
-from ..datamodel import DataBank
-from ..errors import ChecksumError, CrcError, ModbusError, ModbusExceptionError, ModbusTimeoutError
-from ..framing import RtuFrame
-from ..links.loopback import loopback_serial
-from ..master import Master
-from ..slave import Slave
-from .build import build_exercise
-from .core import exercise, int_answer, number_answer, real_answer
-from .misconceptions import diagnose, name
+from ...crc import crc_bytes
+from ...datamodel import DataBank
+from ...errors import ChecksumError, CrcError, ModbusError, ModbusExceptionError, ModbusTimeoutError
+from ...framing import RtuFrame
+from ...links.loopback import loopback_serial
+from ...master import Master
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import exercise, int_answer, number_answer, real_answer
+from ..diagnosis.misconceptions import diagnose, name
 
 
 def _one_read_time(baudrate: int, count: int) -> float:

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import lrc
-from ..crc import lrc as _library_lrc
-from ..datamodel import parse_reference
-from ..framing import AsciiFrame, RtuFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
-from .build import build_exercise
-from .core import (
+from ...crc import lrc
+from ...crc import lrc as _library_lrc
+from ...datamodel import parse_reference
+from ...framing import AsciiFrame, RtuFrame, parse_hex
+from ...pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
+from ..build import build_exercise
+from ..core import (
     AnswerError,
     address_diagnosis,
     as_bytes,
@@ -20,8 +20,8 @@ from .core import (
     line_after_tries,
     request_field_diagnosis,
 )
-from .frameslip import frame_slip
-from .misconceptions import diagnose, name
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import diagnose, name
 
 
 @exercise("04.1", "an LRC by hand",

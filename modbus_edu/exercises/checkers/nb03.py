@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import crc16, crc_bytes
-from ..errors import ModbusError
-from ..framing import RtuFrame, parse_hex
-from ..pdu import ReadHoldingRegistersResponse, WriteSingleRegisterRequest
-from .build import build_exercise
-from .core import (
+from ...crc import crc16, crc_bytes
+from ...errors import ModbusError
+from ...framing import RtuFrame, parse_hex
+from ...pdu import ReadHoldingRegistersResponse, WriteSingleRegisterRequest
+from ..build import build_exercise
+from ..core import (
     as_bytes,
     compare_bytes,
     compare_rtu_frame,
@@ -19,8 +19,8 @@ from .core import (
     right_value_in_another_form,
     rtu_request_diagnosis,
 )
-from .frameslip import frame_slip
-from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
 
 
 @exercise("03.1", "a CRC in wire order",

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import ModbusError as _Error
-from ..links.loopback import loopback_serial
-from ..links.wire import SerialTiming
-from ..master import Master
-from ..slave import Slave
-from .build import build_exercise
-from .core import Written, exercise, number_answer, real_answer
-from .misconceptions import diagnose
+from ...errors import ModbusError as _Error
+from ...links.loopback import loopback_serial
+from ...links.wire import SerialTiming
+from ...master import Master
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import Written, exercise, number_answer, real_answer
+from ..diagnosis.misconceptions import diagnose
 
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",

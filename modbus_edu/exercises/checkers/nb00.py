@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..framing import RtuFrame, TcpFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest
-from .core import compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
-from .misconceptions import diagnose
+from ...framing import RtuFrame, TcpFrame, parse_hex
+from ...pdu import ReadHoldingRegistersRequest
+from ..core import compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
+from ..diagnosis.misconceptions import diagnose
 
 
 @exercise("00.1", "the slave address of a frame",

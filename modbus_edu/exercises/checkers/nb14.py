@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import ModbusTimeoutError
-from ..links.loopback import loopback_serial
-from ..master import Master
-from ..pdu import mask_write
-from ..slave import Slave
-from .build import build_exercise
-from .core import exercise, field_diagnosis, int_answer, line_after_tries
-from .misconceptions import diagnose
+from ...errors import ModbusTimeoutError
+from ...links.loopback import loopback_serial
+from ...master import Master
+from ...pdu import mask_write
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import exercise, field_diagnosis, int_answer, line_after_tries
+from ..diagnosis.misconceptions import diagnose
 
 MASK_SLIPS = ("or-mask-forgotten", "mask-write-or", "mask-roles-swapped")
 """The catalogue's slips of FC 22's two masks, tried on every mask exercise."""

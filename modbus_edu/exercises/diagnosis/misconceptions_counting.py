@@ -12,9 +12,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import lrc
-from ..pdu import mask_write
-from ..values import decode_value
+from ...crc import lrc
+from ...pdu import mask_write
+from ...values import decode_value
 from .catalogue import _entry, _int, _near, _number
 
 # --- lengths of frames ---------------------------------------------------------------------------------

@@ -6,16 +6,16 @@ import math
 import random
 from typing import Any
 
-from ..datamodel import DataBank, parse_reference
-from ..devices.arduino import ArduinoSlave, expected_answered_fraction
-from ..errors import ConfigError
-from ..framing import RtuFrame, TcpFrame, parse_hex
-from ..links.loopback import loopback_serial
-from ..pdu import ReadHoldingRegistersRequest
-from ..slave import Slave
-from ..values import ORDERS, decode_value, encode_value
-from .build import build_exercise
-from .core import (
+from ...datamodel import DataBank, parse_reference
+from ...devices.arduino import ArduinoSlave, expected_answered_fraction
+from ...errors import ConfigError
+from ...framing import RtuFrame, TcpFrame, parse_hex
+from ...links.loopback import loopback_serial
+from ...pdu import ReadHoldingRegistersRequest
+from ...slave import Slave
+from ...values import ORDERS, decode_value, encode_value
+from ..build import build_exercise
+from ..core import (
     address_diagnosis,
     as_bytes,
     compare_rtu_frame,
@@ -25,8 +25,8 @@ from .core import (
     real_answer,
     rtu_request_diagnosis,
 )
-from .misconceptions import ORDER_WORDS, diagnose
-from .misconceptions import name as misconception
+from ..diagnosis.misconceptions import ORDER_WORDS, diagnose
+from ..diagnosis.misconceptions import name as misconception
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
 _LAB_SEED = 13

@@ -5,18 +5,18 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from ..explain import explain
-from ..framing import TcpFrame, parse_hex
-from ..pdu import (
+from ...explain import explain
+from ...framing import TcpFrame, parse_hex
+from ...pdu import (
     ReadHoldingRegistersRequest,
     ReadHoldingRegistersResponse,
     WriteMultipleRegistersRequest,
     WriteSingleRegisterRequest,
     decode_pdu,
 )
-from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
-from .misconceptions import diagnose
+from ..build import build_exercise
+from ..core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
+from ..diagnosis.misconceptions import diagnose
 
 
 @exercise("05.1", "read a transaction id",

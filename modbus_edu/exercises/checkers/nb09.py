@@ -5,17 +5,17 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..datamodel import DataBank, parse_reference, table_kind
-from ..devices.arduino import (
+from ...datamodel import DataBank, parse_reference, table_kind
+from ...devices.arduino import (
     EXPERIMENT_TIMEOUT,
     SLOW_LOOP,
     expected_answered_fraction,
     loop_time_experiment,
     reply_time,
 )
-from .build import build_exercise
-from .core import address_diagnosis, exercise, field_diagnosis, real_answer
-from .misconceptions import diagnose, name
+from ..build import build_exercise
+from ..core import address_diagnosis, exercise, field_diagnosis, real_answer
+from ..diagnosis.misconceptions import diagnose, name
 
 
 @exercise("09.1", "function and address for a reference number",
