@@ -21,6 +21,7 @@ from ..core import (
 )
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
+from ..diagnosis.procedures import CRC, CRC_WIRE
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -40,8 +41,7 @@ def _check_03_1(answer: Any) -> str | None:
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
     got = as_bytes(answer)
-    return (diagnose("crc-swapped", got, expected) or diagnose("crc-one-byte", got, crc16(data))
-            or compare_bytes(got, expected, "your CRC"))
+    return CRC_WIRE.explain([((data,), got)]) or compare_bytes(got, expected, "your CRC")
 
 
 @exercise("03.2", "build an RTU frame",
@@ -102,6 +102,11 @@ def _check_03_4(answer: Any) -> str | None:
     return f"{got} bytes is not the length of that response."
 
 
+def _crc_inputs(rng) -> tuple:
+    """Mostly short messages, one in ten longer than 256 bytes."""
+    return (rng.randbytes(rng.randrange(1, 64) if rng.random() < 0.9 else rng.randrange(257, 700)),)
+
+
 def _crc_without_final_step(data: bytes) -> int:
     """A plausible wrong CRC: the right loop, but the register starts at 0 (CRC-16/ARC)."""
     return crc16_reflected(data, initial=0)
@@ -116,8 +121,10 @@ def _crc_swapped(data: bytes) -> int:
 build_exercise(
     "03.5", "write crc16 yourself",
     reference=crc16,
-    inputs=lambda rng: (rng.randbytes(rng.randrange(1, 64)),),
-    edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),)],
+    inputs=_crc_inputs,
+    # every input the task allows: no bytes, one byte, a frame, and longer than 256 bytes ("any data")
+    edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),),
+                (bytes(range(256)) + b"\x01",), (b"\xa5" * 600,)],
     hint=("CRC-16/MODBUS: a 16-bit register starts at 0xFFFF; each byte is XORed into it, then the register "
           "is shifted right 8 times, and each time the bit that falls out is 1 it is XORed with 0xA001.",
           "two loops: one over the bytes, and inside it one of 8 shifts; test the lowest bit (register & 1) "
@@ -128,4 +135,4 @@ build_exercise(
              (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
                                                     "crc-as-bytes"),
              (lambda data: crc16(data) & 0xFF, "crc-one-byte")],
-    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got))
+    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got), procedure=CRC)

@@ -387,3 +387,27 @@ def _frame_for_header(got: Any, expected: Any) -> bool:
         "such as ABCD; those registers hold another value or another type.")
 def _order_when_none(got: Any, expected: Any) -> bool:
     return not expected and isinstance(got, str) and got.upper() in ("ABCD", "CDAB", "BADC", "DCBA")
+
+
+# --- found by the procedures (:mod:`.procedures`) ------------------------------------------------------
+
+@_entry("fixed-silence-at-19200", "the fixed 1.75 ms at 19200 baud", "got, expected: a time at 19200 baud, and "
+        "the same time with 1.75 ms silences",
+        "the fixed 1.75 ms (and 0.75 ms) replace 3.5 (and 1.5) character times only above 19200 baud; at "
+        "19200 baud and below the silences are counted in characters.")
+def _fixed_at_19200(got: Any, fixed: Any) -> bool:
+    return _number(got) and _number(fixed) and _near(got, fixed)
+
+
+@_entry("tcp-frame-for-rtu", "a Modbus/TCP frame for an RTU frame", "got: the learner's frame (bytes)",
+        "an RTU frame is the slave address, the PDU and a CRC, low byte first; the MBAP header (transaction "
+        "id, protocol id, length, unit) and a frame with no CRC are Modbus/TCP's.")
+def _tcp_for_rtu(got: Any) -> bool:
+    return False  # named by the RTU frame's procedure, which rebuilds the TCP frame
+
+
+@_entry("ascii-frame-for-rtu", "an ASCII frame for an RTU frame", "got: the learner's frame (bytes)",
+        "an RTU frame carries the bytes themselves and a CRC; ':', hex characters, an LRC and CR LF are "
+        "the ASCII mode's.")
+def _ascii_for_rtu(got: Any) -> bool:
+    return False  # named by the RTU frame's procedure, which rebuilds the ASCII frame

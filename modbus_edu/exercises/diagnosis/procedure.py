@@ -1,0 +1,147 @@
+"""Diagnosis from the procedure: a concept's right procedure, and the same procedure with one step changed.
+
+This is the "bug library" of intelligent tutoring (Brown and Burton's BUGGY; model tracing).  A
+:class:`Procedure` computes a concept's right answer (the CRC of some bytes, an MBAP header, a transaction
+time) and, on request, its answer with one named step changed (a :class:`Perturbation`: the CRC register
+started at 0, the polynomial unreflected, the bytes high first...).  A checker asks the concept's procedure
+which perturbations reproduce the learner's answer, and names the change:
+
+* one change reproduces it, or several that all point to the same misconception: the verdict names that
+  misconception (its catalogue entry, :mod:`.misconceptions`), so one slip reads the same in every
+  exercise that uses the concept;
+* several changes that point to different misconceptions reproduce it: the verdict names the candidates,
+  never one of them ("your answer is what the register started at 0 gives, or what ... gives");
+* none does: the checker says so with the field or the boundary the answer falls on.
+
+For a build exercise the evidence is every input the learner's function was called on
+(:meth:`Procedure.reproducing` over a whole trace): a change is named only if it gives what the learner's
+function gave on every input, so a function that is wrong only for the empty input is not told "register
+started at 0", though on that one input the two agree.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from .catalogue import CATALOGUE
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """One step of a procedure changed: its short key, the change in words (``step``, read after "what ...
+    gives"), the catalogue key of the misconception it shows (None: no catalogued misconception), and the
+    changed procedure itself (same arguments as the right one; None when the change does not apply)."""
+
+    key: str
+    step: str
+    misconception: str | None
+    compute: Callable[..., Any]
+    fields: dict = field(default_factory=dict)
+
+    def answer(self, *args: Any) -> Any:
+        """The changed procedure's answer, or :data:`NOT_APPLICABLE` when it raises or does not apply."""
+        try:
+            result = self.compute(*copy.deepcopy(args))
+        except Exception:  # a change that cannot run on these arguments does not apply to them
+            return NOT_APPLICABLE
+        return NOT_APPLICABLE if result is None and not self.returns_none else result
+
+    returns_none: bool = False
+
+    def words(self) -> str:
+        """What the verdict says when this change is named: the catalogue's words, or the step's."""
+        if self.misconception is None:
+            return f"your answer is what {self.step} gives."
+        entry = CATALOGUE[self.misconception]
+        try:
+            return f"{entry.say(**self.fields)} (Your answer is what {self.step} gives.)"
+        except (KeyError, IndexError):
+            return f"{entry.label}: your answer is what {self.step} gives."
+
+
+NOT_APPLICABLE = object()
+"""What a perturbation gives where its change does not apply (never equal to any answer)."""
+
+
+def _equal(expected: Any, got: Any) -> bool:
+    if isinstance(expected, bool) or isinstance(got, bool):
+        return type(expected) is type(got) and expected == got
+    if isinstance(expected, (bytes, bytearray)) and isinstance(got, (bytes, bytearray)):
+        return bytes(expected) == bytes(got)
+    if isinstance(expected, float) or isinstance(got, float):
+        return (isinstance(got, (int, float)) and isinstance(expected, (int, float))
+                and abs(expected - got) <= 1e-9 * max(1.0, abs(expected)))
+    try:
+        return type(expected) is type(got) and bool(expected == got)
+    except Exception:
+        return False
+
+
+@dataclass(frozen=True)
+class Procedure:
+    """A concept's procedure (``right``) and its perturbations, each one step changed."""
+
+    concept: str
+    right: Callable[..., Any]
+    perturbations: tuple[Perturbation, ...]
+    same: Callable[[Any, Any], bool] = _equal
+
+    def answer(self, *args: Any, perturbation: str | None = None) -> Any:
+        """The right answer for ``args``, or the answer with the step ``perturbation`` (a key) changed."""
+        if perturbation is None:
+            return self.right(*args)
+        return self.perturbation(perturbation).answer(*args)
+
+    def perturbation(self, key: str) -> Perturbation:
+        return next(item for item in self.perturbations if item.key == key)
+
+    @property
+    def misconceptions(self) -> frozenset[str]:
+        """The catalogue keys this procedure's perturbations name."""
+        return frozenset(item.misconception for item in self.perturbations if item.misconception)
+
+    def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
+        """The perturbations that give the learner's answer on every ``(args, got)`` of ``cases`` (the
+        first case first: most perturbations are ruled out by it)."""
+        cases = list(cases)
+        found = []
+        for item in self.perturbations:
+            for args, got in cases:
+                mine = item.answer(*args)
+                if mine is NOT_APPLICABLE or not self.same(mine, got):
+                    break
+            else:
+                found.append(item)
+        return found
+
+    def explain(self, cases: Iterable[tuple[Sequence, Any]]) -> str | None:
+        """The verdict's words for the learner's answers ``cases`` (``(args, got)`` pairs, the failing one
+        first): the one misconception that reproduces them all, the candidates when several different ones
+        do, or None."""
+        return say(self.reproducing(cases))
+
+    def nearest(self, args: Sequence, got: Any, other: str) -> str | None:
+        """Where no change reproduces every answer: the changes that reproduce this one alone, as a clue
+        that names no misconception (``other`` says on which input it stops fitting)."""
+        found = self.reproducing([(args, got)])
+        if not found:
+            return None
+        steps = " or ".join(dict.fromkeys(item.step for item in found))
+        return (f"On this input your answer is what {steps} gives, but that change does not give your answers "
+                f"on {other}.")
+
+
+def say(found: Sequence[Perturbation]) -> str | None:
+    """Name what the perturbations ``found`` (all reproducing the answer) have in common: one
+    misconception, or one uncatalogued change; else the candidates, naming none of them."""
+    if not found:
+        return None
+    keys = list(dict.fromkeys(item.misconception for item in found))
+    if len(keys) == 1 and (keys[0] is not None or len(found) == 1):
+        return found[0].words()
+    steps = list(dict.fromkeys(item.step for item in found))
+    return (f"your answer is what {', or what '.join(steps)} gives: the answer alone cannot tell which. "
+            "Check each.")
