@@ -22,6 +22,7 @@ from ..core import (
 )
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.procedures import LRC
 
 
 @exercise("04.1", "an LRC by hand",
@@ -39,7 +40,7 @@ def _check_04_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters"), data, got)
+    named = LRC.explain([((data,), got)])
     if named:
         return named
     return f"0x{got:02X} is not the LRC of 11 03 00 6B 00 03."
@@ -188,7 +189,7 @@ build_exercise(
     refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,
                                                                 "lrc-ones-complement"),
              (lambda data: -sum(data), "lrc-not-8-bits")],
-    diagnose=_diagnose_lrc)
+    diagnose=_diagnose_lrc, procedure=LRC)
 line_after_tries("04.5", "sum(data) adds the bytes; & 0xFF keeps the low 8 bits of any int; the two's "
                  "complement of a byte x is (256 - x) % 256.",
                  "for 01 03 00 00 00 0A the sum is 14 = 0x0E and 256 - 14 = 242: the LRC is 0xF2.")

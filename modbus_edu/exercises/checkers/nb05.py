@@ -17,6 +17,7 @@ from ...pdu import (
 from ..build import build_exercise
 from ..core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
 from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import MBAP
 
 
 @exercise("05.1", "read a transaction id",
@@ -167,4 +168,4 @@ build_exercise(
              (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big")
               + bytes([unit]), "mbap-length"),
              (lambda tid, unit, pdu: _mbap_header(tid, unit, pdu) + bytes(pdu), "frame-for-header")],
-    diagnose=_diagnose_mbap)
+    diagnose=_diagnose_mbap, procedure=MBAP)

@@ -12,6 +12,7 @@ from ...slave import Slave
 from ..build import build_exercise
 from ..core import Written, exercise, number_answer, real_answer
 from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import TRANSACTION_TIME
 
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",
@@ -121,6 +122,16 @@ def _close_enough(expected: float, got) -> bool:
     return abs(got - expected) <= 1e-9 + 1e-9 * expected
 
 
+def _timing_boundary(args) -> str | None:
+    """The boundary of 08.4's range a failing input falls on: the rate where the fixed silences start."""
+    baudrate = args[0]
+    if baudrate == 19200:
+        return "At 19200 baud the silences are still 3.5 characters; the fixed 1.75 ms start above it."
+    if 19200 < baudrate <= 19201:
+        return "Just above 19200 baud the fixed 1.75 ms already apply."
+    return None
+
+
 def _diagnose_timing(args, expected, got) -> str | None:
     if not isinstance(got, (int, float)):
         return None
@@ -162,4 +173,4 @@ build_exercise(
              (lambda baudrate, parity, stopbits, request, response:
               (request + response + 6) * (1 + 8 + (parity != "N") + stopbits) / baudrate,
               "three-characters-for-t35")],
-    diagnose=_diagnose_timing, compare=_close_enough)
+    diagnose=_diagnose_timing, compare=_close_enough, procedure=TRANSACTION_TIME, boundary=_timing_boundary)

@@ -26,6 +26,7 @@ from ..core import (
     rtu_request_diagnosis,
 )
 from ..diagnosis.misconceptions import ORDER_WORDS, diagnose
+from ..diagnosis.procedure import Perturbation, Procedure
 from ..diagnosis.misconceptions import name as misconception
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
@@ -284,6 +285,24 @@ def _exact_order(registers: list, expected: float) -> str | None:
     return next((order for order in ORDERS if decode_value(registers, "float32", order) == expected), None)
 
 
+def _close_order(registers: list, expected: float, orders: tuple = ORDERS) -> str | None:
+    """The first of ``orders`` in which the registers decode to ``expected`` (math.isclose), or None."""
+    return next((order for order in orders
+                 if math.isclose(decode_value(registers, "float32", order), expected, rel_tol=1e-6)), None)
+
+
+ORDER_FOUND = Procedure("the word order the registers carry a value in", _close_order, (
+    Perturbation("always-ABCD", "ABCD whatever the registers", "word-order", lambda registers, value: "ABCD"),
+    Perturbation("always-CDAB", "CDAB whatever the registers", "word-order", lambda registers, value: "CDAB"),
+    Perturbation("exact", "the values compared with ==", "float-compared-exactly", _exact_order, returns_none=True),
+    Perturbation("two-orders", "only ABCD and CDAB tried", None,
+                 lambda registers, value: _close_order(registers, value, ("ABCD", "CDAB")), returns_none=True),
+    Perturbation("order-when-none", "an order named even when none fits", "an-order-when-none-fits",
+                 lambda registers, value: _close_order(registers, value) or "ABCD"),
+), same=lambda mine, got: mine == got and type(mine) is type(got))
+"""13.7's procedure: the first order that fits (any fitting order is right; these are the slips' orders)."""
+
+
 def _orders_in_words(expected: frozenset) -> str:
     """The orders a 13.7 answer may name, in plain words: 'CDAB', 'ABCD or BADC', or None."""
     return " or ".join(repr(order) for order in sorted(expected)) if expected else "None (no order fits)"
@@ -304,4 +323,4 @@ build_exercise(
              (lambda registers, expected: "CDAB", "word-order"), (_exact_order, "float-compared-exactly"),
              (lambda registers, expected: _exact_order(registers, expected) or "ABCD",
               "an-order-when-none-fits")],
-    compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words)
+    compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words, procedure=ORDER_FOUND)

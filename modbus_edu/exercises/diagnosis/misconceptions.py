@@ -498,7 +498,9 @@ def _exception_as_function(got: Any, expected: Any) -> bool:
 
 @_entry("exception-code-confused", "another exception code", "got, expected: exception codes (int)",
         "the exception code says why: 01 illegal function (not implemented), 02 illegal data address (no "
-        "such address), 03 illegal data value (a count or value out of range), 04 slave device failure.")
+        "such address), 03 illegal data value (the request's structure is not allowed, such as a quantity "
+        "outside its range; the specification says it does NOT mean a value the application rejects), 04 "
+        "slave device failure.")
 def _exception_code_confused(got: Any, expected: Any) -> bool:
     return (_int(got) and _int(expected) and got != expected and 1 <= got <= 11 and 1 <= expected <= 11
             and (got, expected) != (1, 2))
@@ -629,8 +631,9 @@ def _damaged_counted(got: Any, expected: Any) -> bool:
 
 @_entry("others-not-heard", "only its own messages counted", "got: a message count; own: the messages "
         "addressed to the node",
-        "every node on an RS-485 line hears every frame: the bus message count also counts the requests for "
-        "other units and their responses.")
+        "every node on an RS-485 line hears every frame, and the course's slave counts the requests for "
+        "other units and their responses too (the specification leaves open what a device counts; notebook "
+        "14's rule is the course slave's).")
 def _others_not_heard(got: Any, own: Any) -> bool:
     return _int(got) and _int(own) and got == own
 

@@ -109,14 +109,15 @@ def _byte_value(got: Any, data: Any) -> bool:
 
 @_entry("own-frames-counted", "its own responses counted", "got: a message count; with_own: the count with "
         "the node's own responses",
-        "a node counts the frames it receives; its own responses are frames it sends, never counted.")
+        "the course's slave counts the frames it receives, and its own responses are frames it sends: it "
+        "does not count them (the specification leaves this to each device; notebook 14 says so).")
 def _own_frames(got: Any, with_own: Any) -> bool:
     return _int(got) and got == with_own
 
 
 @_entry("count-request-forgotten", "the 0x0B request itself left out", "got, expected: message counts",
-        "the request that asks for the count is itself a message the slave received: it is counted before "
-        "the slave answers.")
+        "the request that asks for the count is itself a message the slave received: the course's slave "
+        "counts it before it answers (the specification leaves this order to each device).")
 def _count_request(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected - 1
 
@@ -284,8 +285,8 @@ def _start_stop(got: Any, eight_bits: Any) -> bool:
 
 @_entry("reply-time-forgotten", "the reply's time forgotten", "got, without: a share, and the same share "
         "without the reply's time",
-        "a request is answered only if the loop reaches it early enough for the reply to arrive within the "
-        "timeout: (timeout - reply) / loop time, not timeout / loop time.")
+        "a request is answered in time only if its reply, too, arrives within the timeout: the reply's own "
+        "time counts (the share answered is (timeout - reply) / loop time, not timeout / loop time).")
 def _reply_forgotten(got: Any, without: Any) -> bool:
     return _number(got) and _number(without) and _near(got, without)
 
