@@ -214,7 +214,8 @@ class BuildChecker:
             if words:
                 return _sentence(words)
             legacy = self._diagnosed(args, expected, got)
-            if legacy and not _labels(legacy) & self.procedure.misconceptions:
+            right = [(one, mine) for one, mine in _answers(*evidence, skip=args) if self._right(one, mine, evidence)]
+            if legacy and not any(self.procedure.contradicted(key, right) for key in _labels(legacy)):
                 return _sentence(legacy)
             clue = [self.procedure.nearest(args, got, "every input"), self.boundary(args)]
             return "".join(_sentence(part) for part in clue if part)
@@ -223,6 +224,16 @@ class BuildChecker:
             boundary = self.boundary(args) if evidence is not None else None
             return _sentence(boundary) if boundary else ""
         return _sentence(note)
+
+    def _right(self, args: tuple, got: Any, evidence: tuple) -> bool:
+        """Whether the learner's ``got`` for ``args`` is the library's answer (in the trace's cases)."""
+        for one, expected in evidence[0]:
+            if one is args:
+                try:
+                    return not isinstance(expected, _Refused) and bool(self.compare(expected, got))
+                except Exception:
+                    return False
+        return False
 
     def _diagnosed(self, args: tuple, expected: Any, got: Any) -> str:
         """What the exercise's own ``diagnose`` names for this one input, or an empty string."""

@@ -34,6 +34,7 @@ from typing import Any
 from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
+from ..explain import explain, explain_pdu
 from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
 from .diagnosis.frameslip import frame_slip
@@ -467,16 +468,44 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
 
 # --- comparing and diagnosing ------------------------------------------------------------------------
 
-def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
-    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first."""
+def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = None) -> str | None:
+    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first, the field it belongs
+    to and what that field should hold, from :func:`~modbus_edu.explain.explain`'s dissection of the
+    expected frame (``mode``: "rtu", "tcp" or "pdu"; None: whatever mode dissects it without error)."""
     got = as_bytes(answer)
     if got == expected:
         return None
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
-            return (f"{what} differs at byte {index}: you have 0x{mine:02X}, it should be 0x{theirs:02X} "
-                    f"({len(got)} bytes given, {len(expected)} expected).")
-    return f"{what} has {len(got)} bytes, it should have {len(expected)}."
+            return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have 0x{mine:02X}, "
+                    f"it should be 0x{theirs:02X} ({len(got)} bytes given, {len(expected)} expected).")
+    if len(got) < len(expected):
+        missing = _field_at(expected, len(got), mode, lead="")
+        return (f"{what} has {len(got)} bytes, it should have {len(expected)}"
+                f"{missing and '; what is missing starts with the' + missing}.")
+    return f"{what} has {len(got)} bytes, it should have {len(expected)}: nothing follows the last field."
+
+
+def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in the") -> str:
+    """Where byte ``index`` of the frame ``expected`` lies, in words: ", in the quantity (bytes 4-5), which
+    should hold 00 02 (2: number of registers to read)", or an empty string when no dissection fits."""
+    dissection = None
+    for kind in (mode,) if mode else ("rtu", "tcp", "pdu"):
+        try:
+            found = explain_pdu(expected) if kind == "pdu" else explain(expected, mode=kind)
+        except ModbusError:
+            continue
+        if found.error is None and found.rows:
+            dissection = found
+            break
+    if dissection is None:
+        return ""
+    for row in dissection.rows:
+        if row.offset <= index < row.offset + len(row.raw):
+            span = f"byte {row.offset}" if len(row.raw) == 1 else f"bytes {row.offset}-{row.offset + len(row.raw) - 1}"
+            return (f"{lead} {row.field} ({span}), which should hold {row.raw.hex(' ').upper()} "
+                    f"({row.value}: {row.meaning})")
+    return ""
 
 
 def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | None = None) -> str | None:

@@ -6,8 +6,9 @@ from typing import Any
 
 from ...framing import RtuFrame, TcpFrame, parse_hex
 from ...pdu import ReadHoldingRegistersRequest
-from ..core import compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
+from ..core import as_bytes, compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
 from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import rtu_frame_procedure
 
 
 @exercise("00.1", "the slave address of a frame",
@@ -64,6 +65,11 @@ def _check_00_2(answer: Any) -> str | None:
                                                                 "one-based-address"),
                    ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing")])
 def _check_00_3(answer: Any) -> str | None:
-    expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
-    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")
+    pdu = ReadHoldingRegistersRequest(address=0, count=2)
+    expected = RtuFrame(unit=2, pdu=pdu).encode()
+    got = as_bytes(answer)
+    if got == expected:
+        return None
+    return (rtu_frame_procedure(2, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
+            or compare_rtu_frame(got, expected, "your frame"))
 

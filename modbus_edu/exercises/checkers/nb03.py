@@ -21,7 +21,7 @@ from ..core import (
 )
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
-from ..diagnosis.procedures import CRC, CRC_WIRE
+from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -60,8 +60,12 @@ def _check_03_1(answer: Any) -> str | None:
                    ("01 06 00 02 04 D2 AA 97", "hex-read-as-decimal"),
                    ("01 06 00 02 12 34 00 B7", "checksum-without-address")])
 def _check_03_2(answer: Any) -> str | None:
-    expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
-    return (rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)
+    pdu = WriteSingleRegisterRequest(address=2, value=0x1234)
+    expected = RtuFrame(unit=1, pdu=pdu).encode()
+    got = as_bytes(answer)
+    if got == expected:
+        return None
+    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)
             or compare_rtu_frame(answer, expected, "your frame"))
 
 

@@ -12,7 +12,7 @@ from ...links.loopback import loopback_serial
 from ...master import Master
 from ...slave import Slave
 from ..build import build_exercise
-from ..core import exercise, int_answer, number_answer, real_answer
+from ..core import exercise, int_answer, number_answer, real_answer, right_value_in_another_form
 from ..diagnosis.misconceptions import diagnose, name
 
 
@@ -103,10 +103,11 @@ def _check_06_3(answer: Any) -> str | None:
                 "request that fails the check, and what the master then gets back.",
                 "try it on a loopback line: link.faults.flip_bits(1, target='request') damages the next "
                 "request; catch mb.ModbusError as error and look at type(error)."),
-          accepts=[ModbusTimeoutError, ModbusTimeoutError("no answer")],
+          accepts=[ModbusTimeoutError],
           refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
                    (ChecksumError, "answer-to-damaged-request"), ("timeout", None),
-                   (ModbusExceptionError, "answer-to-damaged-request")])
+                   (ModbusExceptionError, "answer-to-damaged-request"),
+                   (ModbusTimeoutError("x"), None), (TimeoutError, "builtin-for-library-exception")])
 def _check_06_4(answer: Any) -> str | None:
     link = loopback_serial(Slave(unit=1))
     link.faults.flip_bits(1, target="request")
@@ -115,9 +116,17 @@ def _check_06_4(answer: Any) -> str | None:
         return "the checker expected an error here and got none; please tell your teacher."
     except ModbusError as error:
         expected = type(error)
-    got = answer if isinstance(answer, type) else type(answer)
+    if isinstance(answer, BaseException):
+        if type(answer) is expected:
+            return right_value_in_another_form(f"the class itself, {expected.__name__}, not an instance of it "
+                                               f"({expected.__name__}(...) makes one)")
+        return f"give an exception class, not an instance ({type(answer).__name__}(...) makes one)."
+    got = answer
     if got is expected:
         return None
+    named = diagnose("builtin-for-library-exception", got)
+    if named:
+        return named
     if isinstance(got, type) and issubclass(expected, got):
         return f"{got.__name__} is too general: which subclass exactly?"
     if isinstance(got, type) and issubclass(got, ChecksumError):

@@ -10,7 +10,6 @@ from ...devices.arduino import (
     EXPERIMENT_TIMEOUT,
     SLOW_LOOP,
     expected_answered_fraction,
-    loop_time_experiment,
     reply_time,
 )
 from ..build import build_exercise

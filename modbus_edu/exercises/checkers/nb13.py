@@ -26,8 +26,8 @@ from ..core import (
     rtu_request_diagnosis,
 )
 from ..diagnosis.misconceptions import ORDER_WORDS, diagnose
-from ..diagnosis.procedure import Perturbation, Procedure
 from ..diagnosis.misconceptions import name as misconception
+from ..diagnosis.procedure import Perturbation, Procedure
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
 _LAB_SEED = 13
@@ -106,19 +106,38 @@ def lab(puzzle: str) -> Any:
           accepts=[{"A": "wrong unit id", "B": "no slave on the line", "C": "wrong baud rate or parity"},
                    {"A": "Wrong unit id", "B": " no slave on the line", "C": "WRONG BAUD RATE OR PARITY"}],
           refuses=[({"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"}, None),
+                   ({"A": "no slave on the line", "B": "wrong unit id", "C": "wrong baud rate or parity"},
+                    "causes-swapped"),
                    ({"A": "wrong unit id", "B": "wrong baud rate or parity", "C": "no slave on the line"},
                     None)])
 def _check_13_1(answer: Any) -> str | None:
     truth = _silent_wires()[1]
     if not isinstance(answer, dict) or set(answer) != set(truth):
         return "answer with a dict {'A': cause, 'B': cause, 'C': cause}."
-    for name in sorted(truth):
-        got = str(answer[name]).strip().lower()
+    given = {name: str(answer[name]).strip().lower() for name in sorted(truth)}
+    for name, got in given.items():
         if got not in _SILENT_CAUSES:
             return f"wire {name}: {answer[name]!r} is not one of {', '.join(map(repr, _SILENT_CAUSES))}."
-        if got != truth[name]:
-            return f"wire {name} is not silent because of a {got}."
-    return None
+    wrong = [name for name in sorted(truth) if given[name] != truth[name]]
+    if not wrong:
+        return None
+    first = wrong[0]
+    against = f"wire {first} cannot be '{given[first]}': {_TRACE_AGAINST[given[first]]}"
+    swapped = [(a, b) for a in wrong for b in wrong if a < b and given[a] == truth[b] and given[b] == truth[a]]
+    if swapped:
+        a, b = swapped[0]
+        return f"{misconception('causes-swapped')} Here wires {a} and {b} have each other's cause; {against}"
+    return against + "."
+
+
+_TRACE_AGAINST = {
+    "no slave on the line": "no slave leaves no trace at all, and this wire's slave has counted or logged something",
+    "wrong unit id": "a wrong unit id leaves requests for another address in the slave's other_unit counter, and "
+                     "this wire's slave has none",
+    "wrong baud rate or parity": "a wrong baud rate or parity leaves garbled bytes in the slave's checksum_errors, "
+                                 "and this wire's slave has none",
+}
+"""Why each cause does not fit a wire whose cause is another: the trace that cause would leave."""
 
 
 @exercise("13.2", "a current of 292 880 amperes",

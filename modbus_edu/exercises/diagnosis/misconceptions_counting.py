@@ -400,6 +400,22 @@ def _fixed_at_19200(got: Any, fixed: Any) -> bool:
     return _number(got) and _number(fixed) and _near(got, fixed)
 
 
+@_entry("causes-swapped", "two causes swapped", "got, expected: the causes the learner gave two wires",
+        "each cause leaves its own trace in the slave's counters and log: a wrong unit id counts requests for "
+        "another address (other_unit), a wrong baud rate or parity garbled bytes (checksum_errors), no slave "
+        "nothing at all; match each wire's trace to its cause.")
+def _causes_swapped(got: Any, expected: Any) -> bool:
+    return False  # named by 13.1's checker, which compares the causes wire by wire
+
+
+@_entry("builtin-for-library-exception", "Python's own exception for the library's", "got: the exception "
+        "class the learner names",
+        "Python's built-in TimeoutError is not what modbus_edu raises: every error of the library is a "
+        "mb.ModbusError subclass, and a request left unanswered raises mb.ModbusTimeoutError.")
+def _builtin_for_library(got: Any) -> bool:
+    return isinstance(got, type) and got.__module__ == "builtins" and issubclass(got, Exception)
+
+
 @_entry("tcp-frame-for-rtu", "a Modbus/TCP frame for an RTU frame", "got: the learner's frame (bytes)",
         "an RTU frame is the slave address, the PDU and a CRC, low byte first; the MBAP header (transaction "
         "id, protocol id, length, unit) and a frame with no CRC are Modbus/TCP's.")

@@ -66,6 +66,11 @@ NOT_APPLICABLE = object()
 """What a perturbation gives where its change does not apply (never equal to any answer)."""
 
 
+class Choices(tuple):
+    """What a perturbation gives when the changed step may go several ways (any word order but the one
+    asked): the learner's answer fits it if it equals any of them."""
+
+
 def _equal(expected: Any, got: Any) -> bool:
     if isinstance(expected, bool) or isinstance(got, bool):
         return type(expected) is type(got) and expected == got
@@ -103,19 +108,32 @@ class Procedure:
         """The catalogue keys this procedure's perturbations name."""
         return frozenset(item.misconception for item in self.perturbations if item.misconception)
 
+    def fits(self, item: Perturbation, args: Sequence, got: Any) -> bool:
+        """Whether the perturbation ``item`` gives ``got`` for ``args``."""
+        mine = item.answer(*args)
+        if mine is NOT_APPLICABLE:
+            return False
+        return any(self.same(one, got) for one in mine) if isinstance(mine, Choices) else self.same(mine, got)
+
     def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
         """The perturbations that give the learner's answer on every ``(args, got)`` of ``cases`` (the
         first case first: most perturbations are ruled out by it)."""
         cases = list(cases)
-        found = []
-        for item in self.perturbations:
-            for args, got in cases:
-                mine = item.answer(*args)
-                if mine is NOT_APPLICABLE or not self.same(mine, got):
-                    break
-            else:
-                found.append(item)
-        return found
+        return [item for item in self.perturbations if all(self.fits(item, args, got) for args, got in cases)]
+
+    def contradicted(self, misconception: str, right_cases: Iterable[tuple[Sequence, Any]]) -> bool:
+        """Whether the learner's right answers ``right_cases`` rule ``misconception`` out: it is one this
+        procedure models, and on one of those inputs every change that shows it gives a wrong answer (a
+        function right on that input has not made that change)."""
+        items = [item for item in self.perturbations if item.misconception == misconception]
+        if not items:
+            return False
+        for args, got in right_cases:
+            answers = [item.answer(*args) for item in items]
+            if all(mine is not NOT_APPLICABLE and not self.fits(item, args, got)
+                   for item, mine in zip(items, answers)):
+                return True
+        return False
 
     def explain(self, cases: Iterable[tuple[Sequence, Any]]) -> str | None:
         """The verdict's words for the learner's answers ``cases`` (``(args, got)`` pairs, the failing one
