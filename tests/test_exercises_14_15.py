@@ -126,9 +126,9 @@ def test_14_3_accepts_the_count(answer):
 
 
 @pytest.mark.parametrize("answer, words", [
-    (6, "bad CRC"),
-    (4, "unit 2's response"),
-    (3, "only the requests for unit 1"),
+    (6, "a damaged frame counted or the clear request counted?"),
+    (4, "the count request itself left out or another unit's response left out?"),
+    (3, "only the requests addressed to it"),
     (9, "is not the count"),
     ("five", "whole number"),
 ])

@@ -105,15 +105,16 @@ def test_the_slips_are_named_by_their_misconception(capsys):
             unnamed.append(f"{key} {slip.misconception}: {message[:160]!r}")
     named, catalogued, every = (sum(row[i] for row in rows.values()) for i in range(3))
     with capsys.disabled():
-        print("\nnotebook  named / all slips        named / slips with a misconception   generic  wrongly named"
-              "  accepted")
+        print("\nnotebook  named / all slips        named / slips with a misconception   generic"
+              "  wrongly named  accepted")
         for notebook in sorted(rows):
             n, c, a, g, w, x = rows[notebook]
             print(f"{notebook:>8}  {n:>3} / {a:<3} {n / a:6.0%}    {n:>3} / {c:<3} {n / c if c else 1:6.0%}"
                   f"                 {g:>5}  {w:>13}  {x:>8}")
         print(f"{'overall':>8}  {named:>3} / {every:<3} {named / every:6.1%}    {named:>3} / {catalogued:<3} "
               f"{named / catalogued:6.1%}                 "
-              + "  ".join(f"{sum(row[3 + i] for row in rows.values()):>{w}}" for i, w in enumerate((5, 13, 8))))
+              + "  ".join(f"{sum(row[3 + i] for row in rows.values()):>{width}}"
+                          for i, width in enumerate((5, 13, 8))))
         print("\n".join(unnamed))
     assert named / catalogued >= NAMED_AT_LEAST, "\n".join(unnamed)
     assert named / every >= NAMED_AT_LEAST, (

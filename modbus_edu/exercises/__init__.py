@@ -39,16 +39,14 @@ misconception.  The slips a newcomer makes (test data) live in ``tests/slips.py`
 
 from __future__ import annotations
 
-from . import (
-           checkers,  # noqa: F401  (registers every notebook's exercises)
-           inventory,  # noqa: E402  (the concept inventory: exercises 00.0 and 17.0)
-)
+from . import checkers, inventory  # the notebooks' exercises, and the concept inventory (00.0 and 17.0)
 from .build import build_exercise
-from .checkers.nb13 import lab  # noqa: E402  (the troubleshooting lab's puzzles, used by notebook 13)
-
-globals().update(checkers.NOTEBOOKS)  # ``from modbus_edu.exercises import nb16`` still finds a notebook's checkers
+from .checkers.nb13 import lab  # the troubleshooting lab's puzzles, used by notebook 13
 from .core import EXERCISES, PLACEHOLDER, AnswerError, Exercise, Result, evaluate, exercise, judge, verdict
 from .submit import check
+
+# ``from modbus_edu.exercises import nb16`` still finds a notebook's checkers
+globals().update(checkers.NOTEBOOKS)
 
 __all__ = ["EXERCISES", "PLACEHOLDER", "AnswerError", "Exercise", "Result", "build_exercise", "check",
            "evaluate", "exercise", "inventory", "judge", "lab", "verdict"]

@@ -214,16 +214,19 @@ class BuildChecker:
             if words:
                 return _sentence(words)
             legacy = self._diagnosed(args, expected, got)
-            right = [(one, mine) for one, mine in _answers(*evidence, skip=args) if self._right(one, mine, evidence)]
+            right = [(one, mine) for one, mine in _answers(*evidence, skip=args)
+                     if self._right(one, mine, evidence)]
             if legacy and not any(self.procedure.contradicted(key, right) for key in _labels(legacy)):
                 return _sentence(legacy)
-            clue = [self.procedure.nearest(args, got, "every input"), self.boundary(args)]
-            return "".join(_sentence(part) for part in clue if part)
-        note = self._diagnosed(args, expected, got)
-        if not note:
-            boundary = self.boundary(args) if evidence is not None else None
-            return _sentence(boundary) if boundary else ""
-        return _sentence(note)
+            return ""
+        return _sentence(self._diagnosed(args, expected, got))
+
+    def _clue(self, args: tuple, got: Any, evidence: tuple | None) -> str:
+        """Where no change is named: the change that fits this input alone, and the boundary it falls on."""
+        if evidence is None:
+            return ""
+        near = self.procedure.nearest(args, got, "every input") if self.procedure is not None else None
+        return "".join(_sentence(part) for part in (near, self.boundary(args)) if part)
 
     def _right(self, args: tuple, got: Any, evidence: tuple) -> bool:
         """Whether the learner's ``got`` for ``args`` is the library's answer (in the trace's cases)."""
@@ -244,7 +247,8 @@ class BuildChecker:
         except Exception:
             return ""
 
-    def _one(self, name: str, args: tuple, expected: Any, entry: dict, evidence: tuple | None = None) -> str | None:
+    def _one(self, name: str, args: tuple, expected: Any, entry: dict,
+             evidence: tuple | None = None) -> str | None:
         """None if the traced call agrees with the library on ``args``, else a message."""
         call = self._call(name, args)
         if "fatal" in entry:
@@ -269,7 +273,8 @@ class BuildChecker:
                 message = (f"{call} should give {self.show_expected(expected)}; "
                            f"your function gives {show(got)}.")
                 note = self._note(args, expected, got, evidence)
-                return message + (note or (_type_note(expected, got) if self.compare is same else ""))
+                return message + (note or (_type_note(expected, got) if self.compare is same else "")
+                                  or self._clue(args, got, evidence))
         except Exception:
             return f"{call} returned {show(got)}, which cannot be compared with the library's answer."
         return self._read_back(name, call, args, entry)

@@ -477,8 +477,9 @@ def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = No
         return None
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
-            return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have 0x{mine:02X}, "
-                    f"it should be 0x{theirs:02X} ({len(got)} bytes given, {len(expected)} expected).")
+            return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have "
+                    f"0x{mine:02X}, it should be 0x{theirs:02X} ({len(got)} bytes given, {len(expected)} "
+                    "expected).")
     if len(got) < len(expected):
         missing = _field_at(expected, len(got), mode, lead="")
         return (f"{what} has {len(got)} bytes, it should have {len(expected)}"
@@ -502,7 +503,8 @@ def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in t
         return ""
     for row in dissection.rows:
         if row.offset <= index < row.offset + len(row.raw):
-            span = f"byte {row.offset}" if len(row.raw) == 1 else f"bytes {row.offset}-{row.offset + len(row.raw) - 1}"
+            last = row.offset + len(row.raw) - 1
+            span = f"byte {row.offset}" if last == row.offset else f"bytes {row.offset}-{last}"
             return (f"{lead} {row.field} ({span}), which should hold {row.raw.hex(' ').upper()} "
                     f"({row.value}: {row.meaning})")
     return ""

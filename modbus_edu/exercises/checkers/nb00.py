@@ -63,7 +63,9 @@ def _check_00_2(answer: Any) -> str | None:
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
           refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
                                                                 "one-based-address"),
-                   ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing")])
+                   ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing"),
+                   ("00 01 00 00 00 06 02 03 00 00 00 02", "tcp-frame-for-rtu"),
+                   (b":020300000002F9\r\n", "ascii-frame-for-rtu")])
 def _check_00_3(answer: Any) -> str | None:
     pdu = ReadHoldingRegistersRequest(address=0, count=2)
     expected = RtuFrame(unit=2, pdu=pdu).encode()

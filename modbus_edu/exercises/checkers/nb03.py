@@ -65,8 +65,8 @@ def _check_03_2(answer: Any) -> str | None:
     got = as_bytes(answer)
     if got == expected:
         return None
-    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)
-            or compare_rtu_frame(answer, expected, "your frame"))
+    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
+            or frame_slip(got, expected, tail=2) or compare_rtu_frame(got, expected, "your frame"))
 
 
 @exercise("03.3", "will the slave answer?",

@@ -19,6 +19,7 @@ from ..core import (
     int_answer,
     line_after_tries,
     request_field_diagnosis,
+    right_value_in_another_form,
 )
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import diagnose, name
@@ -52,13 +53,13 @@ def _check_04_1(answer: Any) -> str | None:
                 "mb.parse_reference gives the address; mb.AsciiFrame(unit=..., pdu=...) builds the frame, "
                 "and its .encode() adds the LRC and CR LF.",
                 "slave 2, one register at address 4: b':020300040001F6\\r\\n'."),
-          accepts=[":050310000002E6\r\n", b":050310000002E6\r\n", ":050310000002e6\r\n",
+          accepts=[":050310000002E6\r\n", b":050310000002E6\r\n",
                    r":050310000002E6\r\n", list(b":050310000002E6\r\n")],
           refuses=[(":050310000002E6", "ascii-without-crlf"), (b":050310000002E6", "ascii-without-crlf"),
                    (":050310010002E5\r\n", "one-based-address"),
                    (":050310000002E5\r\n", "lrc-ones-complement"),
                    (":0503100000021A\r\n", "lrc-plain-sum"),
-                   (":050310000002E7\r\n", None)])
+                   (":050310000002E7\r\n", None), (":050310000002e6\r\n", None)])
 def _check_04_2(answer: Any) -> str | None:
     address = parse_reference("44097").address
     expected = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address, count=2)).encode()
@@ -69,8 +70,11 @@ def _check_04_2(answer: Any) -> str | None:
     off_by_one = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address + 1, count=2)).encode()
     if got.upper() == off_by_one:
         return address_diagnosis(address + 1, address)
+    if got == expected:
+        return None
     if got.upper() == expected:
-        return None  # lowercase hex digits are allowed too
+        return right_value_in_another_form("upper-case hex digits: the specification writes an ASCII frame's "
+                                           "hex characters as '0'-'9' and 'A'-'F' only")
     return ascii_frame_diagnosis(got.upper(), expected) or compare_characters(got, expected, "your frame")
 
 

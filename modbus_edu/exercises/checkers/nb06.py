@@ -118,8 +118,9 @@ def _check_06_4(answer: Any) -> str | None:
         expected = type(error)
     if isinstance(answer, BaseException):
         if type(answer) is expected:
-            return right_value_in_another_form(f"the class itself, {expected.__name__}, not an instance of it "
-                                               f"({expected.__name__}(...) makes one)")
+            return right_value_in_another_form(
+                f"the class itself, {expected.__name__}, not an instance of it "
+                f"({expected.__name__}(...) makes one)")
         return f"give an exception class, not an instance ({type(answer).__name__}(...) makes one)."
     got = answer
     if got is expected:

@@ -172,5 +172,9 @@ build_exercise(
               (request + response) * 8 / baudrate + 0.0035, "start-stop-forgotten"),
              (lambda baudrate, parity, stopbits, request, response:
               (request + response + 6) * (1 + 8 + (parity != "N") + stopbits) / baudrate,
-              "three-characters-for-t35")],
+              "three-characters-for-t35"),
+             (lambda baudrate, parity, stopbits, request, response:
+              (request + response) * (1 + 8 + (parity != "N") + stopbits) / baudrate + 0.0035
+              if baudrate >= 19200 else _transaction_time(baudrate, parity, stopbits, request, response),
+              "fixed-silence-at-19200")],
     diagnose=_diagnose_timing, compare=_close_enough, procedure=TRANSACTION_TIME, boundary=_timing_boundary)

@@ -98,7 +98,8 @@ def _check_09_2(answer: Any) -> str | None:
           hint="a request may wait up to the longest loop (1.65 s + 10%) plus the time of the reply; "
                "try loop_time_experiment([SLOW_LOOP], timeout=...) with a few values.",
           accepts=[1.9, 2.0, 2.5, 2],
-          refuses=[(2000, "milliseconds-for-seconds"), (1.5, None), (3.0, None), (1.815, "reply-time-forgotten"),
+          refuses=[(2000, "milliseconds-for-seconds"), (1.5, None), (3.0, None),
+                   (1.815, "reply-time-forgotten"),
                    (10, "timeout-far-too-long"), (1.65, "loop-time-for-timeout")])
 def _check_09_3(answer: Any) -> str | None:
     got = real_answer(answer, "a timeout in seconds")
@@ -121,7 +122,8 @@ def _check_09_3(answer: Any) -> str | None:
         named = diagnose("reply-time-forgotten", got, longest_loop)
         if named:
             return (f"{named} Here {longest_loop:g} s is the longest loop alone; the reply takes "
-                    f"{reply * 1000:.1f} ms more, so the timeout must be at least {longest_loop + reply:.3f} s.")
+                    f"{reply * 1000:.1f} ms more, so the timeout must be at least "
+                    f"{longest_loop + reply:.3f} s.")
         return (f"with a timeout of {got:g} s a request that waits the longest loop ({longest_loop:g} s) and "
                 f"then its reply ({reply * 1000:.1f} ms) is given up: the timeout must be at least "
                 f"{longest_loop + reply:.3f} s.")

@@ -109,7 +109,7 @@ def lab(puzzle: str) -> Any:
                    ({"A": "no slave on the line", "B": "wrong unit id", "C": "wrong baud rate or parity"},
                     "causes-swapped"),
                    ({"A": "wrong unit id", "B": "wrong baud rate or parity", "C": "no slave on the line"},
-                    None)])
+                    "causes-swapped")])
 def _check_13_1(answer: Any) -> str | None:
     truth = _silent_wires()[1]
     if not isinstance(answer, dict) or set(answer) != set(truth):
@@ -123,7 +123,8 @@ def _check_13_1(answer: Any) -> str | None:
         return None
     first = wrong[0]
     against = f"wire {first} cannot be '{given[first]}': {_TRACE_AGAINST[given[first]]}"
-    swapped = [(a, b) for a in wrong for b in wrong if a < b and given[a] == truth[b] and given[b] == truth[a]]
+    swapped = [(a, b) for a in wrong for b in wrong
+               if a < b and given[a] == truth[b] and given[b] == truth[a]]
     if swapped:
         a, b = swapped[0]
         return f"{misconception('causes-swapped')} Here wires {a} and {b} have each other's cause; {against}"
@@ -131,11 +132,12 @@ def _check_13_1(answer: Any) -> str | None:
 
 
 _TRACE_AGAINST = {
-    "no slave on the line": "no slave leaves no trace at all, and this wire's slave has counted or logged something",
-    "wrong unit id": "a wrong unit id leaves requests for another address in the slave's other_unit counter, and "
-                     "this wire's slave has none",
-    "wrong baud rate or parity": "a wrong baud rate or parity leaves garbled bytes in the slave's checksum_errors, "
-                                 "and this wire's slave has none",
+    "no slave on the line": "no slave leaves no trace at all, and this wire's slave has counted or logged "
+                            "something",
+    "wrong unit id": "a wrong unit id leaves requests for another address in the slave's other_unit "
+                     "counter, and this wire's slave has none",
+    "wrong baud rate or parity": "a wrong baud rate or parity leaves garbled bytes in the slave's "
+                                 "checksum_errors, and this wire's slave has none",
 }
 """Why each cause does not fit a wire whose cause is another: the trace that cause would leave."""
 
@@ -313,9 +315,11 @@ def _close_order(registers: list, expected: float, orders: tuple = ORDERS) -> st
 ORDER_FOUND = Procedure("the word order the registers carry a value in", _close_order, (
     Perturbation("always-ABCD", "ABCD whatever the registers", "word-order", lambda registers, value: "ABCD"),
     Perturbation("always-CDAB", "CDAB whatever the registers", "word-order", lambda registers, value: "CDAB"),
-    Perturbation("exact", "the values compared with ==", "float-compared-exactly", _exact_order, returns_none=True),
+    Perturbation("exact", "the values compared with ==", "float-compared-exactly", _exact_order,
+                 returns_none=True),
     Perturbation("two-orders", "only ABCD and CDAB tried", None,
-                 lambda registers, value: _close_order(registers, value, ("ABCD", "CDAB")), returns_none=True),
+                 lambda registers, value: _close_order(registers, value, ("ABCD", "CDAB")),
+                 returns_none=True),
     Perturbation("order-when-none", "an order named even when none fits", "an-order-when-none-fits",
                  lambda registers, value: _close_order(registers, value) or "ABCD"),
 ), same=lambda mine, got: mine == got and type(mine) is type(got))

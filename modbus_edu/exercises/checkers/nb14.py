@@ -103,7 +103,8 @@ def _check_14_3(answer: Any) -> str | None:
     expected = counters_scenario()["heard"]
     if got == expected:
         return None
-    procedure = message_count_procedure(expected, own_responses=UNIT1_READS_14_3, own_requests=UNIT1_READS_14_3)
+    procedure = message_count_procedure(expected, own_responses=UNIT1_READS_14_3,
+                                        own_requests=UNIT1_READS_14_3)
     found = procedure.reproducing([((), got)])
     if found:
         extra = {-1: "one message too few", 1: "one message too many"}.get(got - expected)

@@ -497,10 +497,9 @@ def _exception_as_function(got: Any, expected: Any) -> bool:
 
 
 @_entry("exception-code-confused", "another exception code", "got, expected: exception codes (int)",
-        "the exception code says why: 01 illegal function (not implemented), 02 illegal data address (no "
-        "such address), 03 illegal data value (the request's structure is not allowed, such as a quantity "
-        "outside its range; the specification says it does NOT mean a value the application rejects), 04 "
-        "slave device failure.")
+        "the code says why: 01 illegal function, 02 illegal data address (no such address), 03 illegal "
+        "data value (the request's structure is not allowed, such as its quantity; not a value the "
+        "application rejects), 04 slave device failure.")
 def _exception_code_confused(got: Any, expected: Any) -> bool:
     return (_int(got) and _int(expected) and got != expected and 1 <= got <= 11 and 1 <= expected <= 11
             and (got, expected) != (1, 2))

@@ -392,8 +392,8 @@ def _order_when_none(got: Any, expected: Any) -> bool:
 
 # --- found by the procedures (:mod:`.procedures`) ------------------------------------------------------
 
-@_entry("fixed-silence-at-19200", "the fixed 1.75 ms at 19200 baud", "got, expected: a time at 19200 baud, and "
-        "the same time with 1.75 ms silences",
+@_entry("fixed-silence-at-19200", "the fixed 1.75 ms at 19200 baud", "got, fixed: a time at 19200 baud, "
+        "and the same time with 1.75 ms silences",
         "the fixed 1.75 ms (and 0.75 ms) replace 3.5 (and 1.5) character times only above 19200 baud; at "
         "19200 baud and below the silences are counted in characters.")
 def _fixed_at_19200(got: Any, fixed: Any) -> bool:
@@ -401,9 +401,9 @@ def _fixed_at_19200(got: Any, fixed: Any) -> bool:
 
 
 @_entry("causes-swapped", "two causes swapped", "got, expected: the causes the learner gave two wires",
-        "each cause leaves its own trace in the slave's counters and log: a wrong unit id counts requests for "
-        "another address (other_unit), a wrong baud rate or parity garbled bytes (checksum_errors), no slave "
-        "nothing at all; match each wire's trace to its cause.")
+        "each cause leaves its own trace in the slave's counters and log: a wrong unit id counts requests "
+        "for another address (other_unit), a wrong baud rate or parity garbled bytes (checksum_errors), no "
+        "slave nothing at all; match each wire's trace to its cause.")
 def _causes_swapped(got: Any, expected: Any) -> bool:
     return False  # named by 13.1's checker, which compares the causes wire by wire
 

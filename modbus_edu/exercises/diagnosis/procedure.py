@@ -77,8 +77,11 @@ def _equal(expected: Any, got: Any) -> bool:
     if isinstance(expected, (bytes, bytearray)) and isinstance(got, (bytes, bytearray)):
         return bytes(expected) == bytes(got)
     if isinstance(expected, float) or isinstance(got, float):
-        return (isinstance(got, (int, float)) and isinstance(expected, (int, float))
-                and abs(expected - got) <= 1e-9 * max(1.0, abs(expected)))
+        return (
+            isinstance(got, (int, float))
+            and isinstance(expected, (int, float))
+            and abs(expected - got) <= 1e-9 * max(1.0, abs(expected))
+        )
     try:
         return type(expected) is type(got) and bool(expected == got)
     except Exception:
@@ -130,8 +133,10 @@ class Procedure:
             return False
         for args, got in right_cases:
             answers = [item.answer(*args) for item in items]
-            if all(mine is not NOT_APPLICABLE and not self.fits(item, args, got)
-                   for item, mine in zip(items, answers)):
+            if all(
+                mine is not NOT_APPLICABLE and not self.fits(item, args, got)
+                for item, mine in zip(items, answers)
+            ):
                 return True
         return False
 
@@ -148,8 +153,10 @@ class Procedure:
         if not found:
             return None
         steps = " or ".join(dict.fromkeys(item.step for item in found))
-        return (f"On this input your answer is what {steps} gives, but that change does not give your answers "
-                f"on {other}.")
+        return (
+            f"On this input your answer is what {steps} gives, but that change does not give your answers "
+            f"on {other}."
+        )
 
 
 def say(found: Sequence[Perturbation]) -> str | None:
@@ -161,5 +168,7 @@ def say(found: Sequence[Perturbation]) -> str | None:
     if len(keys) == 1 and (keys[0] is not None or len(found) == 1):
         return found[0].words()
     steps = list(dict.fromkeys(item.step for item in found))
-    return (f"your answer is what {', or what '.join(steps)} gives: the answer alone cannot tell which. "
-            "Check each.")
+    return (
+        f"your answer is what {', or what '.join(steps)} gives: the answer alone cannot tell which. "
+        "Check each."
+    )
