@@ -214,9 +214,7 @@ class BuildChecker:
             if words:
                 return _sentence(words)
             legacy = self._diagnosed(args, expected, got)
-            right = [(one, mine) for one, mine in _answers(*evidence, skip=args)
-                     if self._right(one, mine, evidence)]
-            if legacy and not any(self.procedure.contradicted(key, right) for key in _labels(legacy)):
+            if legacy and not _labels(legacy) & self.procedure.misconceptions:
                 return _sentence(legacy)
             return ""
         return _sentence(self._diagnosed(args, expected, got))
@@ -227,16 +225,6 @@ class BuildChecker:
             return ""
         near = self.procedure.nearest(args, got, "every input") if self.procedure is not None else None
         return "".join(_sentence(part) for part in (near, self.boundary(args)) if part)
-
-    def _right(self, args: tuple, got: Any, evidence: tuple) -> bool:
-        """Whether the learner's ``got`` for ``args`` is the library's answer (in the trace's cases)."""
-        for one, expected in evidence[0]:
-            if one is args:
-                try:
-                    return not isinstance(expected, _Refused) and bool(self.compare(expected, got))
-                except Exception:
-                    return False
-        return False
 
     def _diagnosed(self, args: tuple, expected: Any, got: Any) -> str:
         """What the exercise's own ``diagnose`` names for this one input, or an empty string."""

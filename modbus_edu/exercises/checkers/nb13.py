@@ -320,6 +320,8 @@ ORDER_FOUND = Procedure("the word order the registers carry a value in", _close_
     Perturbation("two-orders", "only ABCD and CDAB tried", None,
                  lambda registers, value: _close_order(registers, value, ("ABCD", "CDAB")),
                  returns_none=True),
+    Perturbation("larger-register", "the order guessed from which register is larger", "word-order",
+                 lambda registers, value: "CDAB" if registers[0] < registers[1] else "ABCD"),
     Perturbation("order-when-none", "an order named even when none fits", "an-order-when-none-fits",
                  lambda registers, value: _close_order(registers, value) or "ABCD"),
 ), same=lambda mine, got: mine == got and type(mine) is type(got))

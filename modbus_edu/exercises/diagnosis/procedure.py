@@ -40,6 +40,8 @@ class Perturbation:
     misconception: str | None
     compute: Callable[..., Any]
     fields: dict = field(default_factory=dict)
+    also: str | None = None
+    """A second misconception, for a change made of two slips (a step and a slip of form)."""
 
     def answer(self, *args: Any) -> Any:
         """The changed procedure's answer, or :data:`NOT_APPLICABLE` when it raises or does not apply."""
@@ -53,6 +55,9 @@ class Perturbation:
 
     def words(self) -> str:
         """What the verdict says when this change is named: the catalogue's words, or the step's."""
+        if self.also is not None:
+            labels = " and ".join(CATALOGUE[key].label for key in (self.misconception, self.also) if key)
+            return f"{labels}: your answer is what {self.step} gives."
         if self.misconception is None:
             return f"your answer is what {self.step} gives."
         entry = CATALOGUE[self.misconception]
@@ -96,6 +101,10 @@ class Procedure:
     right: Callable[..., Any]
     perturbations: tuple[Perturbation, ...]
     same: Callable[[Any, Any], bool] = _equal
+    forms: tuple[Perturbation, ...] = ()
+    """Slips of the answer's form (milliseconds for seconds, a percentage for a share): each ``compute``
+    takes the answer.  They are tried on the right answer and on every perturbation's, so that a learner
+    who made one slip of the procedure and one of the form is named for both."""
 
     def answer(self, *args: Any, perturbation: str | None = None) -> Any:
         """The right answer for ``args``, or the answer with the step ``perturbation`` (a key) changed."""
@@ -109,36 +118,38 @@ class Procedure:
     @property
     def misconceptions(self) -> frozenset[str]:
         """The catalogue keys this procedure's perturbations name."""
-        return frozenset(item.misconception for item in self.perturbations if item.misconception)
+        return frozenset(key for item in (*self.perturbations, *self.forms)
+                         for key in (item.misconception, item.also) if key)
 
-    def fits(self, item: Perturbation, args: Sequence, got: Any) -> bool:
-        """Whether the perturbation ``item`` gives ``got`` for ``args``."""
+    def fits(self, item: Perturbation, args: Sequence, got: Any, *, applicable: bool = True) -> bool:
+        """Whether the perturbation ``item`` gives ``got`` for ``args``; where the change does not apply to
+        ``args`` (it cannot run on them), True unless ``applicable`` is asked for."""
         mine = item.answer(*args)
         if mine is NOT_APPLICABLE:
-            return False
+            return not applicable
         return any(self.same(one, got) for one in mine) if isinstance(mine, Choices) else self.same(mine, got)
 
-    def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
-        """The perturbations that give the learner's answer on every ``(args, got)`` of ``cases`` (the
-        first case first: most perturbations are ruled out by it)."""
-        cases = list(cases)
-        return [item for item in self.perturbations if all(self.fits(item, args, got) for args, got in cases)]
+    def candidates(self) -> list[Perturbation]:
+        """Every change tried: each perturbation, each slip of form, and each of those on each other."""
+        combined = []
+        for form in self.forms:
+            combined.append(Perturbation(form.key, form.step, form.misconception,
+                                         lambda *args, form=form: form.compute(self.right(*args))))
+            combined += [Perturbation(f"{item.key}+{form.key}", f"{item.step}, and {form.step}",
+                                      item.misconception,
+                                      lambda *args, item=item, form=form: form.compute(item.compute(*args)),
+                                      also=form.misconception) for item in self.perturbations]
+        return [*self.perturbations, *combined]
 
-    def contradicted(self, misconception: str, right_cases: Iterable[tuple[Sequence, Any]]) -> bool:
-        """Whether the learner's right answers ``right_cases`` rule ``misconception`` out: it is one this
-        procedure models, and on one of those inputs every change that shows it gives a wrong answer (a
-        function right on that input has not made that change)."""
-        items = [item for item in self.perturbations if item.misconception == misconception]
-        if not items:
-            return False
-        for args, got in right_cases:
-            answers = [item.answer(*args) for item in items]
-            if all(
-                mine is not NOT_APPLICABLE and not self.fits(item, args, got)
-                for item, mine in zip(items, answers)
-            ):
-                return True
-        return False
+    def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
+        """The changes that give the learner's answer on every ``(args, got)`` of ``cases``: on the first
+        (the failing input, where the change must apply), then on every other where it applies."""
+        cases = list(cases)
+        if not cases:
+            return []
+        (first_args, first_got), rest = cases[0], cases[1:]
+        return [item for item in self.candidates() if self.fits(item, first_args, first_got)
+                and all(self.fits(item, args, got, applicable=False) for args, got in rest)]
 
     def explain(self, cases: Iterable[tuple[Sequence, Any]]) -> str | None:
         """The verdict's words for the learner's answers ``cases`` (``(args, got)`` pairs, the failing one
@@ -164,8 +175,8 @@ def say(found: Sequence[Perturbation]) -> str | None:
     misconception, or one uncatalogued change; else the candidates, naming none of them."""
     if not found:
         return None
-    keys = list(dict.fromkeys(item.misconception for item in found))
-    if len(keys) == 1 and (keys[0] is not None or len(found) == 1):
+    keys = list(dict.fromkeys((item.misconception, item.also) for item in found))
+    if len(keys) == 1 and (keys[0] != (None, None) or len(found) == 1):
         return found[0].words()
     steps = list(dict.fromkeys(item.step for item in found))
     return (

@@ -12,6 +12,7 @@ the same CRC slip.
 from __future__ import annotations
 
 import dataclasses
+import struct
 from typing import Any
 
 from ...crc import crc16, lrc
@@ -20,7 +21,7 @@ from ...framing import AsciiFrame, RtuFrame, TcpFrame
 from ...links.wire import SerialTiming
 from ...values import ORDERS, decode_value
 from .misconceptions import crc16_reflected, crc16_unreflected
-from .procedure import Perturbation, Procedure
+from .procedure import Choices, Perturbation, Procedure
 
 
 def _swap16(value: int) -> int:
@@ -148,6 +149,12 @@ LRC = Procedure(
             "not-8-bits", "the sum's negative, not kept to 8 bits", "lrc-not-8-bits", lambda data: -sum(data)
         ),
         Perturbation(
+            "16-bits",
+            "the sum's two's complement kept to 16 bits",
+            "lrc-not-8-bits",
+            lambda data: -sum(data) & 0xFFFF,
+        ),
+        Perturbation(
             "256-minus",
             "256 minus the sum without the final modulo (256 for a sum of 0)",
             "lrc-not-8-bits",
@@ -225,6 +232,12 @@ MBAP = Procedure(
             "the length field left out",
             "mbap-length-missing",
             lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + bytes([unit]),
+        ),
+        Perturbation(
+            "length-one-byte",
+            "the length in one byte",
+            "mbap-length-missing",
+            lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + bytes([len(pdu) + 1, unit]),
         ),
         Perturbation(
             "unit-missing",
@@ -395,7 +408,7 @@ TRANSACTION_TIME = Procedure(
             "no-fixed-silence",
             "3.5 characters for t3.5 above 19200 baud",
             "fixed-silence-ignored",
-            lambda b, p, s, q, r: _t35_chars(3.5)(b, p, s, q, r) if b > 19200 else None,
+            _t35_chars(3.5),
         ),
         Perturbation(
             "fixed-silence-from-19200",
@@ -415,13 +428,9 @@ TRANSACTION_TIME = Procedure(
             "start-stop-forgotten",
             lambda b, p, s, q, r: _time(b, p, s, q, r, bits=8),
         ),
-        Perturbation(
-            "milliseconds",
-            "the time in milliseconds",
-            "milliseconds-for-seconds",
-            lambda *args: 1000 * _time(*args),
-        ),
     ),
+    forms=(Perturbation("milliseconds", "the time in milliseconds", "milliseconds-for-seconds",
+                        lambda seconds: 1000 * seconds),),
     same=lambda mine, got: (
         isinstance(got, (int, float))
         and not isinstance(got, bool)
@@ -469,6 +478,17 @@ FLOAT32 = Procedure(
         ]
         + [
             Perturbation(
+                "another-order",
+                "a word order taken for another (each order read as some order)",
+                "word-order",
+                lambda registers, order: Choices(
+                    [_float32(registers, other) for other in ORDERS]
+                    + [struct.unpack("<f", b"".join(int(r).to_bytes(2, "big") for r in registers))[0]]
+                ),
+            )
+        ]
+        + [
+            Perturbation(
                 "registers-swapped",
                 "the registers taken in the other order",
                 "word-order",
@@ -507,12 +527,6 @@ ANSWERED = Procedure(
     expected_answered_fraction,
     (
         Perturbation(
-            "percentage",
-            "a percentage",
-            "percentage-for-fraction",
-            lambda loop, timeout, reply: 100 * _share((timeout - reply) / loop),
-        ),
-        Perturbation(
             "unclamped",
             "(timeout - reply) / loop time, not kept within 0..1",
             "fraction-unclamped",
@@ -543,6 +557,7 @@ ANSWERED = Procedure(
             lambda loop, timeout, reply: 1 - _share((timeout - reply) / loop),
         ),
     ),
+    forms=(Perturbation("percentage", "a percentage", "percentage-for-fraction", lambda share: 100 * share),),
 )
 """The share of requests answered in time: (loop time, timeout, reply time), all in seconds."""
 
