@@ -57,9 +57,9 @@ def _check_00_2(answer: Any) -> str | None:
                 "reading holding registers is function 3: mb.ReadHoldingRegistersRequest(address=..., "
                 "count=...) is the PDU; mb.RtuFrame takes the unit and that PDU (pdu=), and its .encode() "
                 "adds the CRC.",
-                "slave 9, one holding register at address 5: mb.RtuFrame(unit=9, "
-                "pdu=mb.ReadHoldingRegistersRequest(address=5, count=1)).encode() gives 09 03 00 05 00 01 "
-                "95 43."),
+                "slave 9, one holding register at address 5: the unit 09, the function 03, the address 00 05 "
+                "and the count 00 01, each 2-byte field high byte first, then the CRC of those six bytes, "
+                "0x4395, low byte first: 09 03 00 05 00 01 95 43."),
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
           refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
                                                                 "one-based-address"),

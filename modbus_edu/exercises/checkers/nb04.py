@@ -44,6 +44,8 @@ def _check_04_1(answer: Any) -> str | None:
     named = LRC.explain([((data,), got)])
     if named:
         return named
+    if not 0 <= got <= 0xFF:
+        return f"{got} is no byte: an LRC is one byte, 0x00 to 0xFF."
     return f"0x{got:02X} is not the LRC of 11 03 00 6B 00 03."
 
 

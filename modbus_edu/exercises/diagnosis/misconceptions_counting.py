@@ -186,7 +186,8 @@ def _port_502(got: Any, expected: Any) -> bool:
 
 @_entry("url-not-socket", "not a socket:// URL", "got: the URL the learner wrote (str)",
         "pyserial opens a serial line carried over raw TCP with a socket://host:port URL; a bare host:port "
-        "is no URL, and tcp:// or rfc2217:// name other kinds of port.")
+        "is no URL, pyserial knows no tcp:// at all, and rfc2217:// is another protocol (RFC 2217, serial "
+        "port control over Telnet).")
 def _not_socket(got: Any) -> bool:
     return isinstance(got, str) and not got.strip().startswith("socket://") and ":" in got
 
@@ -241,8 +242,9 @@ def _damaged_silence(got: Any, expected: Any) -> bool:
 
 
 @_entry("last-transaction-id", "the last request's id for the next one", "got, expected: transaction ids",
-        "a client adds 1 to the transaction id for every new request: the next request carries the id after "
-        "the last one sent.")
+        "the course's client (like most) adds 1 to the transaction id for every new request, so the next "
+        "request carries the id after the last one sent; the specification only asks that a response "
+        "carry its request's id.")
 def _last_id(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected - 1
 
@@ -414,6 +416,13 @@ def _causes_swapped(got: Any, expected: Any) -> bool:
         "mb.ModbusError subclass, and a request left unanswered raises mb.ModbusTimeoutError.")
 def _builtin_for_library(got: Any) -> bool:
     return isinstance(got, type) and got.__module__ == "builtins" and issubclass(got, Exception)
+
+
+@_entry("word-order-in-specification", "a word order the specification fixes", "got: the learner's belief",
+        "the specification defines 16-bit registers only, each high byte first; how a device spreads a "
+        "32-bit value over two registers is its own choice, and its datasheet says which.")
+def _order_in_spec(got: Any) -> bool:
+    return False  # named by the concept inventory's question on word order
 
 
 @_entry("tcp-frame-for-rtu", "a Modbus/TCP frame for an RTU frame", "got: the learner's frame (bytes)",
