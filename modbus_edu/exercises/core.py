@@ -15,11 +15,12 @@ never raises.
 How strict a checker is, the same in every exercise: **spelling is free, the value is not.**  A right value
 is accepted in every spelling the course uses: hex digits in upper or lower case, with or without ``0x``
 and leading zeros; an int, a float that is a whole number (``3.0``) or a number written as text
-(``"17"``, ``"0x11"``); a 5- or 6-digit reference number; bytes, a hex string or a list of ints; more
-decimals than asked when they round to the answer.  Where an exercise asks for a form (hex as the test
-tool's grid shows it, milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another
-form is refused with :func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong
-value is never accepted for its form.
+(``"17"``, ``"0x11"``); bytes, a hex string or a list of ints; more decimals than asked when they round to
+the answer.  Where an exercise asks for a form (a 5-digit reference number, an ASCII frame's upper-case hex
+characters, an exception class rather than an instance of it, hex as the test tool's grid shows it,
+milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another form is refused with
+:func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong value is never
+accepted for its form.
 """
 
 from __future__ import annotations

@@ -381,6 +381,13 @@ TRANSACTION_TIME = Procedure(
             lambda b, p, s, q, r: _time(b, p, s, q, r, bits=10),
         ),
         Perturbation(
+            "parity-forgotten-no-fixed-silence",
+            "10 bits a character, and 3.5 characters for t3.5 at every rate",
+            "parity-bit-forgotten",
+            lambda b, p, s, q, r: _time(b, p, s, q, r, bits=10, t35=35 / b),
+            also="fixed-silence-ignored",
+        ),
+        Perturbation(
             "stop-bits-one",
             "the stop bits always 1",
             "parity-bit-forgotten",
