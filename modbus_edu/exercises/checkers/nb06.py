@@ -13,6 +13,7 @@ from ...master import Master
 from ...slave import Slave
 from ..build import build_exercise
 from ..core import exercise, int_answer, number_answer, real_answer, right_value_in_another_form
+from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import diagnose, name
 
 
@@ -177,8 +178,29 @@ def _diagnose_handler(args, expected, got) -> str | None:
         if named:
             return named
     if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
-        return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
-                        expected)
+        named = diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
+                         expected)
+        if named:
+            return named
+    if isinstance(got, bytes) and isinstance(expected, bytes):
+        return _range_diagnosis(registers, pdu, got, expected) or frame_slip(got, expected)
+    return None
+
+
+def _range_diagnosis(registers: list, pdu: bytes, got: bytes, expected: bytes) -> str | None:
+    """A range check off by one, named as 02.5 names it: a request the slave must refuse answered (an invalid
+    input accepted), or one it must answer refused; with the boundary the request falls on."""
+    if pdu[:1] != b"\x03" or len(pdu) < 5:
+        return None
+    address, count = int.from_bytes(pdu[1:3], "big"), int.from_bytes(pdu[3:5], "big")
+    edge = (f"the count {count} is outside 1..125" if not 1 <= count <= 125 else
+            f"registers {address} to {address + count - 1} go past the last one, {len(registers) - 1}"
+            if address + count > len(registers) else
+            f"the count {count} is within 1..125 and registers {address} to {address + count - 1} all exist")
+    if expected[0] & 0x80 and got[:1] == b"\x03":
+        return f"{name('invalid-input-accepted')} Here {edge}: check the range with both of its ends."
+    if got[:1] == b"\x83" and expected[:1] == b"\x03":
+        return f"a range check off by one: {edge}, so this request must be answered; check both ends."
     return None
 
 
