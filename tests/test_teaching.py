@@ -11,8 +11,7 @@ import re
 import sys
 from pathlib import Path
 
-from modbus_edu.exercises import EXERCISES, evaluate
-from modbus_edu.exercises import core
+from modbus_edu.exercises import EXERCISES, core, evaluate
 
 TEACHING = Path(__file__).resolve().parent.parent / "TEACHING.md"
 

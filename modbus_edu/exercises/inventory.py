@@ -117,7 +117,8 @@ QUESTIONS: tuple[Question, ...] = (
     Question("exception-code", "A slave refuses a function 3 request with an exception. What is the "
              "function code of its response?",
              ("83", "03", "80", "03, then 80 after it"), "a", "exception-bit-missing",
-             {"b": "exception-bit-missing", "c": "exception-function-forgotten", "d": "exception-bit-missing"}),
+             {"b": "exception-bit-missing", "c": "exception-function-forgotten",
+              "d": "exception-bit-missing"}),
 )
 
 BY_ID = {question.id: question for question in QUESTIONS}
