@@ -189,7 +189,9 @@ def _diagnose_lrc(args, expected, got) -> str | None:
 build_exercise(
     "04.5", "write lrc yourself",
     reference=_library_lrc, inputs=_lrc_inputs,
-    edge_cases=[(b"",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),), (b"\xff" * 3,)],
+    # every input the task allows: no bytes, one byte, a frame, a sum of 0, longer than 256 bytes
+    edge_cases=[(b"",), (b"\x01",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),),
+                (b"\xff" * 3,), (b"\x80\x80",), (bytes(range(256)) + b"\xfe",)],
     hint="add up the bytes and keep the low 8 bits; the LRC is the byte that brings that sum to 0 (modulo "
          "256): its two's complement.",
     refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,

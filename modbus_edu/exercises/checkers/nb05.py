@@ -157,7 +157,9 @@ build_exercise(
     "05.5", "write the MBAP header yourself",
     reference=_mbap_header, inputs=_mbap_inputs,
     edge_cases=[(280, 1, bytes.fromhex("03 00 00 00 01")), (0, 0, bytes.fromhex("03 00 00 00 01")),
-                (65535, 255, bytes.fromhex("03 00 6B 00 03"))],
+                (65535, 255, bytes.fromhex("03 00 6B 00 03")),
+                # the longest request PDU: 123 registers written, 252 bytes (length 253)
+                (1, 1, WriteMultipleRegistersRequest(address=0, values=[0xABCD] * 123).encode())],
     hint=("seven bytes: transaction id (2 bytes), protocol id 0 (2 bytes), length = 1 + len(pdu) (2 bytes), "
           "unit (1 byte); every 2-byte field high byte first.",
           "an int's .to_bytes(2, 'big') gives its two bytes high byte first; bytes([unit]) gives one byte; "

@@ -198,7 +198,7 @@ def _range_diagnosis(registers: list, pdu: bytes, got: bytes, expected: bytes) -
             if address + count > len(registers) else
             f"the count {count} is within 1..125 and registers {address} to {address + count - 1} all exist")
     if expected[0] & 0x80 and got[:1] == b"\x03":
-        return f"{name('invalid-input-accepted')} Here {edge}: check the range with both of its ends."
+        return f"Here {edge}: check the range with both of its ends. {name('invalid-input-accepted')}"
     if got[:1] == b"\x83" and expected[:1] == b"\x03":
         return f"a range check off by one: {edge}, so this request must be answered; check both ends."
     return None

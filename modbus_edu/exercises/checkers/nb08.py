@@ -155,7 +155,8 @@ build_exercise(
     "08.4", "write the transaction time yourself",
     reference=_transaction_time, inputs=_timing_inputs,
     edge_cases=[_decimal(9600, "N", 1, 8, 7), _decimal(19200, "E", 1, 8, 255), _decimal(38400, "N", 2, 8, 7),
-                _decimal(115200, "N", 1, 8, 7), _decimal(19201, "N", 1, 8, 7)],   # just above 19200: 1.75 ms
+                _decimal(115200, "N", 1, 8, 7), _decimal(19201, "N", 1, 8, 7),   # just above 19200: 1.75 ms
+                _decimal(1200, "O", 2, 256, 256)],  # the other ends of the ranges
     hint="bits per character = 1 start + 8 data + 1 if parity + stop bits; a character takes bits / baudrate "
          "seconds; t3.5 is 3.5 characters up to 19200 baud and 0.00175 s above; the time is request + t3.5 + "
          "response + t3.5.",

@@ -322,6 +322,9 @@ ORDER_FOUND = Procedure("the word order the registers carry a value in", _close_
                  returns_none=True),
     Perturbation("larger-register", "the order guessed from which register is larger", "word-order",
                  lambda registers, value: "CDAB" if registers[0] < registers[1] else "ABCD"),
+    Perturbation("exact-or-abcd", "the values compared with ==, and ABCD when none is equal",
+                 "an-order-when-none-fits", lambda registers, value: _exact_order(registers, value) or "ABCD",
+                 also="float-compared-exactly"),
     Perturbation("order-when-none", "an order named even when none fits", "an-order-when-none-fits",
                  lambda registers, value: _close_order(registers, value) or "ABCD"),
 ), same=lambda mine, got: mine == got and type(mine) is type(got))

@@ -540,6 +540,13 @@ ANSWERED = Procedure(
             lambda loop, timeout, reply: (timeout - reply) / loop,
         ),
         Perturbation(
+            "unclamped-reply-forgotten",
+            "timeout / loop time, neither the reply's time taken away nor kept within 0..1",
+            "fraction-unclamped",
+            lambda loop, timeout, reply: timeout / loop,
+            also="reply-time-forgotten",
+        ),
+        Perturbation(
             "clamped-at-1-only",
             "(timeout - reply) / loop time kept below 1 but not above 0",
             "fraction-unclamped",
