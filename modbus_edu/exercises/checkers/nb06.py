@@ -197,9 +197,12 @@ def _range_diagnosis(registers: list, pdu: bytes, got: bytes, expected: bytes) -
             f"registers {address} to {address + count - 1} go past the last one, {len(registers) - 1}"
             if address + count > len(registers) else
             f"the count {count} is within 1..125 and registers {address} to {address + count - 1} all exist")
-    if expected[0] & 0x80 and got[:1] == b"\x03":
+    answered = got[:1] == b"\x03" and len(got) == 2 + 2 * count and got[1] == 2 * count  # a response to it
+    off_by_one = count in (0, 126) or address + count == len(registers) + 1
+    if expected[0] & 0x80 and answered and off_by_one:
         return f"Here {edge}: check the range with both of its ends. {name('invalid-input-accepted')}"
-    if got[:1] == b"\x83" and expected[:1] == b"\x03":
+    at_an_end = count in (1, 125) or address + count == len(registers)
+    if got[:1] == b"\x83" and expected[:1] == b"\x03" and at_an_end:
         return f"a range check off by one: {edge}, so this request must be answered; check both ends."
     return None
 
