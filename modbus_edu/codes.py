@@ -84,9 +84,10 @@ echo or an acknowledgement (FC 5, 6, 15, 16, 21 and 22).
 
 The *Modbus over Serial Line* guide (V1.02, section 2.1) says broadcast requests are necessarily writing
 commands, and no slave answers one.  So a read (FC 1, 2, 3, 4, 7, 11, 12, 17, 20, 24, 43) has no meaning
-as a broadcast: what it asks for could never come back.  Neither has FC 23, Read/Write Multiple
-Registers: its point is the registers it reads back in the same transaction, which a broadcast can
-never return, so a slave does not carry out its write half either.  FC 8, Diagnostics, is a
+as a broadcast: what it asks for could never come back.  FC 23, Read/Write Multiple Registers, is
+left out by this library's choice, not by the guide (which does not name it): its point is the registers
+it reads back in the same transaction, which a broadcast can never return, so the course's slave does not
+carry out its write half either; another device may.  FC 8, Diagnostics, is a
 conversation with one device (an echo, a counter, a mode) and is not a broadcast either.
 
 The master refuses to send a broadcast of any other function (:class:`~modbus_edu.errors.ConfigError`),

@@ -240,7 +240,8 @@ def shown(value: object, limit: int = 60) -> str:
     be written (it holds such an int) by its type."""
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:
         bits = value.bit_length()
-        return f"an int of {bits} bits (about {int(bits * 0.30103) + 1} digits)"
+        sign = "a negative" if value < 0 else "an"
+        return f"{sign} int of {bits} bits (about {int(bits * 0.30103) + 1} digits)"
     try:
         text = repr(value)
     except Exception:  # an object whose __repr__ fails: say what it is

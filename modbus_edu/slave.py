@@ -10,9 +10,9 @@ It never speaks first.  For each frame that reaches it, in this order (the order
    (``counters.other_unit``).  On a serial bus every slave hears every frame, so this is normal.
    Unit 0 is the **broadcast** address of a serial line: every slave carries out the write (FC 5, 6,
    15, 16, 21, 22: :data:`~modbus_edu.codes.BROADCAST_FUNCTIONS`, the table the master follows too),
-   and none answers (``counters.broadcasts``).  A broadcast of any other function (a read, FC 23
-   Read/Write Multiple Registers, FC 8 Diagnostics) has no meaning: it is counted, neither carried out
-   nor answered.
+   and none answers (``counters.broadcasts``).  A broadcast of any other function (a read, FC 8
+   Diagnostics, and, by this library's choice, FC 23 Read/Write Multiple Registers) has no meaning here:
+   it is counted, neither carried out nor answered.
 3. **Carry out the request** on the bank and answer, or answer an **exception response** (the function
    code with its top bit set, and an exception code):
 

@@ -51,7 +51,7 @@ def test_an_answer_of_any_type_or_shape_gets_a_verdict_that_teaches(key):
 def test_a_register_map_answer_is_always_read_as_text_never_as_a_path(tmp_path):
     """A one-line answer to 16.1 is the map's text: naming a file that holds the right map is not an answer
     (the grader never reads a path a learner's answer names)."""
-    from modbus_edu.exercises.nb16 import _WORKSHEET_MAP
+    from modbus_edu.exercises.checkers.nb16 import _WORKSHEET_MAP
 
     right = tmp_path / "map.csv"
     right.write_text(_WORKSHEET_MAP, encoding="utf-8")

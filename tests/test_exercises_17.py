@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from modbus_edu import exercises
-from modbus_edu.exercises.nb17 import CAPTURED_WRITE
+from modbus_edu.exercises.checkers.nb17 import CAPTURED_WRITE
 from modbus_edu.explain import explain
 
 SOLUTIONS = Path(__file__).resolve().parents[1] / "notebooks" / "solutions"

@@ -58,6 +58,7 @@ CALLS = {
 def test_shown_names_a_huge_int_by_its_size():
     assert shown(10**5000) == "an int of 16610 bits (about 5001 digits)"
     assert shown(2**64 - 1) == str(2**64 - 1)  # up to 64 bits a number is written as it is
+    assert shown(-(10**5000)) == "a negative int of 16610 bits (about 5001 digits)"  # the sign is kept
     assert shown([1, 10**5000]) == "a list"  # a list whose repr Python refuses to write
 
 

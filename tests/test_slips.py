@@ -13,10 +13,11 @@ import builtins
 import re
 from collections import defaultdict
 
+import build_slips
 import pytest
+import slips
 
 from modbus_edu import exercises
-from modbus_edu.exercises import build_slips, slips
 from modbus_edu.exercises.inventory import PRE
 from modbus_edu.exercises.misconceptions import CATALOGUE
 
@@ -75,8 +76,21 @@ def test_each_slip_is_refused_with_a_message_that_reads_like_a_teacher(key, inde
         assert not labels, f"{key}: {slip.answer!r} is named {labels}, but the slip names none ({slip.why})"
 
 
+def outcome(key: str, index: int) -> str:
+    """How the checker took a slip: "named" (its misconception's label), "wrongly named" (another
+    misconception's label and not its own), "accepted", or "generic" (refused, no misconception named)."""
+    slip, message, named = verdict(key, index)
+    if named:
+        return "named"
+    if not message.startswith("Not yet:") and key != PRE:
+        return "accepted"
+    labels = {entry.key for entry in CATALOGUE.values() if entry.label.lower() in message.lower()}
+    return "wrongly named" if labels - {slip.misconception} else "generic"
+
+
 def test_the_slips_are_named_by_their_misconception(capsys):
-    rows: dict[str, list[int]] = defaultdict(lambda: [0, 0, 0])  # named, with a misconception, all
+    rows: dict[str, list[int]] = defaultdict(lambda: [0, 0, 0, 0, 0, 0])  # named, catalogued, all, ...
+    kinds = ("generic", "wrongly named", "accepted")
     unnamed = []
     for key, index in CASES:
         slip, message, named = verdict(key, index)
@@ -84,16 +98,23 @@ def test_the_slips_are_named_by_their_misconception(capsys):
         row[0] += named
         row[1] += slip.misconception is not None
         row[2] += 1
+        taken = outcome(key, index)
+        if taken in kinds:
+            row[3 + kinds.index(taken)] += 1
         if slip.misconception is not None and not named:
             unnamed.append(f"{key} {slip.misconception}: {message[:160]!r}")
     named, catalogued, every = (sum(row[i] for row in rows.values()) for i in range(3))
     with capsys.disabled():
-        print("\nnotebook  named / all slips        named / slips with a misconception")
+        print("\nnotebook  named / all slips        named / slips with a misconception   generic"
+              "  wrongly named  accepted")
         for notebook in sorted(rows):
-            n, c, a = rows[notebook]
-            print(f"{notebook:>8}  {n:>3} / {a:<3} {n / a:6.0%}    {n:>3} / {c:<3} {n / c if c else 1:6.0%}")
+            n, c, a, g, w, x = rows[notebook]
+            print(f"{notebook:>8}  {n:>3} / {a:<3} {n / a:6.0%}    {n:>3} / {c:<3} {n / c if c else 1:6.0%}"
+                  f"                 {g:>5}  {w:>13}  {x:>8}")
         print(f"{'overall':>8}  {named:>3} / {every:<3} {named / every:6.1%}    {named:>3} / {catalogued:<3} "
-              f"{named / catalogued:6.1%}")
+              f"{named / catalogued:6.1%}                 "
+              + "  ".join(f"{sum(row[3 + i] for row in rows.values()):>{width}}"
+                          for i, width in enumerate((5, 13, 8))))
         print("\n".join(unnamed))
     assert named / catalogued >= NAMED_AT_LEAST, "\n".join(unnamed)
     assert named / every >= NAMED_AT_LEAST, (

@@ -26,7 +26,9 @@ import modbus_edu
 from ..errors import ModbusError, ReferenceUnavailable
 from .calls import call_all, follow_plan, is_unwritten
 from .core import EXERCISES, Exercise, Raised, kind, register, show
-from .misconceptions import name as misconception
+from .diagnosis.misconceptions import CATALOGUE
+from .diagnosis.misconceptions import name as misconception
+from .diagnosis.procedure import Procedure
 from .plain import revive
 
 TIME_LIMIT = 2.0
@@ -93,8 +95,11 @@ class BuildChecker:
                  diagnose: Callable[[Sequence, Any, Any], str | None] | None,
                  compare: Callable[[Any, Any], bool] | None, time_limit: float,
                  read_back: Callable[[tuple, tuple], tuple | None] | None = None,
-                 show_expected: Callable[[Any], str] | None = None) -> None:
+                 show_expected: Callable[[Any], str] | None = None, procedure: Procedure | None = None,
+                 boundary: Callable[[tuple], str | None] | None = None) -> None:
         self.key = key
+        self.procedure = procedure
+        self.boundary = boundary or default_boundary
         self.reference = reference
         self.inputs = inputs
         self.edge_cases = [tuple(case) for case in edge_cases]
@@ -189,7 +194,7 @@ class BuildChecker:
                 return (f"your function did not finish within {self.time_limit:g} s (it was still working on "
                         f"{self._call(name, args)}, input {index + 1} of {len(cases)}). "
                         "Look for a loop that never ends.")
-            verdict = self._one(name, args, expected, calls[index])
+            verdict = self._one(name, args, expected, calls[index], (cases, calls))
             if verdict is not None:
                 return verdict
         return None
@@ -197,17 +202,41 @@ class BuildChecker:
     def _call(self, name: str, args: Sequence) -> str:
         return f"{name}({', '.join(show(arg) for arg in args)})"
 
-    def _note(self, args: tuple, expected: Any, got: Any) -> str:
-        """The exercise's diagnosis of a failing input (a misconception's name), or an empty string."""
+    def _note(self, args: tuple, expected: Any, got: Any, evidence: tuple | None = None) -> str:
+        """The diagnosis of a failing input, or an empty string.
+
+        With the concept's procedure (:mod:`.diagnosis.procedure`) and the whole trace (``evidence``): the
+        change of one step that gives what the learner's function gave on every input, or the candidates;
+        where none does, the exercise's own detectors (only for misconceptions the procedure does not
+        model), then the change that fits this input alone and the boundary the input falls on."""
+        if self.procedure is not None and evidence is not None:
+            words = self.procedure.explain([(args, got), *_answers(*evidence, skip=args)])
+            if words:
+                return _sentence(words)
+            legacy = self._diagnosed(args, expected, got)
+            if legacy and not _labels(legacy) & self.procedure.misconceptions:
+                return _sentence(legacy)
+            return ""
+        return _sentence(self._diagnosed(args, expected, got))
+
+    def _clue(self, args: tuple, got: Any, evidence: tuple | None) -> str:
+        """Where no change is named: the change that fits this input alone, and the boundary it falls on."""
+        if evidence is None:
+            return ""
+        near = self.procedure.nearest(args, got, "every input") if self.procedure is not None else None
+        return "".join(_sentence(part) for part in (near, self.boundary(args)) if part)
+
+    def _diagnosed(self, args: tuple, expected: Any, got: Any) -> str:
+        """What the exercise's own ``diagnose`` names for this one input, or an empty string."""
         if self.diagnose is None:
             return ""
         try:
-            note = self.diagnose(args, expected, got) or ""
+            return self.diagnose(args, expected, got) or ""
         except Exception:
-            note = ""
-        return f" {note[0].upper()}{note[1:]}" if note else ""
+            return ""
 
-    def _one(self, name: str, args: tuple, expected: Any, entry: dict) -> str | None:
+    def _one(self, name: str, args: tuple, expected: Any, entry: dict,
+             evidence: tuple | None = None) -> str | None:
         """None if the traced call agrees with the library on ``args``, else a message."""
         call = self._call(name, args)
         if "fatal" in entry:
@@ -231,8 +260,9 @@ class BuildChecker:
             if not self.compare(expected, got):
                 message = (f"{call} should give {self.show_expected(expected)}; "
                            f"your function gives {show(got)}.")
-                note = self._note(args, expected, got)
-                return message + (note or (_type_note(expected, got) if self.compare is same else ""))
+                note = self._note(args, expected, got, evidence)
+                return message + (note or (_type_note(expected, got) if self.compare is same else "")
+                                  or self._clue(args, got, evidence))
         except Exception:
             return f"{call} returned {show(got)}, which cannot be compared with the library's answer."
         return self._read_back(name, call, args, entry)
@@ -265,6 +295,43 @@ class BuildChecker:
         message = (f"after {call}, reading it back with {self._call(name, mine)} should give "
                    f"{show(expected)}; your function gives {show(got)}.")
         return message + self._note(mine, expected, got)
+
+
+def _sentence(words: str) -> str:
+    """``words`` as a sentence that follows another: a space, then a capital."""
+    words = words.strip()
+    return f" {words[0].upper()}{words[1:]}" if words else ""
+
+
+def _labels(words: str) -> set[str]:
+    """The catalogue keys whose labels ``words`` contains."""
+    lowered = words.lower()
+    return {key for key, entry in CATALOGUE.items() if entry.label.lower() in lowered}
+
+
+def _answers(cases: list, calls: list, skip: tuple) -> list[tuple[tuple, Any]]:
+    """Every (arguments, what the learner's function returned) of a trace, but the call with ``skip``."""
+    found = []
+    for (args, _expected), entry in zip(cases, calls):
+        if args is not skip and isinstance(entry, dict) and "out" in entry:
+            try:
+                found.append((args, revive(entry["out"])))
+            except Exception:  # an answer the checker cannot read is no evidence either way
+                continue
+    return found
+
+
+def default_boundary(args: tuple) -> str | None:
+    """The boundary a failing input falls on, said in words: no bytes, one byte, more than 256 bytes."""
+    for arg in args:
+        if isinstance(arg, (bytes, bytearray)):
+            if not arg:
+                return "This input is the empty one (no bytes): the task allows it."
+            if len(arg) == 1:
+                return "This input is a single byte."
+            if len(arg) > 256:
+                return f"This input is {len(arg)} bytes long, more than 256: the task allows any length."
+    return None
 
 
 def _reference_called(trace: dict, calls: list) -> str:
@@ -310,7 +377,8 @@ def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callabl
                    compare: Callable[[Any, Any], bool] | None = None, time_limit: float = TIME_LIMIT,
                    refuses: Iterable[tuple[Callable, str | None]] = (),
                    read_back: Callable[[tuple, tuple], tuple | None] | None = None,
-                   show_expected: Callable[[Any], str] | None = None) -> Exercise:
+                   show_expected: Callable[[Any], str] | None = None, procedure: Procedure | None = None,
+                   boundary: Callable[[tuple], str | None] | None = None) -> Exercise:
     """Register a build exercise: the learner's function is checked against ``reference``.
 
     ``inputs(rng)`` draws one tuple of arguments from the seeded ``random.Random`` it is given;
@@ -320,6 +388,10 @@ def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callabl
     library's answer in a message (default: :func:`~.core.show`).  ``read_back(args, state)``, for a
     function that changes its arguments (a slave storing a write), gives the arguments of a second call
     that reads the state back (``state``: the arguments after the first call), or None.
+    ``procedure`` is the concept's procedure with its perturbations (:mod:`.diagnosis.procedures`): a
+    failing function is named by the one change that reproduces all it returned (``diagnose`` then names
+    only what the procedure does not model); ``boundary(args)`` says in words which boundary of the task a
+    failing input falls on (default: no bytes, one byte, more than 256 bytes).
 
     ``refuses`` lists ``(wrong function, misconception key)`` pairs: each must fail, naming that
     misconception.  ``wrong`` is a plausible wrong function (by default the first of ``refuses``)."""
@@ -331,6 +403,5 @@ def build_exercise(key: str, title: str, *, reference: Callable, inputs: Callabl
             raise ValueError(f"exercise {key}: give a wrong function (wrong= or refuses=)")
         wrong = refuses[0][0]
     checker = BuildChecker(key, reference, inputs, edge_cases, count, diagnose, compare, time_limit,
-                           read_back,
-                           show_expected)
+                           read_back, show_expected, procedure, boundary)
     return register(Exercise(key, title, hint, checker, wrong, kind="build", refuses=refuses))

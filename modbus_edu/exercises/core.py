@@ -15,11 +15,12 @@ never raises.
 How strict a checker is, the same in every exercise: **spelling is free, the value is not.**  A right value
 is accepted in every spelling the course uses: hex digits in upper or lower case, with or without ``0x``
 and leading zeros; an int, a float that is a whole number (``3.0``) or a number written as text
-(``"17"``, ``"0x11"``); a 5- or 6-digit reference number; bytes, a hex string or a list of ints; more
-decimals than asked when they round to the answer.  Where an exercise asks for a form (hex as the test
-tool's grid shows it, milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another
-form is refused with :func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong
-value is never accepted for its form.
+(``"17"``, ``"0x11"``); bytes, a hex string or a list of ints; more decimals than asked when they round to
+the answer.  Where an exercise asks for a form (a 5-digit reference number, an ASCII frame's upper-case hex
+characters, an exception class rather than an instance of it, hex as the test tool's grid shows it,
+milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another form is refused with
+:func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong value is never
+accepted for its form.
 """
 
 from __future__ import annotations
@@ -34,10 +35,11 @@ from typing import Any
 from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
+from ..explain import explain, explain_pdu
 from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
-from .frameslip import frame_slip
-from .misconceptions import CATALOGUE, diagnose
+from .diagnosis.frameslip import frame_slip
+from .diagnosis.misconceptions import CATALOGUE, diagnose
 from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...
@@ -467,16 +469,46 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
 
 # --- comparing and diagnosing ------------------------------------------------------------------------
 
-def compare_bytes(answer: Any, expected: bytes, what: str) -> str | None:
-    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first."""
+def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = None) -> str | None:
+    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first, the field it belongs
+    to and what that field should hold, from :func:`~modbus_edu.explain.explain`'s dissection of the
+    expected frame (``mode``: "rtu", "tcp" or "pdu"; None: whatever mode dissects it without error)."""
     got = as_bytes(answer)
     if got == expected:
         return None
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
-            return (f"{what} differs at byte {index}: you have 0x{mine:02X}, it should be 0x{theirs:02X} "
-                    f"({len(got)} bytes given, {len(expected)} expected).")
-    return f"{what} has {len(got)} bytes, it should have {len(expected)}."
+            return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have "
+                    f"0x{mine:02X}, it should be 0x{theirs:02X} ({len(got)} bytes given, {len(expected)} "
+                    "expected).")
+    if len(got) < len(expected):
+        missing = _field_at(expected, len(got), mode, lead="")
+        return (f"{what} has {len(got)} bytes, it should have {len(expected)}"
+                f"{missing and '; what is missing starts with the' + missing}.")
+    return f"{what} has {len(got)} bytes, it should have {len(expected)}: nothing follows the last field."
+
+
+def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in the") -> str:
+    """Where byte ``index`` of the frame ``expected`` lies, in words: ", in the quantity (bytes 4-5), which
+    should hold 00 02 (2: number of registers to read)", or an empty string when no dissection fits."""
+    dissection = None
+    for kind in (mode,) if mode else ("rtu", "tcp", "pdu"):
+        try:
+            found = explain_pdu(expected) if kind == "pdu" else explain(expected, mode=kind)
+        except ModbusError:
+            continue
+        if found.error is None and found.rows:
+            dissection = found
+            break
+    if dissection is None:
+        return ""
+    for row in dissection.rows:
+        if row.offset <= index < row.offset + len(row.raw):
+            last = row.offset + len(row.raw) - 1
+            span = f"byte {row.offset}" if last == row.offset else f"bytes {row.offset}-{last}"
+            return (f"{lead} {row.field} ({span}), which should hold {row.raw.hex(' ').upper()} "
+                    f"({row.value}: {row.meaning})")
+    return ""
 
 
 def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | None = None) -> str | None:

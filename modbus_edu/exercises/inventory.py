@@ -28,7 +28,7 @@ from typing import Any
 
 from ..errors import ModbusError
 from .core import AFTER_CHECK, Recorded, Result, exercise
-from .misconceptions import CATALOGUE
+from .diagnosis.misconceptions import CATALOGUE
 
 PRE = "00.0"
 POST = "17.0"
@@ -68,10 +68,10 @@ QUESTIONS: tuple[Question, ...] = (
               "the low half first: the specification fixes it",
               "each device's own choice: its datasheet tells",
               "either: a float reads the same in both orders"), "c", "word-order",
-             {"a": "word-order", "b": "word-order", "d": "word-order"}),
+             {"a": "word-order-in-specification", "b": "word-order-in-specification", "d": "word-order"}),
     Question("mbap-order", "A Modbus/TCP request has transaction identifier 10. Which bytes carry it?",
              ("00 0A", "0A 00", "00 10", "0A"), "a", "mbap-little-endian",
-             {"b": "mbap-little-endian", "c": "decimal-written-as-hex", "d": "register-one-byte"}),
+             {"b": "mbap-little-endian", "c": "decimal-written-as-hex", "d": "field-in-one-byte"}),
     Question("reference", "A datasheet lists the first holding register as 40001. Which address does a "
              "function 3 request send for it?",
              ("40001", "40000", "1", "0"), "d", "reference-number",
@@ -89,7 +89,8 @@ QUESTIONS: tuple[Question, ...] = (
              {"a": "crc-on-tcp", "b": "crc-on-tcp", "c": "crlf-for-frame-end"}),
     Question("damaged", "A slave receives a request whose CRC is wrong. What does the master see?",
              ("exception 03 (illegal data value)", "exception 04 (slave device failure)",
-              "nothing: a timeout", "the request echoed back"), "c", "answer-to-damaged-request",
+              "nothing: a timeout", "a normal response, as if the CRC were right"), "c",
+             "answer-to-damaged-request",
              {"a": "answer-to-damaged-request", "b": "answer-to-damaged-request",
               "d": "answer-to-damaged-request"}),
     Question("missing-address", "A slave implements function 3 but has no register at the requested "
@@ -116,7 +117,8 @@ QUESTIONS: tuple[Question, ...] = (
     Question("exception-code", "A slave refuses a function 3 request with an exception. What is the "
              "function code of its response?",
              ("83", "03", "80", "03, then 80 after it"), "a", "exception-bit-missing",
-             {"b": "exception-bit-missing", "c": "exception-bit-missing", "d": "exception-bit-missing"}),
+             {"b": "exception-bit-missing", "c": "exception-function-forgotten",
+              "d": "exception-bit-missing"}),
 )
 
 BY_ID = {question.id: question for question in QUESTIONS}
@@ -314,7 +316,9 @@ def _check_pre(answer: Any) -> str | None:
                    (_wrong_at(POST, "reference"), "reference-number"),
                    (_wrong_at(POST, "frame-end", "d"), "t15-for-t35"),
                    (_wrong_at(POST, "tcp-crc", "c"), "crlf-for-frame-end"),
-                   (_wrong_at(POST, "missing-address", "c"), "refusal-unanswered"), ("ABCDE", None)])
+                   (_wrong_at(POST, "missing-address", "c"), "refusal-unanswered"),
+                   (_wrong_at(POST, "word-order", "a"), "word-order-in-specification"),
+                   (_wrong_at(POST, "exception-code", "c"), "exception-function-forgotten"), ("ABCDE", None)])
 def _check_post(answer: Any) -> str | None:
     return _judge(answer, POST)
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..pdu import (
+from ...pdu import (
     MAX_READ_REGISTERS,
     ExceptionCode,
     ExceptionResponse,
@@ -12,8 +12,8 @@ from ..pdu import (
     ReadHoldingRegistersRequest,
     WriteMultipleRegistersRequest,
 )
-from .build import build_exercise
-from .core import (
+from ..build import build_exercise
+from ..core import (
     address_diagnosis,
     as_bytes,
     compare_bytes,
@@ -25,8 +25,8 @@ from .core import (
     pdu_envelope_diagnosis,
     request_field_diagnosis,
 )
-from .frameslip import frame_slip
-from .misconceptions import diagnose, name
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import diagnose, name
 
 
 @exercise("02.1", "build a Write Multiple Registers PDU",

@@ -11,10 +11,10 @@ try:
 except (ImportError, AttributeError):  # pragma: no cover - a dependency; a browser (Pyodide) may lack it
     serial = SocketSerial = None
 
-from ..framing import RtuFrame, TcpFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest
-from .build import build_exercise
-from .core import (
+from ...framing import RtuFrame, TcpFrame, parse_hex
+from ...pdu import ReadHoldingRegistersRequest
+from ..build import build_exercise
+from ..core import (
     Raised,
     address_diagnosis,
     as_bytes,
@@ -23,7 +23,7 @@ from .core import (
     pdu_envelope_diagnosis,
     tcp_frame_diagnosis,
 )
-from .misconceptions import diagnose, name
+from ..diagnosis.misconceptions import diagnose, name
 
 _11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
 

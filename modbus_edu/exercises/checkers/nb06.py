@@ -4,16 +4,17 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import crc_bytes
-from ..datamodel import DataBank
-from ..errors import ChecksumError, CrcError, ModbusError, ModbusExceptionError, ModbusTimeoutError
-from ..framing import RtuFrame
-from ..links.loopback import loopback_serial
-from ..master import Master
-from ..slave import Slave
-from .build import build_exercise
-from .core import exercise, int_answer, number_answer, real_answer
-from .misconceptions import diagnose, name
+from ...crc import crc_bytes
+from ...datamodel import DataBank
+from ...errors import ChecksumError, CrcError, ModbusError, ModbusExceptionError, ModbusTimeoutError
+from ...framing import RtuFrame
+from ...links.loopback import loopback_serial
+from ...master import Master
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import exercise, int_answer, number_answer, real_answer, right_value_in_another_form
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import diagnose, name
 
 
 def _one_read_time(baudrate: int, count: int) -> float:
@@ -103,10 +104,11 @@ def _check_06_3(answer: Any) -> str | None:
                 "request that fails the check, and what the master then gets back.",
                 "try it on a loopback line: link.faults.flip_bits(1, target='request') damages the next "
                 "request; catch mb.ModbusError as error and look at type(error)."),
-          accepts=[ModbusTimeoutError, ModbusTimeoutError("no answer")],
+          accepts=[ModbusTimeoutError],
           refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
                    (ChecksumError, "answer-to-damaged-request"), ("timeout", None),
-                   (ModbusExceptionError, "answer-to-damaged-request")])
+                   (ModbusExceptionError, "answer-to-damaged-request"),
+                   (ModbusTimeoutError("x"), None), (TimeoutError, "builtin-for-library-exception")])
 def _check_06_4(answer: Any) -> str | None:
     link = loopback_serial(Slave(unit=1))
     link.faults.flip_bits(1, target="request")
@@ -115,9 +117,18 @@ def _check_06_4(answer: Any) -> str | None:
         return "the checker expected an error here and got none; please tell your teacher."
     except ModbusError as error:
         expected = type(error)
-    got = answer if isinstance(answer, type) else type(answer)
+    if isinstance(answer, BaseException):
+        if type(answer) is expected:
+            return right_value_in_another_form(
+                f"the class itself, {expected.__name__}, not an instance of it "
+                f"({expected.__name__}(...) makes one)")
+        return f"give an exception class, not an instance ({type(answer).__name__}(...) makes one)."
+    got = answer
     if got is expected:
         return None
+    named = diagnose("builtin-for-library-exception", got)
+    if named:
+        return named
     if isinstance(got, type) and issubclass(expected, got):
         return f"{got.__name__} is too general: which subclass exactly?"
     if isinstance(got, type) and issubclass(got, ChecksumError):
@@ -167,8 +178,32 @@ def _diagnose_handler(args, expected, got) -> str | None:
         if named:
             return named
     if pdu[:1] == b"\x03" and pdu[3:5] == b"\x00\x01" and address < len(registers):
-        return diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
-                        expected)
+        named = diagnose("write-not-stored", got, bytes([3, 2]) + registers[address].to_bytes(2, "big"),
+                         expected)
+        if named:
+            return named
+    if isinstance(got, bytes) and isinstance(expected, bytes):
+        return _range_diagnosis(registers, pdu, got, expected) or frame_slip(got, expected)
+    return None
+
+
+def _range_diagnosis(registers: list, pdu: bytes, got: bytes, expected: bytes) -> str | None:
+    """A range check off by one, named as 02.5 names it: a request the slave must refuse answered (an invalid
+    input accepted), or one it must answer refused; with the boundary the request falls on."""
+    if pdu[:1] != b"\x03" or len(pdu) < 5:
+        return None
+    address, count = int.from_bytes(pdu[1:3], "big"), int.from_bytes(pdu[3:5], "big")
+    edge = (f"the count {count} is outside 1..125" if not 1 <= count <= 125 else
+            f"registers {address} to {address + count - 1} go past the last one, {len(registers) - 1}"
+            if address + count > len(registers) else
+            f"the count {count} is within 1..125 and registers {address} to {address + count - 1} all exist")
+    answered = got[:1] == b"\x03" and len(got) == 2 + 2 * count and got[1] == 2 * count  # a response to it
+    off_by_one = count in (0, 126) or address + count == len(registers) + 1
+    if expected[0] & 0x80 and answered and off_by_one:
+        return f"Here {edge}: check the range with both of its ends. {name('invalid-input-accepted')}"
+    at_an_end = count in (1, 125) or address + count == len(registers)
+    if got[:1] == b"\x83" and expected[:1] == b"\x03" and at_an_end:
+        return f"a range check off by one: {edge}, so this request must be answered; check both ends."
     return None
 
 

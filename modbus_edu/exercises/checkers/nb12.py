@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import crc_bytes
-from ..datamodel import DataBank
-from ..devices.generators import increment_fill
-from ..framing import TcpFrame
-from ..pdu import ReadHoldingRegistersRequest
-from .build import build_exercise
-from .core import (
+from ...crc import crc_bytes
+from ...datamodel import DataBank
+from ...devices.generators import increment_fill
+from ...framing import TcpFrame
+from ...pdu import ReadHoldingRegistersRequest
+from ..build import build_exercise
+from ..core import (
     address_diagnosis,
     as_bytes,
     exercise,
@@ -18,12 +18,12 @@ from .core import (
     right_value_in_another_form,
     tcp_frame_diagnosis,
 )
-from .misconceptions import diagnose
+from ..diagnosis.misconceptions import diagnose
 
 
 def _testtool() -> Any:
     """The TestTool widget class."""
-    from ..widgets.testtool import TestTool  # the course extra (ipywidgets): imported when a learner checks
+    from ...widgets.testtool import TestTool  # the course extra (ipywidgets): imported when a learner checks
 
     return TestTool
 

@@ -12,14 +12,14 @@ import random
 import re
 from typing import Any
 
-from ..devices.bench import bench_map, bench_map_path
-from ..framing import RtuFrame
-from ..links.echo import strip_echo
-from ..pdu import ReadHoldingRegistersRequest, ReadInputRegistersRequest, ReadInputRegistersResponse
-from ..registermap import RegisterMapError, load_map
-from .build import build_exercise
-from .core import AnswerError, address_diagnosis, as_bytes, exercise, show
-from .misconceptions import CATALOGUE, ORDER_WORDS, detect, diagnose, name
+from ...devices.bench import bench_map, bench_map_path
+from ...framing import RtuFrame
+from ...links.echo import strip_echo
+from ...pdu import ReadHoldingRegistersRequest, ReadInputRegistersRequest, ReadInputRegistersResponse
+from ...registermap import RegisterMapError, load_map
+from ..build import build_exercise
+from ..core import AnswerError, address_diagnosis, as_bytes, exercise, show
+from ..diagnosis.misconceptions import CATALOGUE, ORDER_WORDS, detect, diagnose, name
 
 WORKSHEET_UNIT = 1
 """The bench meter's address in the worksheet (its factory setting)."""

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from .. import pdu as p
-from ..security import course_roles
-from .build import build_exercise
-from .core import exercise, int_answer, show
-from .misconceptions import diagnose, name
+from ... import pdu as p
+from ...security import course_roles
+from ..build import build_exercise
+from ..core import exercise, int_answer, show
+from ..diagnosis.misconceptions import diagnose, name
 
 #: The request of exercise 17.1, as a capture shows it.
 CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")

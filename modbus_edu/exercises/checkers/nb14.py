@@ -4,14 +4,16 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import ModbusTimeoutError
-from ..links.loopback import loopback_serial
-from ..master import Master
-from ..pdu import mask_write
-from ..slave import Slave
-from .build import build_exercise
-from .core import exercise, field_diagnosis, int_answer, line_after_tries
-from .misconceptions import diagnose
+from ...errors import ModbusTimeoutError
+from ...links.loopback import loopback_serial
+from ...master import Master
+from ...pdu import mask_write
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import exercise, field_diagnosis, int_answer, line_after_tries
+from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedure import say
+from ..diagnosis.procedures import message_count_procedure
 
 MASK_SLIPS = ("or-mask-forgotten", "mask-write-or", "mask-roles-swapped")
 """The catalogue's slips of FC 22's two masks, tried on every mask exercise."""
@@ -92,7 +94,7 @@ def counters_scenario() -> dict[str, int]:
                 "to 0x0C, not here.",
                 "after a clear, one read of unit 3 and one of unit 4, then 0x0B to unit 3: unit 3 counts "
                 "the request for it, the request for unit 4, unit 4's response and the 0x0B request: 4."),
-          accepts=[5, 0x05], refuses=[(6, "damaged-message-counted"), (4, "count-request-forgotten"),
+          accepts=[5, 0x05], refuses=[(6, None), (4, None),
                                       (3, "others-not-heard"), (7, "own-frames-counted")])
 def _check_14_3(answer: Any) -> str | None:
     got = int_answer(answer, "a number of messages")
@@ -101,18 +103,13 @@ def _check_14_3(answer: Any) -> str | None:
     expected = counters_scenario()["heard"]
     if got == expected:
         return None
-    if got == expected + 1:
-        return diagnose("damaged-message-counted", got, expected) + " Here the damaged request is the one."
-    named = diagnose("count-request-forgotten", got, expected)
-    if named:
-        return (f"{named} Unless the one missing is unit 2's response: unit 1 hears that too, as every node "
-                "hears the line.")
-    named = diagnose("own-frames-counted", got, expected + UNIT1_READS_14_3)
-    if named:
-        return named
-    named = (diagnose("others-not-heard", got, UNIT1_READS_14_3 + 1)
-             or diagnose("others-not-heard", got, UNIT1_READS_14_3))
-    if named:
-        return named + (" Those are only the requests for unit 1; it also hears the request for unit 2 and "
-                        "its response.")
+    procedure = message_count_procedure(expected, own_responses=UNIT1_READS_14_3,
+                                        own_requests=UNIT1_READS_14_3)
+    found = procedure.reproducing([((), got)])
+    if found:
+        extra = {-1: "one message too few", 1: "one message too many"}.get(got - expected)
+        if extra and len({item.misconception for item in found}) > 1:
+            return (f"{got} counts {extra}: " + " or ".join(item.step for item in found)
+                    + "? The number alone cannot say which; list the frames after the clear, one by one.")
+        return say(found)
     return f"{got} is not the count unit 1 reports: list every frame on the line after the clear."

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import lrc
-from ..crc import lrc as _library_lrc
-from ..datamodel import parse_reference
-from ..framing import AsciiFrame, RtuFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
-from .build import build_exercise
-from .core import (
+from ...crc import lrc
+from ...crc import lrc as _library_lrc
+from ...datamodel import parse_reference
+from ...framing import AsciiFrame, RtuFrame, parse_hex
+from ...pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
+from ..build import build_exercise
+from ..core import (
     AnswerError,
     address_diagnosis,
     as_bytes,
@@ -19,9 +19,11 @@ from .core import (
     int_answer,
     line_after_tries,
     request_field_diagnosis,
+    right_value_in_another_form,
 )
-from .frameslip import frame_slip
-from .misconceptions import diagnose, name
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.procedures import LRC
 
 
 @exercise("04.1", "an LRC by hand",
@@ -39,9 +41,11 @@ def _check_04_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose(("lrc-plain-sum", "lrc-ones-complement", "lrc-of-characters"), data, got)
+    named = LRC.explain([((data,), got)])
     if named:
         return named
+    if not 0 <= got <= 0xFF:
+        return f"{got} is no byte: an LRC is one byte, 0x00 to 0xFF."
     return f"0x{got:02X} is not the LRC of 11 03 00 6B 00 03."
 
 
@@ -51,13 +55,13 @@ def _check_04_1(answer: Any) -> str | None:
                 "mb.parse_reference gives the address; mb.AsciiFrame(unit=..., pdu=...) builds the frame, "
                 "and its .encode() adds the LRC and CR LF.",
                 "slave 2, one register at address 4: b':020300040001F6\\r\\n'."),
-          accepts=[":050310000002E6\r\n", b":050310000002E6\r\n", ":050310000002e6\r\n",
+          accepts=[":050310000002E6\r\n", b":050310000002E6\r\n",
                    r":050310000002E6\r\n", list(b":050310000002E6\r\n")],
           refuses=[(":050310000002E6", "ascii-without-crlf"), (b":050310000002E6", "ascii-without-crlf"),
                    (":050310010002E5\r\n", "one-based-address"),
                    (":050310000002E5\r\n", "lrc-ones-complement"),
                    (":0503100000021A\r\n", "lrc-plain-sum"),
-                   (":050310000002E7\r\n", None)])
+                   (":050310000002E7\r\n", None), (":050310000002e6\r\n", None)])
 def _check_04_2(answer: Any) -> str | None:
     address = parse_reference("44097").address
     expected = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address, count=2)).encode()
@@ -68,8 +72,11 @@ def _check_04_2(answer: Any) -> str | None:
     off_by_one = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address + 1, count=2)).encode()
     if got.upper() == off_by_one:
         return address_diagnosis(address + 1, address)
+    if got == expected:
+        return None
     if got.upper() == expected:
-        return None  # lowercase hex digits are allowed too
+        return right_value_in_another_form("upper-case hex digits: the specification writes an ASCII frame's "
+                                           "hex characters as '0'-'9' and 'A'-'F' only")
     return ascii_frame_diagnosis(got.upper(), expected) or compare_characters(got, expected, "your frame")
 
 
@@ -182,13 +189,15 @@ def _diagnose_lrc(args, expected, got) -> str | None:
 build_exercise(
     "04.5", "write lrc yourself",
     reference=_library_lrc, inputs=_lrc_inputs,
-    edge_cases=[(b"",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),), (b"\xff" * 3,)],
+    # every input the task allows: no bytes, one byte, a frame, a sum of 0, longer than 256 bytes
+    edge_cases=[(b"",), (b"\x01",), (bytes.fromhex("050610010200"),), (bytes.fromhex("0503100000 02"),),
+                (b"\xff" * 3,), (b"\x80\x80",), (bytes(range(256)) + b"\xfe",)],
     hint="add up the bytes and keep the low 8 bits; the LRC is the byte that brings that sum to 0 (modulo "
          "256): its two's complement.",
     refuses=[(lambda data: sum(data) & 0xFF, "lrc-plain-sum"), (lambda data: ~sum(data) & 0xFF,
                                                                 "lrc-ones-complement"),
              (lambda data: -sum(data), "lrc-not-8-bits")],
-    diagnose=_diagnose_lrc)
+    diagnose=_diagnose_lrc, procedure=LRC)
 line_after_tries("04.5", "sum(data) adds the bytes; & 0xFF keeps the low 8 bits of any int; the two's "
                  "complement of a byte x is (256 - x) % 256.",
                  "for 01 03 00 00 00 0A the sum is 14 = 0x0E and 256 - 14 = 242: the LRC is 0xF2.")

@@ -5,12 +5,13 @@ from __future__ import annotations
 import struct
 from typing import Any
 
-from ..devices.meter import METER_BY_NAME, TRIALS, meter_blocks
-from ..framing import RtuFrame, parse_hex
-from ..values import ORDERS, decode_value, encode_value
-from .build import build_exercise
-from .core import Written, address_diagnosis, exercise, field_diagnosis, number_answer, real_answer
-from .misconceptions import diagnose
+from ...devices.meter import METER_BY_NAME, TRIALS, meter_blocks
+from ...framing import RtuFrame, parse_hex
+from ...values import ORDERS, decode_value, encode_value
+from ..build import build_exercise
+from ..core import Written, address_diagnosis, exercise, field_diagnosis, number_answer, real_answer
+from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import FLOAT32
 
 
 @exercise("10.1", "a voltage from a register pair",
@@ -144,4 +145,4 @@ build_exercise(
              (lambda registers, order: decode_value(list(registers), "uint32", order), "integer-for-float"),
              (lambda registers, order: round(decode_value(list(registers), "float32", order), 2),
               "result-rounded")],
-    diagnose=_diagnose_float)
+    diagnose=_diagnose_float, procedure=FLOAT32)

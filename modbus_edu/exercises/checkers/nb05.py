@@ -5,18 +5,19 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from ..explain import explain
-from ..framing import TcpFrame, parse_hex
-from ..pdu import (
+from ...explain import explain
+from ...framing import TcpFrame, parse_hex
+from ...pdu import (
     ReadHoldingRegistersRequest,
     ReadHoldingRegistersResponse,
     WriteMultipleRegistersRequest,
     WriteSingleRegisterRequest,
     decode_pdu,
 )
-from .build import build_exercise
-from .core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
-from .misconceptions import diagnose
+from ..build import build_exercise
+from ..core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
+from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import MBAP
 
 
 @exercise("05.1", "read a transaction id",
@@ -156,7 +157,9 @@ build_exercise(
     "05.5", "write the MBAP header yourself",
     reference=_mbap_header, inputs=_mbap_inputs,
     edge_cases=[(280, 1, bytes.fromhex("03 00 00 00 01")), (0, 0, bytes.fromhex("03 00 00 00 01")),
-                (65535, 255, bytes.fromhex("03 00 6B 00 03"))],
+                (65535, 255, bytes.fromhex("03 00 6B 00 03")),
+                # the longest request PDU: 123 registers written, 252 bytes (length 253)
+                (1, 1, WriteMultipleRegistersRequest(address=0, values=[0xABCD] * 123).encode())],
     hint=("seven bytes: transaction id (2 bytes), protocol id 0 (2 bytes), length = 1 + len(pdu) (2 bytes), "
           "unit (1 byte); every 2-byte field high byte first.",
           "an int's .to_bytes(2, 'big') gives its two bytes high byte first; bytes([unit]) gives one byte; "
@@ -167,4 +170,4 @@ build_exercise(
              (lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + len(pdu).to_bytes(2, "big")
               + bytes([unit]), "mbap-length"),
              (lambda tid, unit, pdu: _mbap_header(tid, unit, pdu) + bytes(pdu), "frame-for-header")],
-    diagnose=_diagnose_mbap)
+    diagnose=_diagnose_mbap, procedure=MBAP)

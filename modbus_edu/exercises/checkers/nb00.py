@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..framing import RtuFrame, TcpFrame, parse_hex
-from ..pdu import ReadHoldingRegistersRequest
-from .core import compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
-from .misconceptions import diagnose
+from ...framing import RtuFrame, TcpFrame, parse_hex
+from ...pdu import ReadHoldingRegistersRequest
+from ..core import as_bytes, compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
+from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import rtu_frame_procedure
 
 
 @exercise("00.1", "the slave address of a frame",
@@ -56,14 +57,21 @@ def _check_00_2(answer: Any) -> str | None:
                 "reading holding registers is function 3: mb.ReadHoldingRegistersRequest(address=..., "
                 "count=...) is the PDU; mb.RtuFrame takes the unit and that PDU (pdu=), and its .encode() "
                 "adds the CRC.",
-                "slave 9, one holding register at address 5: mb.RtuFrame(unit=9, "
-                "pdu=mb.ReadHoldingRegistersRequest(address=5, count=1)).encode() gives 09 03 00 05 00 01 "
-                "95 43."),
+                "slave 9, one holding register at address 5: the unit 09, the function 03, the address 00 05 "
+                "and the count 00 01, each 2-byte field high byte first, then the CRC of those six bytes, "
+                "0x4395, low byte first: 09 03 00 05 00 01 95 43."),
           accepts=["02 03 00 00 00 02 C4 38", "02 03 00 00 00 02 c4 38", bytes.fromhex("020300000002C438")],
           refuses=[("02 03 00 00 00 02 38 C4", "crc-swapped"), ("02 03 00 01 00 02 95 F8",
                                                                 "one-based-address"),
-                   ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing")])
+                   ("02 03 00 00 00 02", "crc-forgotten"), ("03 00 00 00 02 E1 C1", "unit-missing"),
+                   ("00 01 00 00 00 06 02 03 00 00 00 02", "tcp-frame-for-rtu"),
+                   (b":020300000002F9\r\n", "ascii-frame-for-rtu")])
 def _check_00_3(answer: Any) -> str | None:
-    expected = RtuFrame(unit=2, pdu=ReadHoldingRegistersRequest(address=0, count=2)).encode()
-    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(answer, expected, "your frame")
+    pdu = ReadHoldingRegistersRequest(address=0, count=2)
+    expected = RtuFrame(unit=2, pdu=pdu).encode()
+    got = as_bytes(answer)
+    if got == expected:
+        return None
+    return (rtu_frame_procedure(2, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
+            or compare_rtu_frame(got, expected, "your frame"))
 

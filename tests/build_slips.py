@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import struct
 
-from ..crc import crc16, crc_bytes, lrc
-from ..errors import ModbusError
-from ..values import decode_value
-from .misconceptions import crc16_reflected
-from .slips import Slip
+from slips import Slip
+
+from modbus_edu.crc import crc16, crc_bytes, lrc
+from modbus_edu.errors import ModbusError
+from modbus_edu.exercises.diagnosis.misconceptions import crc16_reflected
+from modbus_edu.values import decode_value
 
 _TABLES = {"0": "coils", "1": "discrete_inputs", "3": "input_registers", "4": "holding_registers"}
 

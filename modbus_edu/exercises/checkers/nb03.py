@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import crc16, crc_bytes
-from ..errors import ModbusError
-from ..framing import RtuFrame, parse_hex
-from ..pdu import ReadHoldingRegistersResponse, WriteSingleRegisterRequest
-from .build import build_exercise
-from .core import (
+from ...crc import crc16, crc_bytes
+from ...errors import ModbusError
+from ...framing import RtuFrame, parse_hex
+from ...pdu import ReadHoldingRegistersResponse, WriteSingleRegisterRequest
+from ..build import build_exercise
+from ..core import (
     as_bytes,
     compare_bytes,
     compare_rtu_frame,
@@ -19,8 +19,9 @@ from .core import (
     right_value_in_another_form,
     rtu_request_diagnosis,
 )
-from .frameslip import frame_slip
-from .misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
+from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -40,8 +41,7 @@ def _check_03_1(answer: Any) -> str | None:
         return (f"0x{answer:04X} is a number; give the two bytes in the order they are sent, "
                 f"e.g. \"12 34\" or bytes([0x12, 0x34]).")
     got = as_bytes(answer)
-    return (diagnose("crc-swapped", got, expected) or diagnose("crc-one-byte", got, crc16(data))
-            or compare_bytes(got, expected, "your CRC"))
+    return CRC_WIRE.explain([((data,), got)]) or compare_bytes(got, expected, "your CRC")
 
 
 @exercise("03.2", "build an RTU frame",
@@ -60,9 +60,13 @@ def _check_03_1(answer: Any) -> str | None:
                    ("01 06 00 02 04 D2 AA 97", "hex-read-as-decimal"),
                    ("01 06 00 02 12 34 00 B7", "checksum-without-address")])
 def _check_03_2(answer: Any) -> str | None:
-    expected = RtuFrame(unit=1, pdu=WriteSingleRegisterRequest(address=2, value=0x1234)).encode()
-    return (rtu_request_diagnosis(answer, expected) or frame_slip(as_bytes(answer), expected, tail=2)
-            or compare_rtu_frame(answer, expected, "your frame"))
+    pdu = WriteSingleRegisterRequest(address=2, value=0x1234)
+    expected = RtuFrame(unit=1, pdu=pdu).encode()
+    got = as_bytes(answer)
+    if got == expected:
+        return None
+    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
+            or frame_slip(got, expected, tail=2) or compare_rtu_frame(got, expected, "your frame"))
 
 
 @exercise("03.3", "will the slave answer?",
@@ -102,6 +106,11 @@ def _check_03_4(answer: Any) -> str | None:
     return f"{got} bytes is not the length of that response."
 
 
+def _crc_inputs(rng) -> tuple:
+    """Mostly short messages, one in ten longer than 256 bytes."""
+    return (rng.randbytes(rng.randrange(1, 64) if rng.random() < 0.9 else rng.randrange(257, 700)),)
+
+
 def _crc_without_final_step(data: bytes) -> int:
     """A plausible wrong CRC: the right loop, but the register starts at 0 (CRC-16/ARC)."""
     return crc16_reflected(data, initial=0)
@@ -116,8 +125,10 @@ def _crc_swapped(data: bytes) -> int:
 build_exercise(
     "03.5", "write crc16 yourself",
     reference=crc16,
-    inputs=lambda rng: (rng.randbytes(rng.randrange(1, 64)),),
-    edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),)],
+    inputs=_crc_inputs,
+    # every input the task allows: no bytes, one byte, a frame, and longer than 256 bytes ("any data")
+    edge_cases=[(b"",), (b"\x00",), (b"\xff",), (b"123456789",), (bytes.fromhex("11 03 00 6B 00 03"),),
+                (bytes(range(256)) + b"\x01",), (b"\xa5" * 600,)],
     hint=("CRC-16/MODBUS: a 16-bit register starts at 0xFFFF; each byte is XORed into it, then the register "
           "is shifted right 8 times, and each time the bit that falls out is 1 it is XORed with 0xA001.",
           "two loops: one over the bytes, and inside it one of 8 shifts; test the lowest bit (register & 1) "
@@ -128,4 +139,4 @@ build_exercise(
              (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
                                                     "crc-as-bytes"),
              (lambda data: crc16(data) & 0xFF, "crc-one-byte")],
-    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got))
+    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got), procedure=CRC)

@@ -4,17 +4,17 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..datamodel import DataBank
-from ..errors import ChecksumError, ModbusExceptionError, ModbusTimeoutError, TransactionMismatchError
-from ..framing import RtuFrame, parse_hex
-from ..links.loopback import loopback_serial
-from ..master import Master
-from ..pdu import ExceptionCode, ExceptionResponse
-from ..slave import Slave
-from .build import build_exercise
-from .core import as_bytes, compare_rtu_frame, exercise, field_diagnosis, pdu_envelope_diagnosis
-from .frameslip import frame_slip
-from .misconceptions import diagnose, name
+from ...datamodel import DataBank
+from ...errors import ChecksumError, ModbusExceptionError, ModbusTimeoutError, TransactionMismatchError
+from ...framing import RtuFrame, parse_hex
+from ...links.loopback import loopback_serial
+from ...master import Master
+from ...pdu import ExceptionCode, ExceptionResponse
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import as_bytes, compare_rtu_frame, exercise, field_diagnosis, pdu_envelope_diagnosis
+from ..diagnosis.frameslip import frame_slip
+from ..diagnosis.misconceptions import diagnose, name
 
 
 @exercise("07.1", "read an exception response",

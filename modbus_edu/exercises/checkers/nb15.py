@@ -11,20 +11,20 @@ import random
 import re
 from typing import Any
 
-from ..crc import crc16
-from ..framing import RtuFrame, TcpFrame
-from ..gateway import GATEWAY_PATH_UNAVAILABLE, GATEWAY_TARGET_FAILED
-from ..links.wire import SerialTiming
-from ..pdu import (
+from ...crc import crc16
+from ...framing import RtuFrame, TcpFrame
+from ...gateway import GATEWAY_PATH_UNAVAILABLE, GATEWAY_TARGET_FAILED
+from ...links.wire import SerialTiming
+from ...pdu import (
     ExceptionCode,
     ReadHoldingRegistersRequest,
     ReadInputRegistersRequest,
     WriteMultipleRegistersRequest,
     WriteSingleRegisterRequest,
 )
-from .build import build_exercise
-from .core import Raised, exercise, number_answer, real_answer, show, tcp_frame_diagnosis
-from .misconceptions import diagnose, name
+from ..build import build_exercise
+from ..core import Raised, exercise, number_answer, real_answer, show, tcp_frame_diagnosis
+from ..diagnosis.misconceptions import diagnose, name
 
 
 # --- 15.1: one transaction at 19200 baud 8E1 -------------------------------------------------------------

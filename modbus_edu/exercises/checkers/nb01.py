@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..datamodel import DataBank, format_reference, parse_reference, table_kind
-from ..errors import ModbusError
-from .build import build_exercise
-from .core import address_diagnosis, exercise, field_diagnosis, int_answer
-from .misconceptions import diagnose
+from ...datamodel import DataBank, format_reference, parse_reference, table_kind
+from ...errors import ModbusError
+from ..build import build_exercise
+from ..core import address_diagnosis, exercise, field_diagnosis, int_answer, right_value_in_another_form
+from ..diagnosis.misconceptions import diagnose
 
 
 @exercise("01.1", "the address behind a reference number",
@@ -30,8 +30,9 @@ def _check_01_1(answer: Any) -> str | None:
 @exercise("01.2", "the reference number of an address",
           hint="input registers have the prefix 3; the number after the prefix is address + 1, written with "
                "four digits.",
-          accepts=["30010", 30010, " 30010", "300010"],
-          refuses=[("30009", "zero-based-number"), ("40010", "holding-for-input"), ("30011", None)])
+          accepts=["30010", 30010, " 30010"],
+          refuses=[("30009", "zero-based-number"), ("40010", "holding-for-input"), ("30011", None),
+                   ("300010", None)])
 def _check_01_2(answer: Any) -> str | None:
     expected = format_reference("input_registers", 9)
     got = str(answer).strip()
@@ -40,6 +41,10 @@ def _check_01_2(answer: Any) -> str | None:
     except ModbusError:
         return f"{got!r} is not a reference number such as 30001."
     if (reference.kind, reference.address) == ("input_registers", 9):
+        if len(got) != len(expected):
+            return right_value_in_another_form(
+                f"the {len(expected)}-digit reference number the exercise asks for, {expected} ({got} is the "
+                f"{len(got)}-digit form)")
         return None
     if reference.kind != "input_registers":
         return diagnose("holding-for-input", reference.kind, "input_registers") or \

@@ -19,10 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .. import errors as mb_errors
-from ..crc import crc_bytes, lrc
-from ..datamodel import DataBank
-from .inventory import POST, PRE, key_letters
+from modbus_edu import errors as mb_errors
+from modbus_edu.crc import crc_bytes, lrc
+from modbus_edu.datamodel import DataBank
+from modbus_edu.exercises.inventory import POST, PRE, key_letters
 
 
 @dataclass(frozen=True)
@@ -320,7 +320,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(mb_errors.ChecksumError, "answer-to-damaged-request", "a checksum error at the master"),
         Slip(mb_errors.ModbusExceptionError, "answer-to-damaged-request",
              "an exception response expected: no catalogued name"),
-        Slip(TimeoutError, None, "Python's own timeout, not the library's"),
+        Slip(TimeoutError, "builtin-for-library-exception", "Python's own timeout, not the library's"),
         Slip("timeout", None, "a word, not the exception class"),
     ),
     "07.1": (
@@ -468,10 +468,10 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip((282, "01 1A"), "last-transaction-id", "the third request's id"),
     ),
     "13.1": (
-        Slip({"A": "no slave on the line", "B": "wrong unit id", "C": "wrong baud rate or parity"}, None,
-             "two wires mixed up"),
-        Slip({"A": "wrong baud rate or parity", "B": "no slave on the line", "C": "wrong unit id"}, None,
-             "two wires mixed up"),
+        Slip({"A": "no slave on the line", "B": "wrong unit id", "C": "wrong baud rate or parity"},
+             "causes-swapped", "two wires mixed up"),
+        Slip({"A": "wrong baud rate or parity", "B": "no slave on the line", "C": "wrong unit id"},
+             "causes-swapped", "two wires mixed up"),
         Slip({"A": "wrong unit id", "B": "no slave on the line"}, None, "a wire left out"),
         Slip({"A": "unit", "B": "nothing", "C": "baud"}, None, "words other than the three causes"),
         Slip(["wrong unit id", "no slave on the line", "wrong baud rate or parity"], None, "a list"),
@@ -521,9 +521,11 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(0x0005, "or-mask-forgotten", "the AND mask alone"),
     ),
     "14.3": (
-        Slip(6, "damaged-message-counted", "the damaged request counted"),
-        Slip(6.0, "damaged-message-counted", "the damaged request counted, as a float"),
-        Slip(4, "count-request-forgotten", "the 0x0B request itself forgotten"),
+        Slip(6, None, "the damaged request counted; the number alone cannot tell it from the clear request "
+             "counted, so the verdict names both"),
+        Slip(6.0, None, "the damaged request counted, as a float: the verdict names both candidates"),
+        Slip(4, None, "the 0x0B request itself forgotten; the number alone cannot tell it from unit 2's "
+             "response left out, so the verdict names both"),
         Slip(3, "others-not-heard", "only the requests for unit 1"),
         Slip(2, "others-not-heard", "only the reads of unit 1"),
         Slip(7, "own-frames-counted", "every frame on the line"),

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..crc import lrc
-from ..pdu import mask_write
-from ..values import decode_value
+from ...crc import lrc
+from ...pdu import mask_write
+from ...values import decode_value
 from .catalogue import _entry, _int, _near, _number
 
 # --- lengths of frames ---------------------------------------------------------------------------------
@@ -109,14 +109,15 @@ def _byte_value(got: Any, data: Any) -> bool:
 
 @_entry("own-frames-counted", "its own responses counted", "got: a message count; with_own: the count with "
         "the node's own responses",
-        "a node counts the frames it receives; its own responses are frames it sends, never counted.")
+        "the course's slave counts the frames it receives, and its own responses are frames it sends: it "
+        "does not count them (the specification leaves this to each device; notebook 14 says so).")
 def _own_frames(got: Any, with_own: Any) -> bool:
     return _int(got) and got == with_own
 
 
 @_entry("count-request-forgotten", "the 0x0B request itself left out", "got, expected: message counts",
-        "the request that asks for the count is itself a message the slave received: it is counted before "
-        "the slave answers.")
+        "the request that asks for the count is itself a message the slave received: the course's slave "
+        "counts it before it answers (the specification leaves this order to each device).")
 def _count_request(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected - 1
 
@@ -185,7 +186,8 @@ def _port_502(got: Any, expected: Any) -> bool:
 
 @_entry("url-not-socket", "not a socket:// URL", "got: the URL the learner wrote (str)",
         "pyserial opens a serial line carried over raw TCP with a socket://host:port URL; a bare host:port "
-        "is no URL, and tcp:// or rfc2217:// name other kinds of port.")
+        "is no URL, pyserial knows no tcp:// at all, and rfc2217:// is another protocol (RFC 2217, serial "
+        "port control over Telnet).")
 def _not_socket(got: Any) -> bool:
     return isinstance(got, str) and not got.strip().startswith("socket://") and ":" in got
 
@@ -240,8 +242,9 @@ def _damaged_silence(got: Any, expected: Any) -> bool:
 
 
 @_entry("last-transaction-id", "the last request's id for the next one", "got, expected: transaction ids",
-        "a client adds 1 to the transaction id for every new request: the next request carries the id after "
-        "the last one sent.")
+        "the course's client (like most) adds 1 to the transaction id for every new request, so the next "
+        "request carries the id after the last one sent; the specification only asks that a response "
+        "carry its request's id.")
 def _last_id(got: Any, expected: Any) -> bool:
     return _int(got) and _int(expected) and got == expected - 1
 
@@ -284,8 +287,8 @@ def _start_stop(got: Any, eight_bits: Any) -> bool:
 
 @_entry("reply-time-forgotten", "the reply's time forgotten", "got, without: a share, and the same share "
         "without the reply's time",
-        "a request is answered only if the loop reaches it early enough for the reply to arrive within the "
-        "timeout: (timeout - reply) / loop time, not timeout / loop time.")
+        "a request is answered in time only if its reply, too, arrives within the timeout: the reply's own "
+        "time counts (the share answered is (timeout - reply) / loop time, not timeout / loop time).")
 def _reply_forgotten(got: Any, without: Any) -> bool:
     return _number(got) and _number(without) and _near(got, without)
 
@@ -387,3 +390,50 @@ def _frame_for_header(got: Any, expected: Any) -> bool:
         "such as ABCD; those registers hold another value or another type.")
 def _order_when_none(got: Any, expected: Any) -> bool:
     return not expected and isinstance(got, str) and got.upper() in ("ABCD", "CDAB", "BADC", "DCBA")
+
+
+# --- found by the procedures (:mod:`.procedures`) ------------------------------------------------------
+
+@_entry("fixed-silence-at-19200", "the fixed 1.75 ms at 19200 baud", "got, fixed: a time at 19200 baud, "
+        "and the same time with 1.75 ms silences",
+        "the fixed 1.75 ms (and 0.75 ms) replace 3.5 (and 1.5) character times only above 19200 baud; at "
+        "19200 baud and below the silences are counted in characters.")
+def _fixed_at_19200(got: Any, fixed: Any) -> bool:
+    return _number(got) and _number(fixed) and _near(got, fixed)
+
+
+@_entry("causes-swapped", "two causes swapped", "got, expected: the causes the learner gave two wires",
+        "each cause leaves its own trace in the slave's counters and log: a wrong unit id counts requests "
+        "for another address (other_unit), a wrong baud rate or parity garbled bytes (checksum_errors), no "
+        "slave nothing at all; match each wire's trace to its cause.")
+def _causes_swapped(got: Any, expected: Any) -> bool:
+    return False  # named by 13.1's checker, which compares the causes wire by wire
+
+
+@_entry("builtin-for-library-exception", "Python's own exception for the library's", "got: the exception "
+        "class the learner names",
+        "Python's built-in TimeoutError is not what modbus_edu raises: every error of the library is a "
+        "mb.ModbusError subclass, and a request left unanswered raises mb.ModbusTimeoutError.")
+def _builtin_for_library(got: Any) -> bool:
+    return isinstance(got, type) and got.__module__ == "builtins" and issubclass(got, Exception)
+
+
+@_entry("word-order-in-specification", "a word order the specification fixes", "got: the learner's belief",
+        "the specification defines 16-bit registers only, each high byte first; how a device spreads a "
+        "32-bit value over two registers is its own choice, and its datasheet says which.")
+def _order_in_spec(got: Any) -> bool:
+    return False  # named by the concept inventory's question on word order
+
+
+@_entry("tcp-frame-for-rtu", "a Modbus/TCP frame for an RTU frame", "got: the learner's frame (bytes)",
+        "an RTU frame is the slave address, the PDU and a CRC, low byte first; the MBAP header (transaction "
+        "id, protocol id, length, unit) and a frame with no CRC are Modbus/TCP's.")
+def _tcp_for_rtu(got: Any) -> bool:
+    return False  # named by the RTU frame's procedure, which rebuilds the TCP frame
+
+
+@_entry("ascii-frame-for-rtu", "an ASCII frame for an RTU frame", "got: the learner's frame (bytes)",
+        "an RTU frame carries the bytes themselves and a CRC; ':', hex characters, an LRC and CR LF are "
+        "the ASCII mode's.")
+def _ascii_for_rtu(got: Any) -> bool:
+    return False  # named by the RTU frame's procedure, which rebuilds the ASCII frame

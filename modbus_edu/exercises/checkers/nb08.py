@@ -4,14 +4,15 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import ModbusError as _Error
-from ..links.loopback import loopback_serial
-from ..links.wire import SerialTiming
-from ..master import Master
-from ..slave import Slave
-from .build import build_exercise
-from .core import Written, exercise, number_answer, real_answer
-from .misconceptions import diagnose
+from ...errors import ModbusError as _Error
+from ...links.loopback import loopback_serial
+from ...links.wire import SerialTiming
+from ...master import Master
+from ...slave import Slave
+from ..build import build_exercise
+from ..core import Written, exercise, number_answer, real_answer
+from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.procedures import TRANSACTION_TIME
 
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",
@@ -121,6 +122,16 @@ def _close_enough(expected: float, got) -> bool:
     return abs(got - expected) <= 1e-9 + 1e-9 * expected
 
 
+def _timing_boundary(args) -> str | None:
+    """The boundary of 08.4's range a failing input falls on: the rate where the fixed silences start."""
+    baudrate = args[0]
+    if baudrate == 19200:
+        return "At 19200 baud the silences are still 3.5 characters; the fixed 1.75 ms start above it."
+    if 19200 < baudrate <= 19201:
+        return "Just above 19200 baud the fixed 1.75 ms already apply."
+    return None
+
+
 def _diagnose_timing(args, expected, got) -> str | None:
     if not isinstance(got, (int, float)):
         return None
@@ -144,7 +155,8 @@ build_exercise(
     "08.4", "write the transaction time yourself",
     reference=_transaction_time, inputs=_timing_inputs,
     edge_cases=[_decimal(9600, "N", 1, 8, 7), _decimal(19200, "E", 1, 8, 255), _decimal(38400, "N", 2, 8, 7),
-                _decimal(115200, "N", 1, 8, 7), _decimal(19201, "N", 1, 8, 7)],   # just above 19200: 1.75 ms
+                _decimal(115200, "N", 1, 8, 7), _decimal(19201, "N", 1, 8, 7),   # just above 19200: 1.75 ms
+                _decimal(1200, "O", 2, 256, 256)],  # the other ends of the ranges
     hint="bits per character = 1 start + 8 data + 1 if parity + stop bits; a character takes bits / baudrate "
          "seconds; t3.5 is 3.5 characters up to 19200 baud and 0.00175 s above; the time is request + t3.5 + "
          "response + t3.5.",
@@ -161,5 +173,9 @@ build_exercise(
               (request + response) * 8 / baudrate + 0.0035, "start-stop-forgotten"),
              (lambda baudrate, parity, stopbits, request, response:
               (request + response + 6) * (1 + 8 + (parity != "N") + stopbits) / baudrate,
-              "three-characters-for-t35")],
-    diagnose=_diagnose_timing, compare=_close_enough)
+              "three-characters-for-t35"),
+             (lambda baudrate, parity, stopbits, request, response:
+              (request + response) * (1 + 8 + (parity != "N") + stopbits) / baudrate + 0.0035
+              if baudrate >= 19200 else _transaction_time(baudrate, parity, stopbits, request, response),
+              "fixed-silence-at-19200")],
+    diagnose=_diagnose_timing, compare=_close_enough, procedure=TRANSACTION_TIME, boundary=_timing_boundary)

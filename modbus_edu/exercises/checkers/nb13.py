@@ -6,16 +6,16 @@ import math
 import random
 from typing import Any
 
-from ..datamodel import DataBank, parse_reference
-from ..devices.arduino import ArduinoSlave, expected_answered_fraction
-from ..errors import ConfigError
-from ..framing import RtuFrame, TcpFrame, parse_hex
-from ..links.loopback import loopback_serial
-from ..pdu import ReadHoldingRegistersRequest
-from ..slave import Slave
-from ..values import ORDERS, decode_value, encode_value
-from .build import build_exercise
-from .core import (
+from ...datamodel import DataBank, parse_reference
+from ...devices.arduino import ArduinoSlave, expected_answered_fraction
+from ...errors import ConfigError
+from ...framing import RtuFrame, TcpFrame, parse_hex
+from ...links.loopback import loopback_serial
+from ...pdu import ReadHoldingRegistersRequest
+from ...slave import Slave
+from ...values import ORDERS, decode_value, encode_value
+from ..build import build_exercise
+from ..core import (
     address_diagnosis,
     as_bytes,
     compare_rtu_frame,
@@ -25,8 +25,9 @@ from .core import (
     real_answer,
     rtu_request_diagnosis,
 )
-from .misconceptions import ORDER_WORDS, diagnose
-from .misconceptions import name as misconception
+from ..diagnosis.misconceptions import ORDER_WORDS, diagnose
+from ..diagnosis.misconceptions import name as misconception
+from ..diagnosis.procedure import Perturbation, Procedure
 
 _SILENT_CAUSES = ("wrong unit id", "wrong baud rate or parity", "no slave on the line")
 _LAB_SEED = 13
@@ -105,19 +106,40 @@ def lab(puzzle: str) -> Any:
           accepts=[{"A": "wrong unit id", "B": "no slave on the line", "C": "wrong baud rate or parity"},
                    {"A": "Wrong unit id", "B": " no slave on the line", "C": "WRONG BAUD RATE OR PARITY"}],
           refuses=[({"A": "wrong unit id", "B": "wrong unit id", "C": "wrong unit id"}, None),
+                   ({"A": "no slave on the line", "B": "wrong unit id", "C": "wrong baud rate or parity"},
+                    "causes-swapped"),
                    ({"A": "wrong unit id", "B": "wrong baud rate or parity", "C": "no slave on the line"},
-                    None)])
+                    "causes-swapped")])
 def _check_13_1(answer: Any) -> str | None:
     truth = _silent_wires()[1]
     if not isinstance(answer, dict) or set(answer) != set(truth):
         return "answer with a dict {'A': cause, 'B': cause, 'C': cause}."
-    for name in sorted(truth):
-        got = str(answer[name]).strip().lower()
+    given = {name: str(answer[name]).strip().lower() for name in sorted(truth)}
+    for name, got in given.items():
         if got not in _SILENT_CAUSES:
             return f"wire {name}: {answer[name]!r} is not one of {', '.join(map(repr, _SILENT_CAUSES))}."
-        if got != truth[name]:
-            return f"wire {name} is not silent because of a {got}."
-    return None
+    wrong = [name for name in sorted(truth) if given[name] != truth[name]]
+    if not wrong:
+        return None
+    first = wrong[0]
+    against = f"wire {first} cannot be '{given[first]}': {_TRACE_AGAINST[given[first]]}"
+    swapped = [(a, b) for a in wrong for b in wrong
+               if a < b and given[a] == truth[b] and given[b] == truth[a]]
+    if swapped:
+        a, b = swapped[0]
+        return f"{misconception('causes-swapped')} Here wires {a} and {b} have each other's cause; {against}"
+    return against + "."
+
+
+_TRACE_AGAINST = {
+    "no slave on the line": "no slave leaves no trace at all, and this wire's slave has counted or logged "
+                            "something",
+    "wrong unit id": "a wrong unit id leaves requests for another address in the slave's other_unit "
+                     "counter, and this wire's slave has none",
+    "wrong baud rate or parity": "a wrong baud rate or parity leaves garbled bytes in the slave's "
+                                 "checksum_errors, and this wire's slave has none",
+}
+"""Why each cause does not fit a wire whose cause is another: the trace that cause would leave."""
 
 
 @exercise("13.2", "a current of 292 880 amperes",
@@ -284,6 +306,31 @@ def _exact_order(registers: list, expected: float) -> str | None:
     return next((order for order in ORDERS if decode_value(registers, "float32", order) == expected), None)
 
 
+def _close_order(registers: list, expected: float, orders: tuple = ORDERS) -> str | None:
+    """The first of ``orders`` in which the registers decode to ``expected`` (math.isclose), or None."""
+    return next((order for order in orders
+                 if math.isclose(decode_value(registers, "float32", order), expected, rel_tol=1e-6)), None)
+
+
+ORDER_FOUND = Procedure("the word order the registers carry a value in", _close_order, (
+    Perturbation("always-ABCD", "ABCD whatever the registers", "word-order", lambda registers, value: "ABCD"),
+    Perturbation("always-CDAB", "CDAB whatever the registers", "word-order", lambda registers, value: "CDAB"),
+    Perturbation("exact", "the values compared with ==", "float-compared-exactly", _exact_order,
+                 returns_none=True),
+    Perturbation("two-orders", "only ABCD and CDAB tried", None,
+                 lambda registers, value: _close_order(registers, value, ("ABCD", "CDAB")),
+                 returns_none=True),
+    Perturbation("larger-register", "the order guessed from which register is larger", "word-order",
+                 lambda registers, value: "CDAB" if registers[0] < registers[1] else "ABCD"),
+    Perturbation("exact-or-abcd", "the values compared with ==, and ABCD when none is equal",
+                 "an-order-when-none-fits", lambda registers, value: _exact_order(registers, value) or "ABCD",
+                 also="float-compared-exactly"),
+    Perturbation("order-when-none", "an order named even when none fits", "an-order-when-none-fits",
+                 lambda registers, value: _close_order(registers, value) or "ABCD"),
+), same=lambda mine, got: mine == got and type(mine) is type(got))
+"""13.7's procedure: the first order that fits (any fitting order is right; these are the slips' orders)."""
+
+
 def _orders_in_words(expected: frozenset) -> str:
     """The orders a 13.7 answer may name, in plain words: 'CDAB', 'ABCD or BADC', or None."""
     return " or ".join(repr(order) for order in sorted(expected)) if expected else "None (no order fits)"
@@ -304,4 +351,4 @@ build_exercise(
              (lambda registers, expected: "CDAB", "word-order"), (_exact_order, "float-compared-exactly"),
              (lambda registers, expected: _exact_order(registers, expected) or "ABCD",
               "an-order-when-none-fits")],
-    compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words)
+    compare=_order_accepted, diagnose=_diagnose_order, show_expected=_orders_in_words, procedure=ORDER_FOUND)
