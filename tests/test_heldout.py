@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 
 from modbus_edu.exercises import evaluate
-from modbus_edu.exercises.catalogue import CATALOGUE
+from modbus_edu.exercises.diagnosis.catalogue import CATALOGUE
 
 sys.path.insert(0, str(Path(__file__).parent))
 from heldout_slips import HELDOUT  # noqa: E402
