@@ -45,7 +45,6 @@ import importlib
 import shutil
 import subprocess
 import symtable
-import sys
 import tempfile
 import threading
 from collections.abc import Callable, Sequence
@@ -59,6 +58,7 @@ from ..errors import ModbusError, ReferenceUnavailable
 from ..exercises import EXERCISES
 from ..exercises.build import library_name
 from ..exercises.plain import MAX_WIRE, PlainError, from_json, plain, to_json
+from .boundary import base_python
 from .runner import CELL_LIMIT, NOTEBOOK_LIMIT, NotebookRun, _is_check, _python_source, built
 
 SOURCE_LIMIT = 200_000
@@ -456,8 +456,9 @@ ROOM_CODE = ("import sys; sys.path.insert(0, sys.argv[1]); "
 
 
 def room_argv(library: Path) -> list[str]:
-    """The room's command line before sealing: a Python that reads no environment and no site-packages."""
-    return [sys.executable, "-I", "-S", "-c", ROOM_CODE, str(library)]
+    """The room's command line before sealing: the installation's own Python (not the environment's),
+    reading no environment variable and no site-packages."""
+    return [base_python(), "-I", "-S", "-c", ROOM_CODE, str(library)]
 
 
 def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_limit: float,
@@ -477,7 +478,7 @@ def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_li
         return {"name": taken.name, "unloadable": f"the grader could not send the inputs ({exc})"}
     argv = room_argv(library)
     if seal is not None:
-        argv = seal(argv)
+        argv = seal(argv, copy=library)
     try:
         done = subprocess.run(argv, input=job.encode("utf-8"), stdout=subprocess.PIPE,
                               stderr=subprocess.DEVNULL, timeout=ROOM_TIMEOUT, start_new_session=True,
