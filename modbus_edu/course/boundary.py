@@ -53,7 +53,8 @@ BOUNDARY: tuple[Place, ...] = (
     Place("/etc/group", "read", "both", "written for the sandbox: the learner's group"),
     Place("/etc/hosts", "read", "both", "written for the sandbox: localhost is 127.0.0.1"),
     Place("/proc", "read", "both", "a fresh /proc: the learner's own processes only"),
-    Place("/dev", "read", "both", "null, zero, full, random, urandom, tty, the pts and ptmx"),
+    Place("/dev", "read", "both", "null, zero, full, random, urandom, tty, ptmx and /dev/pts (where no file "
+                                  "can be made)"),
     Place("/dev/shm", "write", "both", f"a fresh tmpfs of {DISK_MB} MB"),
     Place("/tmp", "write", "both", f"the learner's room: a fresh tmpfs of {DISK_MB} MB for each kernel and "
                                    "each clean room (the kernel's own notebook in /tmp/work)"),
@@ -196,7 +197,7 @@ def bwrap_arguments(places: list[Resolved], data: dict[str, int], *, disk_mb: in
         elif place.kind == "proc":
             args += ["--proc", "/proc"]
         elif place.kind == "dev":
-            args += ["--dev", "/dev"]
+            args += ["--dev", "/dev", "--remount-ro", "/dev"]
         elif place.kind == "tmpfs":
             args += ["--perms", "1777", "--size", size, "--tmpfs", place.inside]
             if place.inside == "/tmp":

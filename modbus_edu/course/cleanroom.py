@@ -85,7 +85,9 @@ class Blocked:
 
 _CRC = {"modbus_edu.crc:crc16": "mb.crc16", "modbus_edu.crc:crc16_bitwise": "mb.crc16_bitwise",
         "modbus_edu.crc:crc_bytes": "mb.crc_bytes", "modbus_edu.crc:crc16_trace": "mb.crc16_trace",
-        "modbus_edu.crc:crc16_table_trace": "mb.crc16_table_trace", "modbus_edu.crc:_word_table": "mb.crc16"}
+        "modbus_edu.crc:crc16_table_trace": "mb.crc16_table_trace", "modbus_edu.crc:_word_table": "mb.crc16",
+        # the precomputed table and what builds it: a three-line loop over them is the library's CRC
+        "modbus_edu.crc:CRC_TABLE": "mb.CRC_TABLE", "modbus_edu.crc:build_crc_table": "mb.build_crc_table"}
 _READ_REQUEST = {
     "modbus_edu.pdu.base:_AddressQuantity.__post_init__": "mb.ReadHoldingRegistersRequest",
     "modbus_edu.pdu.base:_AddressQuantity.encode": "mb.ReadHoldingRegistersRequest(...).encode",
@@ -101,8 +103,10 @@ BLOCKED: dict[str, Blocked] = {
                                  "modbus_edu.registermap:datasheet_to_address": "mb.datasheet_to_address"}),
     "02.5": Blocked("the reference is ReadHoldingRegistersRequest: its checks of address and count, and "
                     "its encode", _READ_REQUEST),
-    "03.5": Blocked("the reference is mb.crc16; every other CRC of crc.py gives the same value", _CRC),
-    "04.5": Blocked("the reference is mb.lrc; lrc_trace gives its running sum",
+    "03.5": Blocked("the reference is mb.crc16; every other CRC of crc.py gives the same value, and so do "
+                    "the table (CRC_TABLE, build_crc_table) and the RTU framing built on them", _CRC),
+    "04.5": Blocked("the reference is mb.lrc; lrc_trace gives its running sum (the ASCII framing's encoder "
+                    "calls lrc)",
                     {"modbus_edu.crc:lrc": "mb.lrc", "modbus_edu.crc:lrc_trace": "mb.lrc_trace"}),
     "05.5": Blocked("the reference is the first 7 bytes of TcpFrame.encode", _TCP_ENCODE),
     "06.5": Blocked("the reference is the library's Slave answering the request", {
@@ -395,12 +399,30 @@ def notebook_cells(path: Path) -> list[str]:
 _copying = threading.Lock()
 
 
+HELD = (
+    "class _Held:\n"
+    "    \"\"\"A value of the library held back in the clean room: any use of it raises.\"\"\"\n"
+    "    def __init__(self, shown):\n"
+    "        object.__setattr__(self, '_shown', shown)\n"
+    "    def _refuse(self, *args, **kwargs):\n"
+    "        from modbus_edu.errors import ReferenceUnavailable as _Unavailable\n"
+    "        raise _Unavailable(object.__getattribute__(self, '_shown'))\n"
+    "    __getitem__ = __iter__ = __len__ = __contains__ = __call__ = __index__ = __int__ = _refuse\n"
+    "    __add__ = __radd__ = __mul__ = __rmul__ = __eq__ = __ne__ = __bool__ = __reversed__ = _refuse\n"
+    "    __getattr__ = _refuse\n"
+    "    __hash__ = object.__hash__\n")
+"""Prepended to a module of the stripped copy where a value (a table, a constant) is held back."""
+
+
 def _strip(source: str, qualnames: dict[str, str], module: str) -> str:
-    """``source`` with each function or method of ``qualnames`` reduced to raising ReferenceUnavailable."""
+    """``source`` with each function or method of ``qualnames`` reduced to raising ReferenceUnavailable,
+    and each module-level value of ``qualnames`` (``CRC_TABLE``) replaced by one that raises when used."""
     tree = ast.parse(source)
     left = dict(qualnames)
+    held = False
 
     def visit(body: list[ast.stmt], prefix: str) -> None:
+        nonlocal held
         for node in body:
             if isinstance(node, ast.ClassDef):
                 visit(node.body, f"{prefix}{node.name}.")
@@ -408,9 +430,20 @@ def _strip(source: str, qualnames: dict[str, str], module: str) -> str:
                 shown = left.pop(f"{prefix}{node.name}")
                 node.body = ast.parse(f"from modbus_edu.errors import ReferenceUnavailable as _Unavailable\n"
                                       f"raise _Unavailable({shown!r})").body
+            elif not prefix and isinstance(node, (ast.Assign, ast.AnnAssign)):
+                targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+                names = [target.id for target in targets
+                         if isinstance(target, ast.Name) and target.id in left]
+                if names:
+                    node.value = ast.parse(f"_Held({left.pop(names[0])!r})", mode="eval").body
+                    held = True
     visit(tree.body, "")
     if left:
         raise CleanRoomError(f"{module} has no {', '.join(sorted(left))} to hold back")
+    if held:
+        start = next((index + 1 for index, node in enumerate(tree.body) if isinstance(node, ast.ImportFrom)
+                      and node.module == "__future__"), 0)
+        tree.body[start:start] = ast.parse(HELD).body
     return ast.unparse(ast.fix_missing_locations(tree)) + "\n"
 
 
