@@ -22,15 +22,18 @@ library's own" (:func:`~modbus_edu.exercises.build.library_name`) and is not run
 patches the library or the grader, an ``%env`` or a file written by the notebook: none of it runs in the
 room.  So the function must work from what the notebook defines at its top level above the check.
 
-**The room** (:func:`run_room`).  A fresh Python (``-I -S``: no environment variables, no site-packages),
-run as the learner (:meth:`~.sandbox.Seal.command_argv`), gets the module's source and the argument
+**The room** (:func:`run_room`).  The installation's own Python (``-I -S``: no environment variables, no
+site-packages), run as the learner (:meth:`~.sandbox.Seal.command_argv`) in a fresh empty room of its own
+that holds the standard library and the stripped copy only (no site-packages, so no pymodbus; nothing a
+kernel or an earlier room wrote), gets the module's source and the argument
 tuples, as plain data (:mod:`~modbus_edu.exercises.plain`), on its stdin; the grader drew them from its
 own seed and keeps what the library gives for them.  The room imports a *stripped copy* of the library
 (:func:`stripped_copy`, made once per grading run and exercise), in which the library's own answer to
 that exercise (:data:`BLOCKED`) raises :class:`~modbus_edu.errors.ReferenceUnavailable`, and in which
 ``modbus_edu.exercises`` holds only the calling code (:mod:`~modbus_edu.exercises.calls`,
 :mod:`~modbus_edu.exercises.plain`) and ``modbus_edu.course`` nothing.  A wrapper of ``mb.crc16``, a
-reference captured at the top level (``ref = mb.crc16``) or a reload of the module finds no reference
+reference captured at the top level (``ref = mb.crc16``), a loop over the held-back table
+(``CRC_TABLE``, which raises when used) or a reload of the module finds no reference
 code: the verdict says the function calls ``mb.crc16``.  The room calls the function as a learner's
 ``check`` does (:func:`~modbus_edu.exercises.calls.call_all`: the same code, the same time limit) and
 writes the trace to its stdout; what the function prints goes to its stderr, which the grader drops.
