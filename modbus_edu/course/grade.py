@@ -92,8 +92,8 @@ __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "RIGHT", "WRONG", "Verdict", "ex
 
 def _hidden(paths: list[Path], out: Path) -> list[Path]:
     """The folders a learner's kernel must not see: the class's and the output (when it exists), wherever
-    they lie, inside the checkout that holds the library too: the seal covers each of them and binds back
-    only the folders a kernel needs (:func:`.sandbox.covered_paths`)."""
+    they lie.  The seal is deny by default (:mod:`.boundary`), so none of them is in a kernel's root; the
+    list is kept for callers that name them."""
     folders = {(p if p.is_dir() else p.parent).resolve() for p in paths}
     if out.is_dir():
         folders.add(out.resolve())
