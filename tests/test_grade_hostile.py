@@ -9,6 +9,7 @@ import contextlib
 import csv
 import io
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -17,15 +18,8 @@ import pytest
 from test_grade import SETUP, right, write, wrong
 
 from modbus_edu.cli import main
-from modbus_edu.course.sandbox import (
-    CGROUP_V1,
-    LIBRARY,
-    UID_BASE,
-    below_tmp,
-    detect,
-    needed_paths,
-    processes_marked,
-)
+from modbus_edu.course import boundary
+from modbus_edu.course.sandbox import CGROUP_V1, LIBRARY, UID_BASE, detect, processes_marked
 from modbus_edu.exercises import EXERCISES
 from modbus_edu.exercises.submit import MIME
 
@@ -366,11 +360,18 @@ def test_the_container_level_needs_an_engine_that_answers(tmp_path):
     assert "ada,right,right,right" in (tmp_path / "grades" / "gradebook.csv").read_text(encoding="utf-8")
 
 
-def test_a_sealed_kernel_keeps_python_and_the_library_installed_below_tmp():
-    """A clone and its virtual environment under /tmp (where CI may clone) stay reachable once the
-    learner's private folder becomes /tmp: they are bound back, the outermost folder once."""
-    assert below_tmp(["/tmp/ci/.venv", "/tmp/ci", "/usr/lib/python3", "/tmp/other/lib"]) == [
-        "/tmp/ci", "/tmp/other/lib"]
-    assert below_tmp(["/tmpfoo/x", "/opt/venv"]) == []
+def test_a_sealed_kernel_keeps_python_and_the_library_installed_below_tmp(monkeypatch):
+    """A clone and its virtual environment under /tmp (where CI may clone) stay reachable although /tmp
+    is the learner's fresh room: Python keeps its path and is bound once the room is made; the
+    environment and the library are seen at /opt."""
+    monkeypatch.setattr(boundary, "python_home", lambda: "/tmp/ci/python")
+    monkeypatch.setattr(sys, "prefix", "/tmp/ci/.venv")
+    places = boundary.resolve("kernel", "/tmp/ci/modbus_edu", sockets="/tmp/grader/run/k1")
+    args = boundary.bwrap_arguments(places, {})
+    pairs = list(zip(args, args[1:]))
+    room = pairs.index(("--tmpfs", "/tmp"))
+    assert pairs.index(("/tmp/ci/python", "/tmp/ci/python")) > room
+    assert ("/tmp/ci/.venv", "/opt/environment") in pairs and ("/tmp/ci/modbus_edu",
+                                                                "/opt/modbus_edu/modbus_edu") in pairs
+    assert pairs.index(("/tmp/grader/run/k1", "/tmp/run")) > room
     assert (LIBRARY / "modbus_edu" / "course" / "sandbox.py").exists()
-    assert str((LIBRARY / "modbus_edu").resolve()) in needed_paths()  # bound back wherever it lies

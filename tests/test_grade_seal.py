@@ -25,15 +25,16 @@ import pytest
 from test_grade import SETUP, right, write
 
 from modbus_edu.course import grade as grading
-from modbus_edu.course.sandbox import DISK_MB, FORCE, LIBRARY, UID_BASE, Seal, detect
+from modbus_edu.course.boundary import base_python
+from modbus_edu.course.sandbox import DISK_MB, FORCE, LIBRARY, UID_BASE, Seal, detect, processes_marked
 
 NOTEBOOK = "03_rtu_and_crc"
 KEYS = ["03.1", "03.2", "03.5"]
 SEALED = detect().level == "sealed"
 CHECKOUT = any((LIBRARY / mark).exists() for mark in (".git", "pyproject.toml"))
 LEFT = f"modbus-edu-seal-{os.getpid()}"  # the writer's file, in each place it may write
-NOT_SEALED = ("the sealed level needs root, PID/mount/network/IPC/UTS namespaces and a writable cgroup; "
-              "the limited level shares the network, /var/tmp and the grader's user (TEACHING.md)")
+NOT_SEALED = ("the sealed level needs bubblewrap and user namespaces; the limited level shares the network, "
+              "the file system and the grader's user (TEACHING.md)")
 ONLY_SEALED = pytest.mark.skipif(not SEALED, reason=NOT_SEALED)
 
 FIND = """import json, os, socket, time, zmq
@@ -268,12 +269,12 @@ def _grade_class(base: Path, scratch: Path) -> dict:
             # what is left of the learners in the grader's scratch (the clean rooms' copies of the library,
             # "rooms", are the grading run's, removed with the scratch by grade())
             "rooms": sorted(p.name for p in scratch.iterdir() if p.name != "rooms"),
-            "processes": _learners_processes()}
+            "processes": _learners_processes(token)}
 
 
-def _learners_processes() -> set[int]:
+def _learners_processes(token: str) -> set[int]:
     low = UID_BASE + 1000 * (os.getpid() % 50_000)
-    found = set()
+    found = processes_marked(f"{token}-")  # root-mapped learners are root outside: found by their marker
     for entry in Path("/proc").iterdir():
         try:
             if entry.name.isdigit() and low <= entry.stat().st_uid < low + 1000:
@@ -324,9 +325,9 @@ def test_a_peeker_sees_neither_the_class_nor_the_checkout_around_the_library(sea
 @SLOW
 def test_pid_1_shows_no_path_of_the_graders(sealed_class):
     report = _report(sealed_class["runs"]["peeker"], "seal.peeker")
-    for secret in (str(sealed_class["scratch"]), str(sealed_class["base"]), "{"):
+    for secret in (str(sealed_class["scratch"]), str(sealed_class["base"]), str(LIBRARY), "{"):
         assert secret not in report["cmdline"], report["cmdline"]
-    assert report["environ"] == "PermissionError"
+        assert secret not in report["environ"], report["environ"]  # it holds no settings of the grader's
 
 
 @SLOW
@@ -343,7 +344,8 @@ def test_the_boundary_from_inside_a_sealed_kernel(sealed_class):
     assert report["tcp"] == []  # no listening socket but its kernel's own
     assert report["own"].startswith("/tmp/run/")  # which the grader reaches over Unix sockets in its room
     assert all(path.startswith(report["own"] + "-") for path in report["unix"]), report["unix"]
-    assert sorted(report["writable"]) == ["/dev/shm", "/tmp", "/var/tmp"], report["writable"]
+    # /dev/pts: devpts, where no file can be made (test_grade_boundary reads every place back)
+    assert sorted(report["writable"]) == ["/dev/pts", "/dev/shm", "/tmp"], report["writable"]
     assert report["loopback"] == "ping"  # a notebook that serves on 127.0.0.1 still works
 
 
@@ -355,15 +357,16 @@ def _seal(tmp_path: Path, index: int = 0) -> Seal:
 
 
 PROBE = """import json, os, socket, sys
-print(json.dumps({'stdin': sys.stdin.read(), 'uid': os.getuid(), 'cwd': os.getcwd(), 'work': os.listdir('.'),
+print(json.dumps({'stdin': sys.stdin.read(), 'uid': os.getuid(), 'cwd': os.getcwd(),
+                  'work': os.listdir('work'),
                   'interfaces': [name for _, name in socket.if_nameindex()],
                   'pid1': open('/proc/1/cmdline').read().replace('\\0', ' '),
                   'rooms': [line.split()[4] for line in open('/proc/self/mountinfo') if 'learner-' in line],
                   'status': [line.split() for line in open('/proc/self/status') if 'NoNewPrivs' in line]}))
-open('/var/tmp/' + sys.argv[1], 'w').write('x')
+open('/dev/shm/' + sys.argv[1], 'w').write('x')
 written = 0
 try:
-    with open('/var/tmp/full', 'wb') as stream:
+    with open('/dev/shm/full', 'wb') as stream:
         for _ in range(int(sys.argv[2]) + 1):
             stream.write(bytes(2 ** 20))
             stream.flush()
@@ -378,51 +381,51 @@ sys.exit(3)"""
 def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
     classmate, seal = _seal(tmp_path, 1), _seal(tmp_path)
     try:
-        done = subprocess.run(seal.command_argv([sys.executable, "-c", PROBE, LEFT, str(DISK_MB)]),
+        done = subprocess.run(seal.command_argv([base_python(), "-c", PROBE, LEFT, str(DISK_MB)]),
                               input=b"hello", capture_output=True, timeout=60)
         assert done.returncode == 3, done.stderr
         assert done.stderr.decode().strip().endswith("to stderr")
         seen, full = map(json.loads, done.stdout.splitlines())
         assert DISK_MB - 8 < full["full"] < DISK_MB and full["error"] == "No space left on device"  # a budget
-        assert seen["stdin"] == "hello" and seen["uid"] == seal.uid and seen["cwd"] == "/tmp/work"
-        assert seen["work"] == [f"{NOTEBOOK}.ipynb"] and seen["interfaces"] == ["lo"]
+        assert seen["stdin"] == "hello" and seen["uid"] == seal.uid and seen["cwd"] == "/tmp"
+        assert seen["work"] == [] and seen["interfaces"] == ["lo"]  # a fresh empty room: no notebook
         assert seen["status"] == [["NoNewPrivs:", "1"]]  # no setuid program raises its rights
         assert str(tmp_path) not in seen["pid1"]
-        assert str(classmate.folder) not in seen["rooms"]  # let go of (its own room: covered by /tmp)
-        assert str(seal.folder) in seen["rooms"]
+        assert seen["rooms"] == []  # neither its own nor a classmate's folder is there
         assert seal.inside(seal.notebooks[0]) == f"/tmp/work/{NOTEBOOK}.ipynb"
-        assert not (Path("/var/tmp") / LEFT).exists()
+        assert not (Path("/dev/shm") / LEFT).exists()
     finally:
         seal.close()
         classmate.close()
     assert not seal.folder.exists() and not seal.settings.exists()
 
 
-def test_a_command_reads_the_grader_s_reads_and_never_the_library_s_own_package(tmp_path):
-    """What a clean room can reach: the folders the grader lets it read (its copy of the library), not the
+def test_a_command_reads_its_copy_of_the_library_and_never_the_library_s_own_package(tmp_path):
+    """What a clean room can reach: the copy of the library it is handed (at /opt/modbus_edu), not the
     library's own package (which the learner's kernels, to import it, do see)."""
     notebook = tmp_path / "class" / f"{NOTEBOOK}.ipynb"
     write(notebook.parent, NOTEBOOK, [SETUP])
-    reads = tmp_path / "scratch" / "rooms"
-    (reads / "library-03.5" / "modbus_edu").mkdir(parents=True)
-    (reads / "library-03.5" / "modbus_edu" / "crc.py").write_text("# the room's copy\n")
+    copy = tmp_path / "scratch" / "rooms" / "library-03.5"
+    (copy / "modbus_edu").mkdir(parents=True)
+    (copy / "modbus_edu" / "crc.py").write_text("# the room's copy\n")
     for path in [tmp_path / "scratch", *(tmp_path / "scratch").rglob("*")]:
         path.chmod(0o755 if path.is_dir() else 0o644)
     seal = Seal.open(detect(), 0, tmp_path / "scratch", [notebook], [notebook.parent], 1024,
-                     f"{os.getpid()}-reads", reads=[reads])
+                     f"{os.getpid()}-reads")
     package = LIBRARY / "modbus_edu"
     probe = ("import os, sys; print(os.path.exists(sys.argv[1]), os.path.exists(sys.argv[2]), "
              "os.path.exists(sys.argv[3]))")
     try:
-        done = subprocess.run(seal.command_argv([sys.executable, "-I", "-S", "-c", probe,
-                                                 str(reads / "library-03.5" / "modbus_edu" / "crc.py"),
-                                                 str(package / "crc.py"), str(package / "__init__.py")]),
+        done = subprocess.run(seal.command_argv([base_python(), "-I", "-S", "-c", probe,
+                                                 str(copy / "modbus_edu" / "crc.py"),
+                                                 str(package / "crc.py"), str(package / "__init__.py")],
+                                                copy=copy),
                               capture_output=True, text=True, timeout=60)
     finally:
         seal.close()
     assert done.returncode == 0, done.stderr
-    copy, own_crc, own_package = done.stdout.split()
-    assert copy == "True"
+    own_copy, own_crc, own_package = done.stdout.split()
+    assert own_copy == "True"
     if seal.sandbox.level == "sealed":
         assert (own_crc, own_package) == ("False", "False")
 
@@ -439,27 +442,35 @@ def test_command_argv_at_the_limited_level(tmp_path, monkeypatch):
         seal.close()
 
 
-def test_the_grader_writes_no_file_in_the_room_through_a_link_a_learner_left(tmp_path):
-    """A learner's process left in its room may plant a link where the grader will write (the next
-    kernel's connection file) to a file of the machine: the grader's connection file lies outside the
-    room, and the kernel's copy in the room is written as a new file, never through the link."""
+def test_the_grader_writes_no_file_where_a_kernel_writes(tmp_path):
+    """A kernel writes only in its sockets' folder, made fresh for it (a link planted at its name is never
+    followed: the folder cannot be made); its connection file lies beside, where no kernel reaches, and
+    the launcher hands the kernel its copy through a descriptor, writing nothing."""
     from modbus_edu.course import runner, sandbox
 
-    room = tmp_path / "learner-0"
-    (room / "run").mkdir(parents=True)
+    run = tmp_path / "learner-0" / "run"
+    run.mkdir(parents=True)
     victim = tmp_path / "a file of the machine"
     victim.write_text("untouched")
 
     class Manager:
         connection_file = ""
 
-    manager = runner.connect_in(Manager(), room / "run", 2)
-    assert Path(manager.connection_file).parent == tmp_path  # beside the room, not in it
-    Path(manager.connection_file).write_text(json.dumps({"transport": "ipc", "ip": str(room / "run" / "k2")}))
-    planted = room / "run" / (Path(manager.connection_file).stem + "-sealed.json")
-    planted.symlink_to(victim)
-    config = {"folder": str(room), "rest": [manager.connection_file], "uid": os.getuid()}
-    inside = sandbox._sealed_connection(config)
+    manager = runner.connect_in(Manager(), run, 2)
+    sockets = Path(manager.ip).parent
+    assert Path(manager.connection_file).parent == run and sockets.parent == run
+    assert list(sockets.iterdir()) == [] and sockets.stat().st_mode & 0o777 == 0o700
+    Path(manager.connection_file).write_text(json.dumps({"transport": "ipc", "ip": manager.ip}))
+    config = {"folder": str(run.parent), "rest": [manager.connection_file]}
+    before = sorted(run.rglob("*"))
+    info, folder = sandbox._kernel_connection(config)
+    assert info["ip"] == "/tmp/run/k" and folder == str(sockets)
+    assert sorted(run.rglob("*")) == before  # nothing written
+    (run / f"k{os.getpid()}-3").symlink_to(victim.parent)  # a link where the next kernel's folder goes
+    with pytest.raises(FileExistsError):
+        runner.connect_in(Manager(), run, 3)
+    elsewhere = tmp_path / "elsewhere"
+    Path(manager.connection_file).write_text(json.dumps({"transport": "ipc", "ip": str(elsewhere / "k")}))
+    with pytest.raises(OSError, match="outside the learner's run folder"):
+        sandbox._kernel_connection(config)
     assert victim.read_text() == "untouched"
-    assert not planted.is_symlink() and json.loads(planted.read_text())["ip"] == "/tmp/run/k2"
-    assert inside == f"/tmp/run/{planted.name}"

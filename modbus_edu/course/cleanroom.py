@@ -22,15 +22,18 @@ library's own" (:func:`~modbus_edu.exercises.build.library_name`) and is not run
 patches the library or the grader, an ``%env`` or a file written by the notebook: none of it runs in the
 room.  So the function must work from what the notebook defines at its top level above the check.
 
-**The room** (:func:`run_room`).  A fresh Python (``-I -S``: no environment variables, no site-packages),
-run as the learner (:meth:`~.sandbox.Seal.command_argv`), gets the module's source and the argument
+**The room** (:func:`run_room`).  The installation's own Python (``-I -S``: no environment variables, no
+site-packages), run as the learner (:meth:`~.sandbox.Seal.command_argv`) in a fresh empty room of its own
+that holds the standard library and the stripped copy only (no site-packages, so no pymodbus; nothing a
+kernel or an earlier room wrote), gets the module's source and the argument
 tuples, as plain data (:mod:`~modbus_edu.exercises.plain`), on its stdin; the grader drew them from its
 own seed and keeps what the library gives for them.  The room imports a *stripped copy* of the library
 (:func:`stripped_copy`, made once per grading run and exercise), in which the library's own answer to
 that exercise (:data:`BLOCKED`) raises :class:`~modbus_edu.errors.ReferenceUnavailable`, and in which
 ``modbus_edu.exercises`` holds only the calling code (:mod:`~modbus_edu.exercises.calls`,
 :mod:`~modbus_edu.exercises.plain`) and ``modbus_edu.course`` nothing.  A wrapper of ``mb.crc16``, a
-reference captured at the top level (``ref = mb.crc16``) or a reload of the module finds no reference
+reference captured at the top level (``ref = mb.crc16``), a loop over the held-back table
+(``CRC_TABLE``, which raises when used) or a reload of the module finds no reference
 code: the verdict says the function calls ``mb.crc16``.  The room calls the function as a learner's
 ``check`` does (:func:`~modbus_edu.exercises.calls.call_all`: the same code, the same time limit) and
 writes the trace to its stdout; what the function prints goes to its stderr, which the grader drops.
@@ -45,7 +48,6 @@ import importlib
 import shutil
 import subprocess
 import symtable
-import sys
 import tempfile
 import threading
 from collections.abc import Callable, Sequence
@@ -59,6 +61,7 @@ from ..errors import ModbusError, ReferenceUnavailable
 from ..exercises import EXERCISES
 from ..exercises.build import library_name
 from ..exercises.plain import MAX_WIRE, PlainError, from_json, plain, to_json
+from .boundary import base_python
 from .runner import CELL_LIMIT, NOTEBOOK_LIMIT, NotebookRun, _is_check, _python_source, built
 
 SOURCE_LIMIT = 200_000
@@ -85,7 +88,9 @@ class Blocked:
 
 _CRC = {"modbus_edu.crc:crc16": "mb.crc16", "modbus_edu.crc:crc16_bitwise": "mb.crc16_bitwise",
         "modbus_edu.crc:crc_bytes": "mb.crc_bytes", "modbus_edu.crc:crc16_trace": "mb.crc16_trace",
-        "modbus_edu.crc:crc16_table_trace": "mb.crc16_table_trace", "modbus_edu.crc:_word_table": "mb.crc16"}
+        "modbus_edu.crc:crc16_table_trace": "mb.crc16_table_trace", "modbus_edu.crc:_word_table": "mb.crc16",
+        # the precomputed table and what builds it: a three-line loop over them is the library's CRC
+        "modbus_edu.crc:CRC_TABLE": "mb.CRC_TABLE", "modbus_edu.crc:build_crc_table": "mb.build_crc_table"}
 _READ_REQUEST = {
     "modbus_edu.pdu.base:_AddressQuantity.__post_init__": "mb.ReadHoldingRegistersRequest",
     "modbus_edu.pdu.base:_AddressQuantity.encode": "mb.ReadHoldingRegistersRequest(...).encode",
@@ -101,8 +106,10 @@ BLOCKED: dict[str, Blocked] = {
                                  "modbus_edu.registermap:datasheet_to_address": "mb.datasheet_to_address"}),
     "02.5": Blocked("the reference is ReadHoldingRegistersRequest: its checks of address and count, and "
                     "its encode", _READ_REQUEST),
-    "03.5": Blocked("the reference is mb.crc16; every other CRC of crc.py gives the same value", _CRC),
-    "04.5": Blocked("the reference is mb.lrc; lrc_trace gives its running sum",
+    "03.5": Blocked("the reference is mb.crc16; every other CRC of crc.py gives the same value, and so do "
+                    "the table (CRC_TABLE, build_crc_table) and the RTU framing built on them", _CRC),
+    "04.5": Blocked("the reference is mb.lrc; lrc_trace gives its running sum (the ASCII framing's encoder "
+                    "calls lrc)",
                     {"modbus_edu.crc:lrc": "mb.lrc", "modbus_edu.crc:lrc_trace": "mb.lrc_trace"}),
     "05.5": Blocked("the reference is the first 7 bytes of TcpFrame.encode", _TCP_ENCODE),
     "06.5": Blocked("the reference is the library's Slave answering the request", {
@@ -395,12 +402,30 @@ def notebook_cells(path: Path) -> list[str]:
 _copying = threading.Lock()
 
 
+HELD = (
+    "class _Held:\n"
+    "    \"\"\"A value of the library held back in the clean room: any use of it raises.\"\"\"\n"
+    "    def __init__(self, shown):\n"
+    "        object.__setattr__(self, '_shown', shown)\n"
+    "    def _refuse(self, *args, **kwargs):\n"
+    "        from modbus_edu.errors import ReferenceUnavailable as _Unavailable\n"
+    "        raise _Unavailable(object.__getattribute__(self, '_shown'))\n"
+    "    __getitem__ = __iter__ = __len__ = __contains__ = __call__ = __index__ = __int__ = _refuse\n"
+    "    __add__ = __radd__ = __mul__ = __rmul__ = __eq__ = __ne__ = __bool__ = __reversed__ = _refuse\n"
+    "    __getattr__ = _refuse\n"
+    "    __hash__ = object.__hash__\n")
+"""Prepended to a module of the stripped copy where a value (a table, a constant) is held back."""
+
+
 def _strip(source: str, qualnames: dict[str, str], module: str) -> str:
-    """``source`` with each function or method of ``qualnames`` reduced to raising ReferenceUnavailable."""
+    """``source`` with each function or method of ``qualnames`` reduced to raising ReferenceUnavailable,
+    and each module-level value of ``qualnames`` (``CRC_TABLE``) replaced by one that raises when used."""
     tree = ast.parse(source)
     left = dict(qualnames)
+    held = False
 
     def visit(body: list[ast.stmt], prefix: str) -> None:
+        nonlocal held
         for node in body:
             if isinstance(node, ast.ClassDef):
                 visit(node.body, f"{prefix}{node.name}.")
@@ -408,9 +433,20 @@ def _strip(source: str, qualnames: dict[str, str], module: str) -> str:
                 shown = left.pop(f"{prefix}{node.name}")
                 node.body = ast.parse(f"from modbus_edu.errors import ReferenceUnavailable as _Unavailable\n"
                                       f"raise _Unavailable({shown!r})").body
+            elif not prefix and isinstance(node, (ast.Assign, ast.AnnAssign)):
+                targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+                names = [target.id for target in targets
+                         if isinstance(target, ast.Name) and target.id in left]
+                if names:
+                    node.value = ast.parse(f"_Held({left.pop(names[0])!r})", mode="eval").body
+                    held = True
     visit(tree.body, "")
     if left:
         raise CleanRoomError(f"{module} has no {', '.join(sorted(left))} to hold back")
+    if held:
+        start = next((index + 1 for index, node in enumerate(tree.body) if isinstance(node, ast.ImportFrom)
+                      and node.module == "__future__"), 0)
+        tree.body[start:start] = ast.parse(HELD).body
     return ast.unparse(ast.fix_missing_locations(tree)) + "\n"
 
 
@@ -456,8 +492,9 @@ ROOM_CODE = ("import sys; sys.path.insert(0, sys.argv[1]); "
 
 
 def room_argv(library: Path) -> list[str]:
-    """The room's command line before sealing: a Python that reads no environment and no site-packages."""
-    return [sys.executable, "-I", "-S", "-c", ROOM_CODE, str(library)]
+    """The room's command line before sealing: the installation's own Python (not the environment's),
+    reading no environment variable and no site-packages."""
+    return [base_python(), "-I", "-S", "-c", ROOM_CODE, str(library)]
 
 
 def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_limit: float,
@@ -477,7 +514,7 @@ def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_li
         return {"name": taken.name, "unloadable": f"the grader could not send the inputs ({exc})"}
     argv = room_argv(library)
     if seal is not None:
-        argv = seal(argv)
+        argv = seal(argv, copy=library)
     try:
         done = subprocess.run(argv, input=job.encode("utf-8"), stdout=subprocess.PIPE,
                               stderr=subprocess.DEVNULL, timeout=ROOM_TIMEOUT, start_new_session=True,

