@@ -7,7 +7,7 @@ from typing import Any
 
 from ..links.serial import serial_link
 from ..scan import scan
-from .common import CliError, _baud, _check_seconds, _int, _open_link, _split_values, _wire_options
+from .common import CliError, _baud, _check_seconds, _int, _open_link, _parity, _split_values, _wire_options
 
 
 def _units(text: str) -> range:
@@ -29,7 +29,7 @@ def _line_settings(args: argparse.Namespace) -> list[dict[str, Any]]:
             bauds = [_baud(item) for item in _split_values(args.bauds)]
         except argparse.ArgumentTypeError as exc:
             raise CliError(f"--bauds: {exc}") from None
-    parities = [args.parity]
+    parities = [_parity(args)]
     if args.parities:
         parities = [item.upper() for item in _split_values(args.parities)]
         wrong = [item for item in parities if item not in ("N", "E", "O")]

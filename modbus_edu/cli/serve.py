@@ -17,6 +17,7 @@ from ..links.serial import SerialServer
 from ..links.tcp_server import TcpServer
 from ..slave import Slave
 from .common import (
+    _parity,
     DEFAULT_HOST,
     DEFAULT_PORT,
     _authorization,
@@ -36,7 +37,7 @@ def _make_device(args: argparse.Namespace) -> Any:
     if args.device == "meter":
         device = PowerMeter(unit=unit, trial=args.trial, live=args.live, seed=args.seed)
     elif args.device == "arduino":
-        device = ArduinoSlave(unit=unit, baudrate=args.baud or 9600, parity=args.parity,
+        device = ArduinoSlave(unit=unit, baudrate=args.baud or 9600, parity=_parity(args),
                               stopbits=args.stopbits, seed=args.seed)
     else:
         device = Slave(unit=unit, bank=DataBank(), name=f"bank {unit}")
@@ -99,10 +100,10 @@ def cmd_serve(args: argparse.Namespace) -> int:
         _tls_context(args, "serial")  # refuses --tls-* on a serial line
     authorization, roles = _authorization(args)  # with TLS on, roles apply
     if args.serial is not None:
-        server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=args.parity,
+        server: Any = SerialServer(device, args.serial, baudrate=_default_baud(args), parity=_parity(args),
                                    stopbits=args.stopbits, mode=args.mode)
         bits = 7 if args.mode == "ascii" else 8  # what SerialServer opens: ASCII carries 7 data bits
-        where = (f"serial {args.serial}, {_default_baud(args)} baud {bits}{args.parity}{args.stopbits}, "
+        where = (f"serial {args.serial}, {_default_baud(args)} baud {bits}{_parity(args)}{args.stopbits}, "
                  f"{args.mode.upper()}")
     else:
         host, port = parse_endpoint(args.tcp or f"{DEFAULT_HOST}:{DEFAULT_PORT}")
