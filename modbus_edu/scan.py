@@ -19,7 +19,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ._optional import load_tqdm
-from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError, shown
+from .errors import (
+    ConfigError,
+    LinkError,
+    ModbusError,
+    ModbusExceptionError,
+    ModbusTimeoutError,
+    TransactionMismatchError,
+    shown,
+)
 from .links.base import Link
 from .master import Master
 
@@ -43,6 +51,7 @@ class ScanReport:
     asked: int = 0
     complete: bool = True
     elapsed: float = 0.0
+    interrupted: bool = False
 
     def __iter__(self):
         return iter(self.hits)
@@ -58,7 +67,9 @@ def _probe(master: Master, unit: int) -> str | None:
         if exc.code in (0x0A, 0x0B):  # a gateway saying: nobody there
             return None
         return f"exception {exc.code:02X} ({exc.meaning})"
-    except (ModbusTimeoutError, LinkError):
+    except (ModbusTimeoutError, LinkError, TransactionMismatchError):
+        # TransactionMismatchError: only frames for other requests came (a late answer of the unit asked
+        # before, through a gateway): that says nothing about this unit
         return None
     except ModbusError as exc:  # a garbled answer: something is there, maybe at other settings
         return f"garbled answer: {exc}"
@@ -73,6 +84,7 @@ def scan(
     timeout: float = 0.1,
     budget: float = 60.0,
     progress: bool = False,
+    log: Any = None,
 ) -> ScanReport:
     """Ask every unit in ``units`` under every line setting; return who answered.
 
@@ -80,6 +92,9 @@ def scan(
     dict in ``settings`` (e.g. ``lambda **s: mb.serial_link("/dev/ttyUSB0", **s)`` with
     ``settings=[{"baudrate": 9600, "parity": "N"}, {"baudrate": 19200, "parity": "E"}]``).
     ``timeout`` is each question's wait; ``budget`` bounds the whole scan (seconds on the link's clock).
+    ``log``: a :class:`~modbus_edu.traffic.TrafficLog` that records every question and answer.
+    A KeyboardInterrupt (Ctrl-C) ends the scan early: the report keeps what was found, with
+    ``complete`` False and ``interrupted`` True.
     """
     units = list(units)
     for u in units:
@@ -104,6 +119,8 @@ def scan(
             current = link if isinstance(link, Link) else link(**setting)
             try:
                 master = Master(current, timeout=timeout)
+                if log is not None:
+                    master.log = log
                 clock = current.clock
                 start = clock.now
                 for unit in units:
@@ -122,6 +139,9 @@ def scan(
                     current.close()
             if not report.complete:
                 break
+    except KeyboardInterrupt:
+        report.complete = False
+        report.interrupted = True
     finally:
         bar.close()
     return report
