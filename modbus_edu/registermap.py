@@ -330,8 +330,8 @@ def load_map(source: str | Path, numbering: str | None = None, name: str | None 
         text = _decode_text(data, where)
     declared = _declared_numbering(text, where)
     if numbering is not None and declared is not None and numbering != declared:
-        raise RegisterMapError(f"{where} says '# numbering: {declared}', but numbering={numbering!r} was asked "
-                               f"for: drop one, or make them agree")
+        raise RegisterMapError(f"{where} says '# numbering: {declared}', but numbering={numbering!r} was "
+                               f"asked for: drop one, or make them agree")
     chosen = numbering or declared or "0-based"
     try:
         rows = list(csv.reader(io.StringIO(text)))

@@ -176,7 +176,8 @@ def _parity(args: argparse.Namespace) -> str:
     return "E" if getattr(args, "mode", "rtu") == "ascii" else "N"
 
 
-def _open_csv(path: str, header: list[str], overwrite: bool = False, append: bool = False) -> tuple[TextIO, Any]:
+def _open_csv(path: str, header: list[str], overwrite: bool = False,
+              append: bool = False) -> tuple[TextIO, Any]:
     """A CSV log: refuses to replace a file with data unless ``overwrite``; with ``append`` adds rows
     to it (the header is written once, and must match the file's)."""
     if overwrite and append:

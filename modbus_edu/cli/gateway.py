@@ -10,10 +10,10 @@ from ..errors import ConfigError
 from ..gateway import TcpGateway
 from ..links.serial import serial_link
 from .common import (
-    _parity,
     _authorization,
     _check_seconds,
     _install_stop_signals,
+    _parity,
     _tcp_name,
     _tls_context,
     _tls_options,

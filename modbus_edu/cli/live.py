@@ -18,9 +18,10 @@ from ..codes import _hex
 from ..errors import ConfigError, ModbusError, ModbusExceptionError, ModbusTimeoutError
 from ..registermap import Point
 from ..values import TYPES, decode_value, format_registers
-from .common import READ_FUNCTION, _one_line
+from .common import _one_line
 
-_READERS = {1: "read_coils", 2: "read_discrete_inputs", 3: "read_holding_registers", 4: "read_input_registers"}
+_READERS = {1: "read_coils", 2: "read_discrete_inputs", 3: "read_holding_registers",
+            4: "read_input_registers"}
 _PLAIN_FORMATS = ("hex", "binary", "unsigned", "signed", "ascii_char", "ascii_value")
 _PREFIX = {1: "0", 2: "1", 3: "4", 4: "3"}
 
@@ -155,7 +156,8 @@ class Poller:
 
     def texts(self) -> list[tuple[Block, Cell, str]]:
         """Every cell with its text ('' where its block failed this cycle)."""
-        return [(b, c, c.text(b.function, b.values) if b.values else "") for b in self.blocks for c in b.cells]
+        return [(b, c, c.text(b.function, b.values) if b.values else "")
+                for b in self.blocks for c in b.cells]
 
 
 def stats_line(stats: Any, poller: Poller | None = None) -> str:
@@ -223,10 +225,3 @@ def table_of(poller: Poller, unit: int, where: str) -> Any:
                           block.title, counts)
     return table
 
-
-def reference_label(function: int, address: int) -> str:
-    """The reference number of ``address`` in the table ``function`` reads (40001 style), for labels."""
-    from ..datamodel import format_reference
-
-    kind = {v: k for k, v in READ_FUNCTION.items()}[function]
-    return format_reference(kind, address, digits=5 if address <= 9998 else 6)

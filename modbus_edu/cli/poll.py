@@ -75,7 +75,8 @@ def _blocks(args: argparse.Namespace) -> list[Block]:
     for spec in args.block or []:
         parts = spec.split(":")
         if not 1 <= len(parts) <= 3 or not parts[0]:
-            raise ConfigError(f"--block {spec!r}: expected ADDRESS[:COUNT[:FORMAT]], e.g. 30001:4:float32_CDAB")
+            raise ConfigError(f"--block {spec!r}: expected ADDRESS[:COUNT[:FORMAT]], e.g. "
+                              f"30001:4:float32_CDAB")
         fmt_b = _check_format(parts[2]) if len(parts) > 2 else fmt
         blocks.append(_one_block(None, parts[0], parts[1] if len(parts) > 1 else "1", fmt_b, 1.0))
     return blocks

@@ -96,12 +96,14 @@ def _plan(args: argparse.Namespace) -> tuple[int, int, list[Any], str]:
         values: list[Any] = [_bit(v, "a coil value") for v in args.values]
         fc = fc or (5 if len(values) == 1 else 15)
         if fc == 5 and len(values) != 1:
-            raise ConfigError(f"FC 5 writes one coil; {len(values)} values need FC 15 (or leave out --function)")
+            raise ConfigError(f"FC 5 writes one coil; {len(values)} values need FC 15 (or leave out "
+                              f"--function)")
         return fc, address, values, "bits"
     fmt = _format(args.format)
     if fc == 22:
         if len(args.values) != 2:
-            raise ConfigError("FC 22 (Mask Write Register) takes two values: AND_MASK OR_MASK, e.g. 0xFF00 0x0012")
+            raise ConfigError("FC 22 (Mask Write Register) takes two values: AND_MASK OR_MASK, e.g. "
+                              "0xFF00 0x0012")
         return 22, address, [_int(v, "a mask") for v in args.values], "hex"
     scale = check_scale(args.scale, "--scale") if args.scale != 1 else 1.0
     registers = _registers(args.values, fmt, scale)
@@ -109,7 +111,8 @@ def _plan(args: argparse.Namespace) -> tuple[int, int, list[Any], str]:
         raise ConfigError(f"{len(registers)} registers: one request writes at most 123 (FC 16)")
     fc = fc or (6 if len(registers) == 1 else 16)
     if fc == 6 and len(registers) != 1:
-        raise ConfigError(f"FC 6 writes one register; these values take {len(registers)}: use FC 16 (or leave "
+        raise ConfigError(f"FC 6 writes one register; these values take {len(registers)}: use FC 16 (or "
+                          f"leave "
                           f"out --function)")
     if address + len(registers) > 65536:
         raise ConfigError(f"{len(registers)} registers from address {address} run past address 65535")
@@ -143,7 +146,8 @@ def cmd_write(args: argparse.Namespace) -> int:
         else:
             count = _int(args.read_count or str(len(values)), "--read-count", 1, 125)
             got = master.read_write_multiple_registers(unit, address, count, address, values)
-            print(f"FC 23 wrote {len(values)} and read {count} {table} at address {address}: {_shown(got, fmt)}")
+            print(f"FC 23 wrote {len(values)} and read {count} {table} at address {address}: "
+                  f"{_shown(got, fmt)}")
             return 0
         what = f"{values[0]:#06x} AND, {values[1]:#06x} OR" if fc == 22 else _shown(values, fmt)
         words = "" if fmt in ("bits", "hex") else f" ({_hex(b''.join(v.to_bytes(2, 'big') for v in values))})"
@@ -156,7 +160,8 @@ def cmd_write(args: argparse.Namespace) -> int:
         else:
             back = master.read_holding_registers(unit, address, count)
         same = fc == 22 or list(back) == list(values)
-        print(f"read back: {_shown(back, 'hex' if fc == 22 else fmt)}{'' if same else '  (differs from what was written)'}")
+        differs = "" if same else "  (differs from what was written)"
+        print(f"read back: {_shown(back, 'hex' if fc == 22 else fmt)}{differs}")
         if not same:
             raise ConfigError("the read-back differs from what was written: the device changed the value "
                               "(a limit? a read-only register?) or another master wrote in between")
@@ -178,7 +183,8 @@ def _options_write(subs: Any) -> argparse.ArgumentParser:
     _wire_options(p, serve=False)
     _tls_options(p, serve=False)
     p.add_argument("values", nargs="+", metavar="VALUE",
-                   help="values to write (registers in --format; coils on/off, 1/0), or NAME=VALUE with --map")
+                   help="values to write (registers in --format; coils on/off, 1/0), or NAME=VALUE with "
+                        "--map")
     p.add_argument("--unit", default="1", help="unit identifier / slave address (default 1)")
     p.add_argument("--address", default=None, help=ADDRESS_HELP)
     p.add_argument("--function", default=None, help="5, 6, 15, 16, 22 or 23 (default: from the reference "

@@ -61,14 +61,6 @@ def _mbap_length_swapped(data: bytes) -> bool:
     return MIN_MBAP_LENGTH <= length <= MAX_MBAP_LENGTH and length == len(data) - 6
 
 
-def _mbap_with_wrong_length(data: bytes) -> bool:
-    """Protocol 0, a length field of 2..254 (high byte 0) that does not count the bytes that follow, and
-    a known function code in byte 7: a TCP frame with a wrong length field, not an RTU frame with a bad
-    CRC (an RTU frame for unit 0 has a function code 5, 6, 15 or 16 in byte 1, never 00)."""
-    return (len(data) >= MBAP_HEADER_SIZE + 1 and data[2:4] == b"\x00\x00" and data[4] == 0
-            and MIN_MBAP_LENGTH <= data[5] <= MAX_MBAP_LENGTH and (data[7] & 0x7F) in _pdu.REQUEST_CLASSES)
-
-
 def detect_mode_why(data: bytes | str) -> tuple[str, str]:
     """:func:`detect_mode` and the reason, in words: ``("tcp", "bytes 2-3 are protocol 0 and ...")``."""
     if isinstance(data, str):
@@ -100,9 +92,6 @@ def detect_mode_why(data: bytes | str) -> tuple[str, str]:
                        f"bytes that follow")
     if rtu_crc_ok:
         return "rtu", crc
-    if _mbap_with_wrong_length(data):
-        return "tcp", (f"protocol 0 in bytes 2-3 and a function code in byte 7, as in an MBAP frame, but the "
-                       f"length field says {int.from_bytes(data[4:6], 'big')} where {follow} bytes follow")
     return "rtu", "no ':' in front, no MBAP header"
 
 
