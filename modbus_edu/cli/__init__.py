@@ -30,6 +30,7 @@ from collections.abc import Sequence
 from .. import __version__
 from ..errors import ModbusError
 from .build import _options_build, cmd_build
+from .capture import _options_capture, cmd_capture
 from .common import PROG, CliError, _common, _one_line, _Parser, parse_endpoint
 from .crc import _options_crc, cmd_crc
 from .decode import _options_decode, cmd_decode
@@ -38,6 +39,7 @@ from .grade import _options_grade, cmd_grade
 from .identify import _options_identify, cmd_identify
 from .lrc import _options_lrc, cmd_lrc
 from .poll import _options_poll, cmd_poll
+from .ports import _options_ports, cmd_ports
 from .scan import _options_scan, cmd_scan
 from .serve import _options_serve, cmd_serve
 from .write import _options_write, cmd_write
@@ -74,6 +76,8 @@ def build_parser() -> argparse.ArgumentParser:
         (_options_identify, cmd_identify),
         (_options_gateway, cmd_gateway),
         (_options_scan, cmd_scan),
+        (_options_capture, cmd_capture),
+        (_options_ports, cmd_ports),
         (_options_grade, cmd_grade),
     ):
         sub = add(subs)
