@@ -73,7 +73,8 @@ def cmd_capture(args: argparse.Namespace) -> int:
             asked = waiting.pop(key, None)
             if asked is None:
                 orphans += 1
-                print(f"#{number} {when}  {where}  response  {text}  (no request for it in the capture){note}")
+                print(f"#{number} {when}  {where}  response  {text}  (no request for it in the capture)"
+                      f"{note}")
             else:
                 exchanges += 1
                 ms = (entry.time - asked[1].time) * 1000

@@ -71,7 +71,8 @@ def _from_map(args: argparse.Namespace) -> tuple[int, int, list[Any], str]:
     if not TYPES[point.type].is_float:
         raw = round(raw)
     registers = encode_value(raw, point.type, point.order)
-    return (6 if len(registers) == 1 else 16), point.address, registers, f"{point.type}_{point.order}"
+    shown = {"int16": "signed", "uint16": "unsigned"}.get(point.type, f"{point.type}_{point.order}")
+    return (6 if len(registers) == 1 else 16), point.address, registers, shown
 
 
 def _plan(args: argparse.Namespace) -> tuple[int, int, list[Any], str]:
