@@ -112,7 +112,8 @@ def test_the_read_back_that_differs_fails():
 @pytest.mark.parametrize("args, message", [
     (["--address", "30001", "1"], "read-only"),
     (["--address", "10001", "1"], "read-only"),
-    (["--address", "40001", "--function", "5", "1"], "is a reference to the holding registers, but --function 5"),
+    (["--address", "40001", "--function", "5", "1"],
+     "is a reference to the holding registers, but --function 5"),
     (["--address", "00001", "--function", "6", "1"], "is a reference to the coils, but --function 6"),
     (["--address", "0", "--function", "3", "1"], "write uses --function 5, 6, 15, 16, 22 or 23"),
     (["--address", "0", "--function", "6", "1", "2"], "FC 6 writes one register"),
@@ -145,9 +146,9 @@ def test_write_over_a_serial_url(capsys, mode):
     with SerialServer([slave], TcpSerialPort("127.0.0.1", 0), baudrate=19200, parity=parity,
                       mode=mode) as server:
         host, port = server.port.address
-        code, out, err = write(capsys, "--serial", f"socket://{host}:{port}", "--mode", mode, "--baud", "19200",
-                               "--unit", "7", "--address", "40003", "--format", "float32_CDAB", "--timeout", "2",
-                               "--retries", "1", "2.5")
+        code, out, err = write(capsys, "--serial", f"socket://{host}:{port}", "--mode", mode, "--baud",
+                               "19200", "--unit", "7", "--address", "40003", "--format", "float32_CDAB",
+                               "--timeout", "2", "--retries", "1", "2.5")
     assert code == 0, err
     assert slave.bank.holding_registers[2:4] == list(mb.values.encode_value(2.5, "float32", "CDAB"))
     assert "read back: 2.5" in out
