@@ -57,26 +57,34 @@ def _closed_port() -> int:
 
 
 # --- reference numbers ---------------------------------------------------------------------------------
-@pytest.mark.parametrize("address, expected", [
-    ("40001", "#1 [0] 11  [1] 12"),
-    ("4x0001", "#1 [0] 11  [1] 12"),
-    ("400001", "#1 [0] 11  [1] 12"),
-    ("30001", "#1 [0] 31  [1] 32"),
-    ("30002", "#1 [1] 32  [2] 33"),
-    ("10001", "#1 [0] 0  [1] 1"),
-    ("00001", "#1 [0] 1  [1] 0"),
-    ("0", "#1 [0] 11  [1] 12"),
-])
+@pytest.mark.parametrize(
+    "address, expected",
+    [
+        ("40001", "#1 [0] 11  [1] 12"),
+        ("4x0001", "#1 [0] 11  [1] 12"),
+        ("400001", "#1 [0] 11  [1] 12"),
+        ("30001", "#1 [0] 31  [1] 32"),
+        ("30002", "#1 [1] 32  [2] 33"),
+        ("10001", "#1 [0] 0  [1] 1"),
+        ("00001", "#1 [0] 1  [1] 0"),
+        ("0", "#1 [0] 11  [1] 12"),
+    ],
+)
 def test_a_reference_number_chooses_table_and_function(capsys, device, address, expected):
-    code, out, _ = cli(capsys, "poll", "--tcp", device[1], "--address", address, "--count", "2", "--polls", "1")
+    code, out, _ = cli(
+        capsys, "poll", "--tcp", device[1], "--address", address, "--count", "2", "--polls", "1"
+    )
     assert code == 0 and out.splitlines()[0] == expected
 
 
 def test_a_reference_that_contradicts_the_function_is_an_error(capsys):
-    code, _, err = cli(capsys, "poll", "--tcp", f"127.0.0.1:{_closed_port()}", "--function", "3",
-                       "--address", "30001")
+    code, _, err = cli(
+        capsys, "poll", "--tcp", f"127.0.0.1:{_closed_port()}", "--function", "3", "--address", "30001"
+    )
     assert code == 1
-    assert "30001 is a reference to the input registers, but --function 3 works on the holding registers" in err
+    assert (
+        "30001 is a reference to the input registers, but --function 3 works on the holding registers" in err
+    )
 
 
 def test_a_plain_address_that_looks_like_a_reference_warns(capsys, device):
@@ -90,7 +98,9 @@ def test_the_help_says_which_is_which(capsys):
     with pytest.raises(SystemExit):
         main(["poll", "--help"])
     out = " ".join(capsys.readouterr().out.split())
-    assert "0-based address (0, 100, 0x64), or a reference number" in out and "40001 = holding register 0" in out
+    assert (
+        "0-based address (0, 100, 0x64), or a reference number" in out and "40001 = holding register 0" in out
+    )
 
 
 def test_one_parser_of_reference_numbers():
@@ -126,8 +136,18 @@ def test_poll_a_map_by_name_scaled_with_units(capsys, tmp_path):
     slave = mb.Slave(unit=1, bank=mb.DataBank())
     register_map.store(slave.bank, {"voltage": 230.5, "current": 1.25})
     with mb.TcpServer([slave]) as server:
-        code, out, _ = cli(capsys, "poll", "--tcp", f"127.0.0.1:{server.address[1]}", "--map",
-                           str(MAPS / "bench_meter.csv"), "--polls", "1", "--csv", str(tmp_path / "m.csv"))
+        code, out, _ = cli(
+            capsys,
+            "poll",
+            "--tcp",
+            f"127.0.0.1:{server.address[1]}",
+            "--map",
+            str(MAPS / "bench_meter.csv"),
+            "--polls",
+            "1",
+            "--csv",
+            str(tmp_path / "m.csv"),
+        )
     assert code == 0
     assert out.splitlines()[0].startswith("#1 voltage=230.5 V  current=1.25 A  active_power=0 W")
     rows = (tmp_path / "m.csv").read_text().splitlines()
@@ -135,16 +155,38 @@ def test_poll_a_map_by_name_scaled_with_units(capsys, tmp_path):
 
 
 def test_poll_several_blocks_and_a_scale(capsys, device):
-    code, out, _ = cli(capsys, "poll", "--tcp", device[1], "--address", "40001", "--count", "2", "--scale",
-                       "0.1", "--block", "30003", "--block", "00001:2", "--polls", "1")
+    code, out, _ = cli(
+        capsys,
+        "poll",
+        "--tcp",
+        device[1],
+        "--address",
+        "40001",
+        "--count",
+        "2",
+        "--scale",
+        "0.1",
+        "--block",
+        "30003",
+        "--block",
+        "00001:2",
+        "--polls",
+        "1",
+    )
     assert code == 0 and out.splitlines()[0] == "#1 [0] 1.1  [1] 1.2  [2] 33  [0] 1  [1] 0"
 
 
 # --- serve: settable, several units, a map --------------------------------------------------------------
 @contextlib.contextmanager
 def serving(*args: str):
-    proc = subprocess.Popen([*CLI, *args, "--tcp", "127.0.0.1:0"], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV)
+    proc = subprocess.Popen(
+        [*CLI, *args, "--tcp", "127.0.0.1:0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=ENV,
+    )
     try:
         ready, _, _ = select.select([proc.stdout], [], [], 60)
         assert ready, "serve printed nothing"
@@ -160,23 +202,60 @@ def serving(*args: str):
 def test_serve_a_map_with_values_at_several_units(capsys, tmp_path):
     values = tmp_path / "values.txt"
     values.write_text("# set at start\ncurrent=2.5\n00003=on\n")
-    with serving("-v", "serve", "bank", "--unit", "1", "--unit", "2", "--map", str(MAPS / "bench_meter.csv"),
-                 "--set", "voltage=231.25", "--set", "40001=1234", "--set", "40011:float32_CDAB=1.5",
-                 "--values", str(values)) as (proc, port):
+    with serving(
+        "-v",
+        "serve",
+        "bank",
+        "--unit",
+        "1",
+        "--unit",
+        "2",
+        "--map",
+        str(MAPS / "bench_meter.csv"),
+        "--set",
+        "voltage=231.25",
+        "--set",
+        "40001=1234",
+        "--set",
+        "40011:float32_CDAB=1.5",
+        "--values",
+        str(values),
+    ) as (proc, port):
         where = f"127.0.0.1:{port}"
         for unit in ("1", "2"):
-            code, out, _ = cli(capsys, "poll", "--tcp", where, "--unit", unit, "--map",
-                               str(MAPS / "bench_meter.csv"), "--polls", "1")
+            code, out, _ = cli(
+                capsys,
+                "poll",
+                "--tcp",
+                where,
+                "--unit",
+                unit,
+                "--map",
+                str(MAPS / "bench_meter.csv"),
+                "--polls",
+                "1",
+            )
             assert out.splitlines()[0].startswith("#1 voltage=231.25 V  current=2.5 A")
-        code, out, _ = cli(capsys, "poll", "--tcp", where, "--address", "40011", "--count", "2", "--format",
-                           "float32_CDAB", "--polls", "1")
+        code, out, _ = cli(
+            capsys,
+            "poll",
+            "--tcp",
+            where,
+            "--address",
+            "40011",
+            "--count",
+            "2",
+            "--format",
+            "float32_CDAB",
+            "--polls",
+            "1",
+        )
         assert out.startswith("#1 [10] 1.5")
         code, out, _ = cli(capsys, "poll", "--tcp", where, "--address", "00003", "--polls", "1")
         assert out.startswith("#1 [2] 1")
         # a unit nobody serves: answered 0x0B, and counted and shown (-v) by serve
         code, out, _ = cli(capsys, "poll", "--tcp", where, "--unit", "9", "--polls", "1")
         assert "exception 0B" in out
-        started = time.monotonic()
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=20)
     assert proc.returncode == 0
@@ -185,10 +264,12 @@ def test_serve_a_map_with_values_at_several_units(capsys, tmp_path):
 
 
 def test_serve_bank_set_errors_are_one_line(capsys):
-    for args, message in ((["--set", "voltage=1"], "neither a point name nor a reference number"),
-                          (["--set", "5=1"], "is a plain address"),
-                          (["--set", "40001"], "is not NAME=VALUE"),
-                          (["--unit", "1", "--unit", "1"], "each --unit once")):
+    for args, message in (
+        (["--set", "voltage=1"], "neither a point name nor a reference number"),
+        (["--set", "5=1"], "is a plain address"),
+        (["--set", "40001"], "is not NAME=VALUE"),
+        (["--unit", "1", "--unit", "1"], "each --unit once"),
+    ):
         code, _, err = cli(capsys, "serve", "bank", "--tcp", "127.0.0.1:0", *args)
         assert code == 1 and len(err.strip().splitlines()) == 1 and message in err, err
     code, _, err = cli(capsys, "serve", "meter", "--set", "40001=1")
@@ -231,9 +312,27 @@ def test_the_live_table_shows_names_values_status_times_and_rates(device):
 
 def test_poll_on_a_terminal_redraws_a_table_in_place(device):
     leader, follower = pty.openpty()
-    proc = subprocess.Popen([*CLI, "poll", "--tcp", device[1], "--address", "40001", "--count", "2",
-                             "--polls", "3", "--interval", "0.05"], stdout=follower, stderr=follower,
-                            stdin=subprocess.DEVNULL, cwd=ROOT, env={**ENV, "COLUMNS": "150", "TERM": "xterm"})
+    proc = subprocess.Popen(
+        [
+            *CLI,
+            "poll",
+            "--tcp",
+            device[1],
+            "--address",
+            "40001",
+            "--count",
+            "2",
+            "--polls",
+            "3",
+            "--interval",
+            "0.05",
+        ],
+        stdout=follower,
+        stderr=follower,
+        stdin=subprocess.DEVNULL,
+        cwd=ROOT,
+        env={**ENV, "COLUMNS": "150", "TERM": "xterm"},
+    )
     os.close(follower)
     chunks = []
     deadline = time.monotonic() + 60
@@ -269,18 +368,42 @@ def test_csv_is_never_overwritten_unasked(capsys, device, tmp_path):
     assert len(rows) == 3 and rows[0] == "time,poll,status,0" and rows.count(rows[0]) == 1
     assert cli(capsys, *base, "--overwrite")[0] == 0
     assert len(log.read_text().splitlines()) == 2
-    code, _, err = cli(capsys, "poll", "--tcp", device[1], "--address", "30001", "--polls", "1", "--csv", str(log),
-                       "--append")
+    code, _, err = cli(
+        capsys,
+        "poll",
+        "--tcp",
+        device[1],
+        "--address",
+        "30001",
+        "--polls",
+        "1",
+        "--csv",
+        str(log),
+        "--append",
+    )
     assert code == 1 and "other columns" not in err or code == 0  # same columns (address 0): appends
-    code, _, err = cli(capsys, "poll", "--tcp", device[1], "--count", "2", "--polls", "1", "--csv", str(log),
-                       "--append")
+    code, _, err = cli(
+        capsys, "poll", "--tcp", device[1], "--count", "2", "--polls", "1", "--csv", str(log), "--append"
+    )
     assert code == 1 and "has other columns" in err
 
 
 def test_a_format_wider_than_the_count_fails_clearly(capsys, device, tmp_path):
     log = tmp_path / "wide.csv"
-    code, out, err = cli(capsys, "poll", "--tcp", device[1], "--count", "2", "--format", "float64_ABCD",
-                         "--polls", "1", "--csv", str(log))
+    code, out, err = cli(
+        capsys,
+        "poll",
+        "--tcp",
+        device[1],
+        "--count",
+        "2",
+        "--format",
+        "float64_ABCD",
+        "--polls",
+        "1",
+        "--csv",
+        str(log),
+    )
     assert code == 1 and "float64_ABCD needs 4 registers per value, but --count 2 reads 2" in err
     assert not log.exists() and "—" not in out
     code, _, err = cli(capsys, "poll", "--tcp", device[1], "--count", "3", "--format", "float32_ABCD")
@@ -291,8 +414,18 @@ def test_retries_ask_again(capsys):
     with socket.socket() as mute:
         mute.bind(("127.0.0.1", 0))
         mute.listen(1)
-        code, out, _ = cli(capsys, "poll", "--tcp", f"127.0.0.1:{mute.getsockname()[1]}", "--polls", "1",
-                           "--timeout", "0.05", "--retries", "2")
+        code, out, _ = cli(
+            capsys,
+            "poll",
+            "--tcp",
+            f"127.0.0.1:{mute.getsockname()[1]}",
+            "--polls",
+            "1",
+            "--timeout",
+            "0.05",
+            "--retries",
+            "2",
+        )
     assert code == 1 and "stats: requests 3, valid 0, timeouts 3" in out
 
 
@@ -334,7 +467,10 @@ def test_decode_reads_a_log_as_tools_write_it(monkeypatch, capsys):
     code, out, err = _decode_stdin(monkeypatch, capsys, LOG, "--as", "float32_ABCD")
     assert code == 1  # a line held no frame: said, and the exit status says so at the end
     assert "line 3: skipped, no frame in it" in err
-    assert err.strip().splitlines()[-1] == "modbus-edu: error: 1 line held no frame (see above); 8 frames decoded"
+    assert (
+        err.strip().splitlines()[-1]
+        == "modbus-edu: error: 1 line held no frame (see above); 8 frames decoded"
+    )
     assert out.count("line 4:") == 2 and out.count("line 5:") == 2 and out.count("line 6:") == 2
     assert "as float32_ABCD: 123.456" in out
     assert "Modbus/TCP" in out or "transaction" in out.lower()
@@ -369,8 +505,10 @@ def test_capture_pairs_requests_and_responses_with_times(capsys, tmp_path):
     assert "request   Read Holding Registers request: address 0, count 2" in lines[0]
     assert "(answers #1 after " in lines[1] and " ms)" in lines[1]
     assert "exception" in lines[5].lower() and "(answers #5 after" in lines[5]
-    assert lines[-1] == "6 frames: 3 exchanges, 0 requests without a response, 0 responses without a " \
-                        "request, 0 not decodable"
+    assert (
+        lines[-1] == "6 frames: 3 exchanges, 0 requests without a response, 0 responses without a "
+        "request, 0 not decodable"
+    )
 
 
 def test_capture_of_tcp_and_bad_files(capsys, tmp_path):
@@ -442,13 +580,15 @@ class SlowGateway:
 
 def test_scan_through_a_slow_gateway_invents_no_units(capsys):
     with SlowGateway(delay=0.15) as gateway:
-        code, out, _ = cli(capsys, "scan", "--tcp", f"127.0.0.1:{gateway.port}", "--units", "1-10",
-                           "--timeout", "0.1")
+        code, out, _ = cli(
+            capsys, "scan", "--tcp", f"127.0.0.1:{gateway.port}", "--units", "1-10", "--timeout", "0.1"
+        )
     assert code == 0
     assert "unit   6" not in out and out.splitlines()[-1] == "0 found, 10 asked"  # no unit invented
     with SlowGateway(delay=0.05) as gateway:
-        code, out, _ = cli(capsys, "scan", "--tcp", f"127.0.0.1:{gateway.port}", "--units", "1-10",
-                           "--timeout", "0.5")
+        code, out, _ = cli(
+            capsys, "scan", "--tcp", f"127.0.0.1:{gateway.port}", "--units", "1-10", "--timeout", "0.5"
+        )
     assert out.splitlines() == ["unit   5: register 0 = 42", "1 found, 10 asked"]
 
 
@@ -471,16 +611,25 @@ def test_build_lists_every_buildable_function(capsys):
     assert code == 1
     for fc in ("17", "22", "43", "23", "8", "24"):
         assert f" {fc}," in err or f" {fc}" in err.rstrip().split(":")[-1]
-    assert "the 19 this library builds: 1, 2, 3, 4, 5, 6, 7, 8, 11, 12, 15, 16, 17, 20, 21, 22, 23, 24, 43" in err
+    assert (
+        "the 19 this library builds: 1, 2, 3, 4, 5, 6, 7, 8, 11, 12, 15, 16, 17, 20, 21, 22, 23, 24, 43"
+        in err
+    )
 
 
 def _scan_process(port: int, ignore_sigint: bool) -> subprocess.Popen:
     def background_job():  # as a shell starts a job with &: SIGINT ignored
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 
-    return subprocess.Popen([*CLI, "scan", "--tcp", f"127.0.0.1:{port}", "--units", "1-247", "--timeout", "0.2"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT, env=ENV,
-                            preexec_fn=background_job if ignore_sigint else None)
+    return subprocess.Popen(
+        [*CLI, "scan", "--tcp", f"127.0.0.1:{port}", "--units", "1-247", "--timeout", "0.2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        cwd=ROOT,
+        env=ENV,
+        preexec_fn=background_job if ignore_sigint else None,
+    )
 
 
 @pytest.mark.parametrize("ignore_sigint", [False, True])
