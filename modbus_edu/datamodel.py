@@ -760,8 +760,8 @@ def parse_address_text(text: str, what: str = "address") -> AddressText:
     * anything else of fewer digits, or ``0x`` hex, is a plain 0-based protocol address, 0..65535
       (for a plain address of 10000 and up, write it in hex: ``0x2710``).
 
-    A plain address that looks like a reference with a digit missing (``4001``) or with a table digit
-    that does not exist (``50001``) is still read as an address, with a ``warning`` that says so.
+    A plain address that looks like a reference with a digit missing (``4001``) or with the table digit
+    that does not exist (``20001``) is still read as an address, with a ``warning`` that says so.
     """
     if not isinstance(text, str):
         raise ReferenceNumberError(f"{what} must be text such as '40001' or '0', got {shown(text)}")
@@ -782,9 +782,9 @@ def parse_address_text(text: str, what: str = "address") -> AddressText:
     if not 0 <= address <= LAST_ADDRESS:
         raise ReferenceNumberError(f"{what} {shown(text)} is outside 0..65535")
     warning = ""
-    if raw.isdigit() and len(raw) == 5:
-        warning = (f"{what} {raw} is read as the 0-based address {address}: {raw[0]} is not a table digit "
-                   f"(0, 1, 3, 4), so it is not a reference number")
+    if raw.isdigit() and len(raw) == 5 and raw[0] == "2":
+        warning = (f"{what} {raw} is read as the 0-based address {address}: there is no 2x table, so it is "
+                   f"not a reference number (coils 0x, discrete inputs 1x, input registers 3x, holding 4x)")
     elif raw.isdigit() and len(raw) == 4 and raw[0] in "134" and raw[1:3] == "00" and raw[3] != "0":
         ref = f"{raw[0]}000{raw[3]}"
         warning = (f"{what} {raw} is read as the 0-based address {address}; if you meant the reference "

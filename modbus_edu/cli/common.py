@@ -21,6 +21,7 @@ from ..explain import explain
 from ..framing import parse_hex
 from ..links.serial import serial_link
 from ..links.tcp_client import tcp_link
+from ..master import Master
 from ..traffic import Traffic, TrafficLog
 
 PROG = "modbus-edu"
@@ -286,8 +287,6 @@ def _master_options(parser: argparse.ArgumentParser, timeout: float = 1.0) -> No
 
 def _master(args: argparse.Namespace, link: Any) -> Any:
     """The Master a client subcommand asks through: --timeout, --retries, and -v's traffic on stderr."""
-    from ..master import Master
-
     _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
     if not 0 <= args.retries <= 100:
         raise ConfigError(f"--retries must be 0..100, got {args.retries}")

@@ -14,6 +14,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, TextIO
 
+from rich.table import Table
+
 from ..codes import _hex
 from ..errors import ConfigError, ModbusError, ModbusExceptionError, ModbusTimeoutError
 from ..registermap import Point
@@ -200,8 +202,6 @@ def line_of(poller: Poller, stream: TextIO) -> None:
 def table_of(poller: Poller, unit: int, where: str) -> Any:
     """The live view: a rich Table of every value (name, raw registers, value, status, time), with the
     statistics of each block and of the whole poll under it."""
-    from rich.table import Table
-
     stats = poller.master.stats
     table = Table(title=f"unit {unit} on {where}: poll {poller.cycles}, {poller.rate():.1f} polls/s",
                   caption=stats_line(stats, poller), title_justify="left", caption_justify="left")

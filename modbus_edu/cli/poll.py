@@ -9,6 +9,9 @@ import time
 from datetime import datetime
 from typing import Any
 
+from rich.console import Console
+from rich.live import Live
+
 from ..errors import ConfigError, ModbusError
 from ..registermap import check_scale, load_map
 from ..values import FORMATS
@@ -150,9 +153,6 @@ def _live_view(args: argparse.Namespace) -> Any:
     """A rich Live display when standard output is a terminal (and --lines was not asked), else None."""
     if args.lines or not sys.stdout.isatty():
         return None
-    from rich.console import Console
-    from rich.live import Live
-
     return Live(console=Console(), auto_refresh=False, transient=False, redirect_stderr=False)
 
 
