@@ -12,6 +12,7 @@ from typing import Any
 from rich.console import Console
 from rich.live import Live
 
+from ..datamodel import format_reference
 from ..errors import ConfigError, ModbusError
 from ..registermap import check_scale, load_map
 from ..values import FORMATS
@@ -82,6 +83,12 @@ def _blocks(args: argparse.Namespace) -> list[Block]:
                               f"30001:4:float32_CDAB")
         fmt_b = _check_format(parts[2]) if len(parts) > 2 else fmt
         blocks.append(_one_block(None, parts[0], parts[1] if len(parts) > 1 else "1", fmt_b, 1.0))
+    if len(blocks) > 1:  # the same address in two tables: each value is named by its reference number
+        for block in blocks:
+            kind = next(k for k, f in READ_FUNCTION.items() if f == block.function)
+            for cell in block.cells:
+                address = block.address + cell.offset
+                cell.label = format_reference(kind, address, digits=5 if address <= 9998 else 6)
     return blocks
 
 
