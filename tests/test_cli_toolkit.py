@@ -173,7 +173,8 @@ def test_poll_several_blocks_and_a_scale(capsys, device):
         "--polls",
         "1",
     )
-    assert code == 0 and out.splitlines()[0] == "#1 [40001] 1.1  [40002] 1.2  [30003] 33  [00001] 1  [00002] 0"
+    assert code == 0
+    assert out.splitlines()[0] == "#1 [40001] 1.1  [40002] 1.2  [30003] 33  [00001] 1  [00002] 0"
 
 
 # --- serve: settable, several units, a map --------------------------------------------------------------
