@@ -52,6 +52,9 @@ class ScanReport:
     complete: bool = True
     elapsed: float = 0.0
     interrupted: bool = False
+    late: int = 0
+    """Answers that came after their question had timed out (another transaction's): not counted as
+    units found, but a sign that the timeout is shorter than the device's (or the gateway's) answer."""
 
     def __iter__(self):
         return iter(self.hits)
@@ -127,7 +130,9 @@ def scan(
                     if report.elapsed + (clock.now - start) >= budget:
                         report.complete = False
                         break
+                    before = master.stats.mismatches
                     answer = _probe(master, unit)
+                    report.late += master.stats.mismatches - before
                     report.asked += 1
                     bar.update(1)
                     if answer is not None:

@@ -79,6 +79,10 @@ def cmd_scan(args: argparse.Namespace) -> int:
     else:
         tail = "" if report.complete else f" (stopped at the {args.budget:g} s budget)"
     print(f"{len(report)} found, {report.asked} asked{tail}", flush=True)
+    if report.late:
+        print(f"note: {report.late} answer(s) came after --timeout {args.timeout:g} s had run out (each with "
+              f"the transaction id of an earlier question, so not counted): a slow device or gateway; scan "
+              f"again with a longer --timeout", flush=True)
     return 130 if report.interrupted else 0
 
 
