@@ -151,6 +151,8 @@ def cmd_write(args: argparse.Namespace) -> int:
                   f"{_shown(got, fmt)}")
             return 0
         what = f"{values[0]:#06x} AND, {values[1]:#06x} OR" if fc == 22 else _shown(values, fmt)
+        if args.scale != 1 and not args.map:
+            what = f"{' '.join(args.values)} at scale {args.scale:g}: {what}"
         words = "" if fmt in ("bits", "hex") else f" ({_hex(b''.join(v.to_bytes(2, 'big') for v in values))})"
         print(f"FC {fc} wrote {table} at address {address}: {what}{words}")
         if args.no_read_back or (unit == 0 and args.tcp is None):
