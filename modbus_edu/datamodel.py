@@ -67,6 +67,8 @@ __all__ = [
     "Reference",
     "parse_reference",
     "format_reference",
+    "AddressText",
+    "parse_address_text",
     "table_kind",
 ]
 
@@ -730,3 +732,61 @@ def format_reference(kind: str | int, address: int, digits: int = 5, style: str 
     sep = "x" if style == "x" else ""
     width = digits - 1
     return f"{PREFIXES[kind]}{sep}{number:0{width}d}"
+
+
+# --- an address as a person types it -----------------------------------------------------------------
+@dataclass(frozen=True)
+class AddressText:
+    """What :func:`parse_address_text` read: the 0-based ``address``, the ``reference`` when the text was a
+    reference number (its table then says which functions may use it), else ``None``, and a ``warning``
+    for a plain address that looks like a mistyped reference ('' when none)."""
+
+    address: int
+    reference: Reference | None = None
+    warning: str = ""
+
+
+_TABLE_DIGITS = "0134"
+
+
+def parse_address_text(text: str, what: str = "address") -> AddressText:
+    """An address typed on a command line or in a form: a **reference number** or a plain **address**.
+
+    * 5 or 6 decimal digits whose first digit is a table prefix (0, 1, 3, 4) are a reference number,
+      read by :func:`parse_reference`: ``40001`` and ``400001`` -> holding register 0, ``30001`` ->
+      input register 0, ``10001`` -> discrete input 0, ``00001`` -> coil 0;
+    * ``1x``, ``3x`` or ``4x`` then digits is the x form: ``4x0001`` -> holding register 0
+      (``0x`` stays hexadecimal here: ``0x0010`` is address 16; write a coil as ``00017``);
+    * anything else of fewer digits, or ``0x`` hex, is a plain 0-based protocol address, 0..65535
+      (for a plain address of 10000 and up, write it in hex: ``0x2710``).
+
+    A plain address that looks like a reference with a digit missing (``4001``) or with the table digit
+    that does not exist (``20001``) is still read as an address, with a ``warning`` that says so.
+    """
+    if not isinstance(text, str):
+        raise ReferenceNumberError(f"{what} must be text such as '40001' or '0', got {shown(text)}")
+    raw = text.strip()
+    low = raw.lower()
+    if len(low) >= 3 and low[0] in "134" and low[1] == "x":
+        return AddressText(parse_reference(raw).address, parse_reference(raw))
+    if raw.isascii() and raw.isdigit() and len(raw) in (5, 6) and raw[0] in _TABLE_DIGITS:
+        ref = parse_reference(raw)
+        return AddressText(ref.address, ref)
+    try:
+        address = int(raw, 16) if low.startswith("0x") else int(raw, 10)
+    except ValueError:
+        raise ReferenceNumberError(
+            f"{what} {shown(text)} is neither an address (0..65535, or hex 0x0000..0xFFFF) nor a reference "
+            f"number (40001, 400001, 4x0001)"
+        ) from None
+    if not 0 <= address <= LAST_ADDRESS:
+        raise ReferenceNumberError(f"{what} {shown(text)} is outside 0..65535")
+    warning = ""
+    if raw.isdigit() and len(raw) == 5 and raw[0] == "2":
+        warning = (f"{what} {raw} is read as the 0-based address {address}: there is no 2x table, so it is "
+                   f"not a reference number (coils 0x, discrete inputs 1x, input registers 3x, holding 4x)")
+    elif raw.isdigit() and len(raw) == 4 and raw[0] in "134" and raw[1:3] == "00" and raw[3] != "0":
+        ref = f"{raw[0]}000{raw[3]}"
+        warning = (f"{what} {raw} is read as the 0-based address {address}; if you meant the reference "
+                   f"number {ref} (address {int(raw[3]) - 1}), write {ref} or {raw[0]}x{raw[1:].zfill(4)}")
+    return AddressText(address, None, warning)

@@ -8,7 +8,10 @@ A register map file is CSV with a header row and these columns (``order``, ``sca
 * ``table`` is ``holding`` (read with FC 3) or ``input`` (FC 4);
 * ``address`` is the protocol address (0-based), as it goes on the wire. A datasheet that numbers
   registers from 1 (or as reference numbers 30001/40001) is converted with ``numbering="1-based"``
-  when loading: the file keeps the datasheet's numbers, the map holds addresses;
+  (or ``"reference"``) when loading: the file keeps the datasheet's numbers, the map holds addresses.
+  A file says how it numbers in a line before its header, ``# numbering: reference`` (or ``0-based``,
+  ``1-based``), so that no reader has to guess; a file that does not say, and whose addresses look
+  like reference numbers (30001 in the input table), is refused rather than read from address 30001;
 * ``type`` and ``order`` are those of :mod:`modbus_edu.values` (``uint16`` ... ``float64``,
   ``ABCD`` ``CDAB`` ``BADC`` ``DCBA``); ``scale`` multiplies the raw value (0.1 for "x10" values).
 
@@ -38,6 +41,7 @@ __all__ = [
     "RegisterMap",
     "RegisterMapError",
     "datasheet_to_address",
+    "NUMBERINGS",
     "load_map",
     "plan_polls",
 ]
@@ -276,10 +280,40 @@ def _poll(function: int, group: list[Point]) -> Poll:
     return Poll(function, start, end - start, tuple(group))
 
 
-def load_map(source: str | Path, numbering: str = "0-based", name: str | None = None) -> RegisterMap:
+NUMBERINGS = ("0-based", "1-based", "reference")
+
+
+def _declared_numbering(text: str, where: str) -> str | None:
+    """The numbering a file names in a comment line before its header (``# numbering: reference``)."""
+    for line_number, line in enumerate(text.splitlines(), 1):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if not stripped.startswith("#"):
+            return None
+        key, sep, value = stripped.lstrip("#").partition(":")
+        if sep and key.strip().lower() == "numbering":
+            value = value.strip().lower()
+            if value not in NUMBERINGS:
+                raise RegisterMapError(f"{where} line {line_number}: numbering {shown(value)} must be one of "
+                                       f"{', '.join(NUMBERINGS)}")
+            return value
+    return None
+
+
+def _looks_like_reference(table: str, number: int) -> bool:
+    prefix = 3 if table == "input" else 4
+    return (prefix * 10000 + 1 <= number <= prefix * 10000 + 9999
+            or prefix * 100000 + 1 <= number <= prefix * 100000 + 65536)
+
+
+def load_map(source: str | Path, numbering: str | None = None, name: str | None = None) -> RegisterMap:
     """Load a CSV register map from a path (or from CSV text if ``source`` contains a newline).
 
-    ``numbering`` says how the file's ``address`` column counts (see :func:`datasheet_to_address`).
+    ``numbering`` says how the file's ``address`` column counts (see :func:`datasheet_to_address`);
+    the file may say it itself, in a line ``# numbering: reference`` before its header. Both given and
+    different is an error; neither given means ``"0-based"``, unless the addresses look like
+    reference numbers (30001 in the input table, 40001 in the holding table): then the file must say.
     """
     if isinstance(source, str) and "\n" in source:
         text, where = source.removeprefix("\ufeff"), name or "<text>"
@@ -294,6 +328,11 @@ def load_map(source: str | Path, numbering: str = "0-based", name: str | None = 
         if len(data) > MAX_FILE_BYTES:
             raise RegisterMapError(f"{where}: larger than {MAX_FILE_BYTES // 2**20} MiB: not a register map")
         text = _decode_text(data, where)
+    declared = _declared_numbering(text, where)
+    if numbering is not None and declared is not None and numbering != declared:
+        raise RegisterMapError(f"{where} says '# numbering: {declared}', but numbering={numbering!r} was "
+                               f"asked for: drop one, or make them agree")
+    chosen = numbering or declared or "0-based"
     try:
         rows = list(csv.reader(io.StringIO(text)))
     except csv.Error as exc:
@@ -327,8 +366,26 @@ def load_map(source: str | Path, numbering: str = "0-based", name: str | None = 
     for line, row in rows[1:]:
         if len(row) != len(header):
             raise RegisterMapError(f"{where} line {line}: {len(row)} fields, the header has {len(header)}")
-        points.append(_point(dict(zip(header, (c.strip() for c in row))), f"{where} line {line}", numbering))
+        cells = dict(zip(header, (c.strip() for c in row)))
+        if numbering is None and declared is None:
+            _refuse_a_guess(cells, f"{where} line {line}")
+        points.append(_point(cells, f"{where} line {line}", chosen))
     return RegisterMap(points, name=where)
+
+
+def _refuse_a_guess(cells: dict[str, str], where: str) -> None:
+    """A file that does not name its numbering, whose address looks like a reference number: refused."""
+    try:
+        number = int(cells["address"], 0)
+    except ValueError:
+        return  # _point says what is wrong with it
+    table = cells["table"].lower()
+    if table in _TABLES and _looks_like_reference(table, number):
+        raise RegisterMapError(
+            f"{where}: address {number} looks like a reference number ({table} table), but the file does "
+            f"not say how it numbers: add the line '# numbering: reference' before the header (or "
+            f"'# numbering: 0-based' if {number} really is the protocol address), or pass numbering="
+        )
 
 
 def _point(row: dict[str, str], where: str, numbering: str) -> Point:

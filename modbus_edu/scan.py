@@ -19,7 +19,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ._optional import load_tqdm
-from .errors import ConfigError, LinkError, ModbusError, ModbusExceptionError, ModbusTimeoutError, shown
+from .errors import (
+    ConfigError,
+    LinkError,
+    ModbusError,
+    ModbusExceptionError,
+    ModbusTimeoutError,
+    TransactionMismatchError,
+    shown,
+)
 from .links.base import Link
 from .master import Master
 from .master_steps import Steps, arun_steps, run_steps
@@ -44,6 +52,10 @@ class ScanReport:
     asked: int = 0
     complete: bool = True
     elapsed: float = 0.0
+    interrupted: bool = False
+    late: int = 0
+    """Answers that came after their question had timed out (another transaction's): not counted as
+    units found, but a sign that the timeout is shorter than the device's (or the gateway's) answer."""
 
     def __iter__(self):
         return iter(self.hits)
@@ -60,7 +72,9 @@ def _probe(master: Master, unit: int) -> Steps:
         if exc.code in (0x0A, 0x0B):  # a gateway saying: nobody there
             return None
         return f"exception {exc.code:02X} ({exc.meaning})"
-    except (ModbusTimeoutError, LinkError):
+    except (ModbusTimeoutError, LinkError, TransactionMismatchError):
+        # TransactionMismatchError: only frames for other requests came (a late answer of the unit asked
+        # before, through a gateway): that says nothing about this unit
         return None
     except ModbusError as exc:  # a garbled answer: something is there, maybe at other settings
         return f"garbled answer: {exc}"
@@ -77,7 +91,9 @@ def _scan_setting(master: Master, units: list[int], setting: dict[str, Any], bud
             if report.elapsed + (clock.now - start) >= budget:
                 report.complete = False
                 return False
+            before = master.stats.mismatches
             answer = yield from _probe(master, unit)
+            report.late += master.stats.mismatches - before
             report.asked += 1
             bar.update(1)
             if answer is not None:
@@ -96,6 +112,7 @@ def scan(
     timeout: float = 0.1,
     budget: float = 60.0,
     progress: bool = False,
+    log: Any = None,
 ) -> ScanReport:
     """Ask every unit in ``units`` under every line setting; return who answered.
 
@@ -103,6 +120,9 @@ def scan(
     dict in ``settings`` (e.g. ``lambda **s: mb.serial_link("/dev/ttyUSB0", **s)`` with
     ``settings=[{"baudrate": 9600, "parity": "N"}, {"baudrate": 19200, "parity": "E"}]``).
     ``timeout`` is each question's wait; ``budget`` bounds the whole scan (seconds on the link's clock).
+    ``log``: a :class:`~modbus_edu.traffic.TrafficLog` that records every question and answer.
+    A KeyboardInterrupt (Ctrl-C) ends the scan early: the report keeps what was found, with
+    ``complete`` False and ``interrupted`` True.
     """
     units, settings, tqdm = _check(link, units, settings, timeout, budget)
     report = ScanReport()
@@ -111,12 +131,15 @@ def scan(
         for setting in settings:
             current = link if isinstance(link, Link) else link(**setting)
             try:
-                master = Master(current, timeout=timeout)
+                master = _master(current, timeout, log)
                 if not run_steps(current, _scan_setting(master, units, setting, budget, report, bar)):
                     break
             finally:
                 if current is not link:
                     current.close()
+    except KeyboardInterrupt:
+        report.complete = False
+        report.interrupted = True
     finally:
         bar.close()
     return report
@@ -130,6 +153,7 @@ async def ascan(
     timeout: float = 0.1,
     budget: float = 60.0,
     progress: bool = False,
+    log: Any = None,
 ) -> ScanReport:
     """:func:`scan`, awaited: for a link whose bytes come through the event loop (the browser's serial
     port: ``await mb.ascan(port, range(1, 11))`` in a notebook cell). The same questions, the same
@@ -141,15 +165,26 @@ async def ascan(
         for setting in settings:
             current = link if isinstance(link, Link) else link(**setting)
             try:
-                master = Master(current, timeout=timeout)
+                master = _master(current, timeout, log)
                 if not await arun_steps(current, _scan_setting(master, units, setting, budget, report, bar)):
                     break
             finally:
                 if current is not link:
                     current.close()
+    except KeyboardInterrupt:
+        report.complete = False
+        report.interrupted = True
     finally:
         bar.close()
     return report
+
+
+def _master(link: Link, timeout: float, log: Any) -> Master:
+    """The scan's master on one link, recording into ``log`` where one is given."""
+    master = Master(link, timeout=timeout)
+    if log is not None:
+        master.log = log
+    return master
 
 
 def _check(link: Any, units: Iterable[int], settings: Sequence[dict[str, Any]] | None, timeout: float,

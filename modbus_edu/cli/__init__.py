@@ -7,7 +7,10 @@ Subcommands::
     modbus-edu decode FRAME...       a frame dissected field by field (or as JSON)
     modbus-edu build ...             a frame built from its fields, in hex, with its dissection
     modbus-edu serve DEVICE ...      a simulated device (power meter, Arduino, plain bank) on TCP or serial
-    modbus-edu poll ...              read a real device again and again, with statistics and CSV
+    modbus-edu poll ...              read a real device again and again: a live table, statistics, CSV
+    modbus-edu write ...             write coils or registers (FC 5, 6, 15, 16, 22, 23) and read them back
+    modbus-edu capture FILE          the Modbus exchanges of a pcap/pcapng capture, decoded and paired
+    modbus-edu ports                 the serial ports of this computer
 
 Every subcommand has ``--help``.  ``--verbose`` (``-v``) shows the traffic (or the CRC step by step).
 
@@ -27,6 +30,7 @@ from collections.abc import Sequence
 from .. import __version__
 from ..errors import ModbusError
 from .build import _options_build, cmd_build
+from .capture import _options_capture, cmd_capture
 from .common import PROG, CliError, _common, _one_line, _Parser, parse_endpoint
 from .crc import _options_crc, cmd_crc
 from .decode import _options_decode, cmd_decode
@@ -35,8 +39,10 @@ from .grade import _options_grade, cmd_grade
 from .identify import _options_identify, cmd_identify
 from .lrc import _options_lrc, cmd_lrc
 from .poll import _options_poll, cmd_poll
+from .ports import _options_ports, cmd_ports
 from .scan import _options_scan, cmd_scan
 from .serve import _options_serve, cmd_serve
+from .write import _options_write, cmd_write
 
 __all__ = ["main", "build_parser", "parse_endpoint"]
 
@@ -66,9 +72,12 @@ def build_parser() -> argparse.ArgumentParser:
         (_options_build, cmd_build),
         (_options_serve, cmd_serve),
         (_options_poll, cmd_poll),
+        (_options_write, cmd_write),
         (_options_identify, cmd_identify),
         (_options_gateway, cmd_gateway),
         (_options_scan, cmd_scan),
+        (_options_capture, cmd_capture),
+        (_options_ports, cmd_ports),
         (_options_grade, cmd_grade),
     ):
         sub = add(subs)

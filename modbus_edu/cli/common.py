@@ -5,18 +5,23 @@ and options, the wire and TLS options, the link a client subcommand opens, and t
 from __future__ import annotations
 
 import argparse
+import csv
+import os
 import signal
+import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn, TextIO
 
 from .. import pdu as _pdu
 from .. import security
 from ..codes import _hex
+from ..datamodel import parse_address_text
 from ..errors import ConfigError, ModbusError, shown
 from ..explain import explain
 from ..framing import parse_hex
 from ..links.serial import serial_link
 from ..links.tcp_client import tcp_link
+from ..master import Master
 from ..traffic import Traffic, TrafficLog
 
 PROG = "modbus-edu"
@@ -113,6 +118,7 @@ def _function(text: str) -> int:
     key = text.strip().lower().replace("-", "_").replace(" ", "_")
     if key.startswith("fc"):
         key = key[2:]
+    codes = ", ".join(str(c) for c in sorted(_pdu.REQUEST_CLASSES))
     try:
         code = int(key, 0)
     except ValueError:
@@ -120,16 +126,85 @@ def _function(text: str) -> int:
         if key in names:
             return names[key]
         raise ConfigError(
-            f"unknown function {shown(text)}: give a code (1, 2, 3, 4, 5, 6, 7, 15, 16, 17, 22, 23) "
-            f"or a name "
-            f"such as read_holding_registers"
+            f"unknown function {shown(text)}: give a code ({codes}) or a name such as read_holding_registers"
         ) from None
     if code not in _pdu.REQUEST_CLASSES:
         raise ModbusError(
-            f"function {code} (0x{code:02X}) is not one of the eight this library builds: "
-            f"1, 2, 3, 4, 5, 6, 15, 16"
+            f"function {code} (0x{code:02X}) is not one of the {len(_pdu.REQUEST_CLASSES)} this library "
+            f"builds: {codes}"
         )
     return code
+
+
+#: The table each function code reads or writes, in reference-number words.
+TABLE_OF_FUNCTION = {1: "coils", 2: "discrete_inputs", 3: "holding_registers", 4: "input_registers",
+                     5: "coils", 15: "coils", 6: "holding_registers", 16: "holding_registers",
+                     22: "holding_registers", 23: "holding_registers"}
+#: The function that reads each table.
+READ_FUNCTION = {"coils": 1, "discrete_inputs": 2, "holding_registers": 3, "input_registers": 4}
+ADDRESS_HELP = ("0-based address (0, 100, 0x64), or a reference number: 5 or 6 digits with the table's "
+                "digit first (40001 = holding register 0, 30001 input, 10001 discrete input, 00001 coil; "
+                "400001; 4x0001), which also chooses the function")
+
+
+def _address(text: str, option: str = "--address") -> tuple[int, str | None]:
+    """``--address``: (0-based address, the table a reference number names or None); a plain address
+    that looks like a mistyped reference is read as given, with a warning on stderr."""
+    parsed = parse_address_text(text, option)
+    if parsed.warning:
+        print(f"{PROG}: warning: {parsed.warning}", file=sys.stderr, flush=True)
+    return parsed.address, parsed.reference.kind if parsed.reference is not None else None
+
+
+def _table_words(kind: str) -> str:
+    return kind.replace("_", " ")
+
+
+def _check_table(fc: int, kind: str | None, text: str, option: str = "--address") -> None:
+    """A reference number's table must be the one ``fc`` works on: a clear error when they differ."""
+    if kind is None or TABLE_OF_FUNCTION.get(fc) == kind:
+        return
+    want = _table_words(TABLE_OF_FUNCTION.get(fc, "no table"))
+    raise ConfigError(f"{option} {text.strip()} is a reference to the {_table_words(kind)}, but --function "
+                      f"{fc} works on the {want}: drop --function (the reference chooses it) or give a "
+                      f"{want} reference")
+
+
+def _parity(args: argparse.Namespace) -> str:
+    """--parity, or the line's usual one: 7E1 for Modbus ASCII, 8N1 for RTU."""
+    if args.parity:
+        return args.parity
+    return "E" if getattr(args, "mode", "rtu") == "ascii" else "N"
+
+
+def _open_csv(path: str, header: list[str], overwrite: bool = False,
+              append: bool = False) -> tuple[TextIO, Any]:
+    """A CSV log: refuses to replace a file with data unless ``overwrite``; with ``append`` adds rows
+    to it (the header is written once, and must match the file's)."""
+    if overwrite and append:
+        raise ConfigError("--append or --overwrite, not both")
+    exists = os.path.exists(path) and os.path.getsize(path) > 0
+    if exists and not (overwrite or append):
+        raise ConfigError(f"{path} already exists: add --append to add rows to it or --overwrite to "
+                          f"replace it")
+    if exists and append:
+        with open(path, newline="", encoding="utf-8") as old:
+            first = next(csv.reader([old.readline()]), [])
+        if first != header:
+            raise ConfigError(f"{path} has other columns ({','.join(first)[:80]}); --append needs the same "
+                              f"header ({','.join(header)[:80]}): choose another file or --overwrite")
+    file = open(path, "a" if append else "w", newline="", encoding="utf-8")  # noqa: SIM115 - caller closes
+    writer = csv.writer(file)
+    if not (exists and append):
+        writer.writerow(header)
+        file.flush()
+    return file, writer
+
+
+def _csv_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--csv", metavar="FILE", help="also write every poll to this CSV file")
+    parser.add_argument("--append", action="store_true", help="--csv: add rows to an existing file")
+    parser.add_argument("--overwrite", action="store_true", help="--csv: replace an existing file")
 
 
 class _EchoLog(TrafficLog):
@@ -193,13 +268,32 @@ def _open_link(args: argparse.Namespace) -> Any:
     if args.tcp is not None and args.serial is not None:
         raise ConfigError("choose one wire: --tcp HOST:PORT or --serial URL, not both")
     if args.serial is not None:
-        return serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
+        return serial_link(args.serial, baudrate=args.baud or 9600, parity=_parity(args),
                            stopbits=args.stopbits, mode=args.mode)
     if args.tcp is None:
         raise ConfigError("which device? give --tcp HOST:PORT or --serial URL")
 
     host, port = parse_endpoint(args.tcp)
     return tcp_link(host, port, timeout=args.timeout, tls=_tls_context(args, "client"))
+
+
+def _master_options(parser: argparse.ArgumentParser, timeout: float = 1.0) -> None:
+    """--timeout and --retries of a subcommand that asks a device."""
+    parser.add_argument("--timeout", type=float, default=timeout,
+                        help=f"response timeout, seconds (default {timeout:g})")
+    parser.add_argument("--retries", type=int, default=0, metavar="N",
+                        help="ask again up to N times after a timeout or a bad answer (default 0)")
+
+
+def _master(args: argparse.Namespace, link: Any) -> Any:
+    """The Master a client subcommand asks through: --timeout, --retries, and -v's traffic on stderr."""
+    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
+    if not 0 <= args.retries <= 100:
+        raise ConfigError(f"--retries must be 0..100, got {args.retries}")
+    master = Master(link, timeout=args.timeout, retries=args.retries)
+    if getattr(args, "verbose", False):
+        master.log = _EchoLog(sys.stderr)
+    return master
 
 
 class _Parser(argparse.ArgumentParser):
@@ -229,11 +323,12 @@ def _wire_options(parser: argparse.ArgumentParser, serve: bool) -> None:
                       help="a serial port or pyserial URL: /dev/ttyUSB0, COM3, rfc2217://host:port")
     wire.add_argument("--baud", type=_baud, metavar="N",
                       help="serial baud rate (default 9600; serve meter: 19200, as in the power-meter paper)")
-    wire.add_argument("--parity", choices=["N", "E", "O"], default="N", type=str.upper,
-                      help="serial parity (default N)")
+    wire.add_argument("--parity", choices=["N", "E", "O"], default=None, type=str.upper,
+                      help="serial parity (default N for rtu, E for ascii: 8N1 and 7E1)")
     wire.add_argument("--stopbits", type=int, choices=[1, 2], default=1, help="serial stop bits (default 1)")
     wire.add_argument("--mode", choices=["rtu", "ascii"], default="rtu",
                       help="serial framing (default rtu)")
+
 
 
 def _tls_options(parser: argparse.ArgumentParser, serve: bool) -> None:

@@ -13,6 +13,7 @@ from .common import (
     _authorization,
     _check_seconds,
     _install_stop_signals,
+    _parity,
     _tcp_name,
     _tls_context,
     _tls_options,
@@ -29,7 +30,7 @@ def cmd_gateway(args: argparse.Namespace) -> int:
     host, port = parse_endpoint(args.tcp)
     authorization, roles = _authorization(args)
     tls = _tls_context(args, "server")
-    link = serial_link(args.serial, baudrate=args.baud or 9600, parity=args.parity,
+    link = serial_link(args.serial, baudrate=args.baud or 9600, parity=_parity(args),
                        stopbits=args.stopbits, mode=args.mode)
     _install_stop_signals()
     gateway = TcpGateway(link, host=host, port=port, timeout=args.timeout, tls=tls,

@@ -8,16 +8,14 @@ from typing import Any
 from .. import pdu as _pdu
 from ..codes import _hex, _printable
 from ..errors import ModbusExceptionError
-from ..master import Master
-from .common import _check_seconds, _int, _open_link, _wire_options
+from .common import _int, _master, _master_options, _open_link, _wire_options
 
 
 def cmd_identify(args: argparse.Namespace) -> int:
     unit = _int(args.unit, "--unit", 0 if args.tcp is not None else 1, 255 if args.tcp is not None else 247)
-    _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
     link = _open_link(args)
     try:
-        master = Master(link, timeout=args.timeout)
+        master = _master(args, link)
         try:
             objects = master.read_device_identification(unit, read_code=3)
         except ModbusExceptionError as exc:
@@ -25,6 +23,12 @@ def cmd_identify(args: argparse.Namespace) -> int:
                 raise
             print(f"unit {unit} does not answer Read Device Identification (FC 43/14): exception 01; "
                   "asking Report Server ID (FC 17)")
+            print(_server_id_text(master.report_server_id(unit)))
+            return 0
+        if not objects:
+            print(f"unit {unit} answers Read Device Identification (FC 43/14) with no objects at all (even "
+                  "the three basic ones, vendor, product code and revision, are mandatory); asking Report "
+                  "Server ID (FC 17)", flush=True)
             print(_server_id_text(master.report_server_id(unit)))
             return 0
         for object_id, value in sorted(objects.items()):
@@ -55,5 +59,5 @@ def _options_identify(subs: Any) -> argparse.ArgumentParser:
                                     "identify --tcp 127.0.0.1:5020")
     _wire_options(p, serve=False)
     p.add_argument("--unit", default="1", help="unit identifier / slave address (default 1)")
-    p.add_argument("--timeout", type=float, default=1.0, help="response timeout, seconds (default 1)")
+    _master_options(p)
     return p

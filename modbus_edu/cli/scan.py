@@ -3,11 +3,23 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import Any
 
 from ..links.serial import serial_link
 from ..scan import scan
-from .common import CliError, _baud, _check_seconds, _int, _open_link, _split_values, _wire_options
+from .common import (
+    CliError,
+    _baud,
+    _check_seconds,
+    _EchoLog,
+    _install_stop_signals,
+    _int,
+    _open_link,
+    _parity,
+    _split_values,
+    _wire_options,
+)
 
 
 def _units(text: str) -> range:
@@ -29,7 +41,7 @@ def _line_settings(args: argparse.Namespace) -> list[dict[str, Any]]:
             bauds = [_baud(item) for item in _split_values(args.bauds)]
         except argparse.ArgumentTypeError as exc:
             raise CliError(f"--bauds: {exc}") from None
-    parities = [args.parity]
+    parities = [_parity(args)]
     if args.parities:
         parities = [item.upper() for item in _split_values(args.parities)]
         wrong = [item for item in parities if item not in ("N", "E", "O")]
@@ -43,6 +55,8 @@ def cmd_scan(args: argparse.Namespace) -> int:
     units = _units(args.units)
     _check_seconds(args.timeout, "--timeout", 0.001, 3_600)
     _check_seconds(args.budget, "--budget", 0.001, 86_400)
+    log = _EchoLog(sys.stderr) if args.verbose else None
+    _install_stop_signals()  # Ctrl-C, and SIGINT to a background job, stop the scan and keep what it found
     if args.serial is not None and args.tcp is None:
         settings = _line_settings(args)
 
@@ -50,19 +64,26 @@ def cmd_scan(args: argparse.Namespace) -> int:
             return serial_link(args.serial, stopbits=args.stopbits, mode=args.mode, **setting)
 
         report = scan(opener, units, settings=settings, timeout=args.timeout, budget=args.budget,
-                      progress=True)
+                      progress=True, log=log)
     else:
         link = _open_link(args)
         try:
-            report = scan(link, units, timeout=args.timeout, budget=args.budget, progress=True)
+            report = scan(link, units, timeout=args.timeout, budget=args.budget, progress=True, log=log)
         finally:
             link.close()
     for hit in report:
         where = ", ".join(f"{k} {v}" for k, v in hit.settings.items())
         print(f"unit {hit.unit:3d}{'  ' + where if where else ''}: {hit.answer}")
-    tail = "" if report.complete else f" (stopped at the {args.budget:g} s budget)"
-    print(f"{len(report)} found, {report.asked} asked{tail}")
-    return 0
+    if report.interrupted:
+        tail = " (interrupted)"
+    else:
+        tail = "" if report.complete else f" (stopped at the {args.budget:g} s budget)"
+    print(f"{len(report)} found, {report.asked} asked{tail}", flush=True)
+    if report.late:
+        print(f"note: {report.late} answer(s) came after --timeout {args.timeout:g} s had run out (each with "
+              f"the transaction id of an earlier question, so not counted): a slow device or gateway; scan "
+              f"again with a longer --timeout", flush=True)
+    return 130 if report.interrupted else 0
 
 
 def _options_scan(subs: Any) -> argparse.ArgumentParser:

@@ -154,7 +154,11 @@ def dispatch(slaves: Mapping[int | None, Slave], frame: bytes, lock: threading.L
     unit = frame[6]
     slave, direct = route_unit(slaves, unit)
     if slave is None:  # nobody at that unit (or unit 0 at a gateway): tell the client at once
-        return exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND), False
+        reply = exception_reply(frame, GATEWAY_TARGET_DEVICE_FAILED_TO_RESPOND)
+        if log.isEnabledFor(logging.DEBUG):
+            log.debug("no slave at unit %d: %s answered 0x0B with %s", unit, frame.hex(" ").upper(),
+                      reply.hex(" ").upper() if reply else "nothing")
+        return reply, False
     try:
         with lock:
             if direct and hasattr(slave, "handle_direct"):  # unit 0 / 0xFF: the device itself
