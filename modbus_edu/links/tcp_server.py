@@ -42,9 +42,11 @@ import time
 from collections import deque
 from typing import Any
 
+from .. import platform
 from ..clock import RealClock
 from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..platform import require_sockets
+from .in_page import in_page_server
 from .routing import (
     SERVER_DEVICE_FAILURE,
     _units_text,
@@ -133,6 +135,13 @@ class TcpServer(_Listener, _Requests, _ServerTls):
     Settings of the wrong kind (``host=5``, ``port="502"``, ``idle_timeout="x"``, ...) raise
     :class:`~modbus_edu.errors.ConfigError` at once, saying what was expected.
     """
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Any:
+        """In a browser, the server of one page's roles (:mod:`~modbus_edu.links.in_page`) on a loopback
+        address, or a one-line :class:`~modbus_edu.errors.BrowserError` for what a page cannot do."""
+        if platform.IN_BROWSER:
+            return in_page_server(*args, **kwargs)
+        return super().__new__(cls)
 
     @guard_numbers
     def __init__(
