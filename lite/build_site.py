@@ -214,7 +214,9 @@ def write_config(lite_dir: Path, wheels: list[Path], offline: bool) -> None:
         settings["pyodideUrl"] = CDN
     (lite_dir / "jupyter-lite.json").write_text(json.dumps({
         "jupyter-lite-schema-version": 0,
-        "jupyter-config-data": {"appName": "modbus_edu", "litePluginSettings": {KERNEL_PLUGIN: settings}},
+        # exposeAppInBrowser: the page script (lite/page.js) reaches the notebooks as window.jupyterapp
+        "jupyter-config-data": {"appName": "modbus_edu", "exposeAppInBrowser": "true",
+                                "litePluginSettings": {KERNEL_PLUGIN: settings}},
     }, indent=1))
     # every cell stays in the page (no windowing): the browser's find and a screen reader see the whole
     # notebook, and a test reads every cell's prompt and output
@@ -248,7 +250,32 @@ def build(wheels_dir: Path, out: Path, offline: bool, work: Path) -> None:
                     "--output-dir", str(out.resolve()),
                     "--settings-overrides", str(lite_dir / "overrides.json"), "--no-sourcemaps"],
                    check=True, cwd=lite_dir)
+    add_page_script(out, offline)
     print(f"built {out} ({'offline' if offline else f'published, Pyodide from {CDN}'})")
+
+
+PAGE_SCRIPT = "modbus_edu_page.js"
+PAGES = ["lab", "notebooks"]  # the pages a learner opens a notebook in
+CDN_PROBE_TIMEOUT_S = 15
+"""Published: how long the page waits for Pyodide's CDN to answer before it says the CDN is out of reach."""
+START_BOUND_S = {"published": 120, "offline": 300}
+"""How long the page lets a kernel take to start before it says so (offline: a slow computer, no network)."""
+
+
+def add_page_script(out: Path, offline: bool) -> None:
+    """The course's page script (lite/page.js) into the site, and a tag for it in the notebook pages: a
+    cell that stops is scrolled into view and the busy indicator follows the kernel; a kernel that cannot
+    start (the published site's CDN out of reach) is said in the page, with the offline site and Binder."""
+    settings = {"cdn": "" if offline else CDN, "binder": BINDER, "probe_timeout_s": CDN_PROBE_TIMEOUT_S,
+                "start_bound_s": START_BOUND_S["offline" if offline else "published"]}
+    script = (ROOT / "lite" / "page.js").read_text(encoding="utf-8")
+    (out / PAGE_SCRIPT).write_text(script.replace("__SETTINGS__", json.dumps(settings)), encoding="utf-8")
+    tag = f'<script src="../{PAGE_SCRIPT}" defer></script>'
+    for page in PAGES:
+        index = out / page / "index.html"
+        html = index.read_text(encoding="utf-8")
+        if tag not in html:
+            index.write_text(html.replace("</head>", f"  {tag}\n</head>", 1), encoding="utf-8")
 
 
 def main() -> None:

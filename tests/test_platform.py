@@ -34,9 +34,9 @@ def _pymodbus_server():
 
 
 @pytest.mark.parametrize("what, start", [
-    ("TcpServer", lambda: mb.TcpServer(mb.Slave(unit=1))),
+    ("TcpServer", lambda: mb.TcpServer(mb.Slave(unit=1), host="0.0.0.0")),  # 127.0.0.1: in the page
     ("UdpServer", lambda: mb.UdpServer(mb.Slave(unit=1))),
-    ("tcp_link", lambda: mb.tcp_link("127.0.0.1", 502)),
+    ("tcp_link", lambda: mb.tcp_link("192.0.2.10", 502)),  # a device: 127.0.0.1 reaches the page's servers
     ("udp_link", lambda: mb.udp_link("127.0.0.1", 502)),
     ("pymodbus_server", _pymodbus_server),
     ("TcpGateway", lambda: mb.TcpGateway(mb.loopback_serial())),

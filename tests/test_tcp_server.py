@@ -86,7 +86,7 @@ def test_binding_beyond_loopback_warns_that_modbus_tcp_has_no_authentication(cap
     assert "no authentication" not in caplog.text
     # A server that does listen beyond loopback says so once it listens. (It really binds 127.0.0.1 here:
     # the test only makes the server believe the address is reachable from other computers.)
-    import modbus_edu.links.tcp_server as tcp_module
+    import modbus_edu.links.tcp_listener as tcp_module
 
     monkeypatch.setattr(tcp_module, "is_loopback_host", lambda host: False)
     with caplog.at_level(logging.WARNING, logger="modbus_edu.tcp"), TcpServer(Slave(), host="127.0.0.1"):

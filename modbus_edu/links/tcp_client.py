@@ -15,11 +15,13 @@ import time
 from collections import deque
 from typing import Any
 
+from .. import platform
 from ..clock import Clock, RealClock
 from ..errors import ConfigError, LinkError, guard_numbers, shown
 from ..framing import splitter_for
 from ..platform import require_sockets
 from .base import READ_CHUNK, Link
+from .in_page import in_page_link
 from .sockets import FRAMINGS, _check_host, _close_socket, _is_int, _positive_seconds
 from .tls import WOULD_BLOCK, SSLError, check_context, client_handshake, pending, tls_failure
 
@@ -259,6 +261,8 @@ def tcp_link(host: str, port: int = 502, *, timeout: float = 3.0, framing: str =
     (port 802 by convention); a handshake that fails (the server's certificate expired, another
     authority's, another host's; ours refused) raises :class:`~modbus_edu.errors.LinkError` saying why.
     """
+    if platform.IN_BROWSER:  # the server of a role of this page, or a one-line BrowserError
+        return in_page_link(host, port, framing=framing, tls=tls)
     require_sockets("a link to a Modbus/TCP device (tcp_link)")
     return TcpLink(host, port, timeout=timeout, framing=framing, tls=tls)
 

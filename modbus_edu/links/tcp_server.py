@@ -25,11 +25,15 @@ and logs a warning when it is told otherwise.
 ``tls=`` (an ``ssl.SSLContext`` from :mod:`modbus_edu.security`) turns the server into *Modbus/TCP
 Security*: the same frames inside mutual TLS, each client known by its certificate and its role, and
 ``authorization=`` deciding what each role may do (:mod:`modbus_edu.links.tls` holds the handshakes).
+
+The server is one class over three rooms: :mod:`~modbus_edu.links.tcp_listener` (the listening socket:
+bind, accept, evict), :mod:`~modbus_edu.links.tcp_requests` (each connection's bytes and deadlines) and
+:mod:`~modbus_edu.links.tcp_server_tls` (Modbus/TCP Security); this module holds its settings, its life
+cycle, its loop and where each request goes (a slave, or an asynchronous slave such as a gateway).
 """
 
 from __future__ import annotations
 
-import errno
 import logging
 import selectors
 import socket
@@ -38,14 +42,11 @@ import time
 from collections import deque
 from typing import Any
 
+from .. import platform
 from ..clock import RealClock
-from ..codes import MBAP_HEADER_SIZE
 from ..errors import ConfigError, LinkError, guard_numbers, shown
-from ..framing import TcpSplitter, splitter_for
-from ..framing.tcp import is_one_frame
-from ..pdu import REQUEST_CLASSES
 from ..platform import require_sockets
-from ..security import load_x509, role_of
+from .in_page import in_page_server
 from .routing import (
     SERVER_DEVICE_FAILURE,
     _units_text,
@@ -53,28 +54,18 @@ from .routing import (
     exception_reply,
     normalize_slaves,
 )
-from .sockets import FRAMINGS, _check_host, _close_socket, _is_int, _positive_seconds, is_loopback_host
+from .sockets import FRAMINGS, _check_host, _is_int, _positive_seconds
 from .tcp_connection import TcpServerCounters, _Connection
-from .tls import WOULD_BLOCK, ServerHandshake, TlsRefused, check_context, pending
+from .tcp_listener import _Listener
+from .tcp_requests import _MAX_PENDING_OUTPUT, _MAX_QUEUED, _READ_SIZE, _Requests
+from .tcp_server_tls import _ServerTls
 
 __all__ = ["TcpServer", "TcpServerCounters"]
-
-
-#: Stop reading from a client whose unsent responses pile up beyond this (it does not read its socket).
-_MAX_PENDING_OUTPUT = 64 * 1024
-#: The most bytes one read takes from a client: with :data:`_MAX_QUEUED`, what a connection may hold.
-_READ_SIZE = 4096
-#: RTU over TCP reads less at a time: junk costs the RTU splitter more per byte (it looks for a CRC).
-_SERIAL_READ_SIZE = 512
-#: Stop reading from a client with this many whole requests waiting for their turn (it pipelines).
-_MAX_QUEUED = 16
-#: RTU/ASCII over TCP: bytes that never become a frame before a connection is closed as not Modbus.
-_MAX_JUNK = 1024
 
 _log = logging.getLogger("modbus_edu.tcp")
 
 
-class TcpServer:
+class TcpServer(_Listener, _Requests, _ServerTls):
     """A Modbus/TCP server for the course's slaves, running in a background thread.
 
     ``slaves`` is one :class:`~modbus_edu.slave.Slave`, a list of them, or a dict unit -> Slave. Each
@@ -144,6 +135,13 @@ class TcpServer:
     Settings of the wrong kind (``host=5``, ``port="502"``, ``idle_timeout="x"``, ...) raise
     :class:`~modbus_edu.errors.ConfigError` at once, saying what was expected.
     """
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Any:
+        """In a browser, the server of one page's roles (:mod:`~modbus_edu.links.in_page`) on a loopback
+        address, or a one-line :class:`~modbus_edu.errors.BrowserError` for what a page cannot do."""
+        if platform.IN_BROWSER:
+            return in_page_server(*args, **kwargs)
+        return super().__new__(cls)
 
     @guard_numbers
     def __init__(
@@ -225,48 +223,8 @@ class TcpServer:
         self._warned: dict[str, tuple[float, int]] = {}  # key -> (last warning time, suppressed since)
         self.address: tuple[str, int] | None = None
 
-    # ---------------------------------------------------------------- life cycle
-    def _bind(self) -> None:
-        if self._listener is not None:
-            return
-        if self._closed:
-            raise LinkError("this TcpServer was closed; create a new one to serve again")
-        try:
-            infos = socket.getaddrinfo(self.host, self.port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
-        except socket.gaierror as exc:
-            raise LinkError(f"cannot listen on {self.host!r}: unknown host name ({exc.strerror})") from exc
-        family, socktype, proto, _, sockaddr = infos[0]
-        listener = socket.socket(family, socktype, proto)
-        try:
-            listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-            listener.bind(sockaddr)
-            listener.listen(128)
-            listener.setblocking(False)
-        except OSError as exc:
-            listener.close()
-            hint = ""
-            if exc.errno == errno.EADDRINUSE:
-                hint = " - another program already listens there; pick another port (port=0 picks a free one)"
-            elif exc.errno == errno.EACCES:
-                hint = " - ports below 1024 (such as 502) need administrator rights; try 5020"
-            raise LinkError(f"cannot listen on {self.host}:{self.port}: {exc.strerror}{hint}") from exc
-        if not is_loopback_host(self.host) and self.tls is None:  # said once it really listens
-            self.log.warning(
-                "Modbus/TCP server listening on %s, which is reachable from other computers: "
-                "Modbus/TCP has no authentication and no encryption - anyone who can reach this "
-                "port can read and write every register. Use 127.0.0.1 unless you mean it.",
-                self.host,
-            )
-        self._listener = listener
-        self.address = listener.getsockname()[:2]
-        self._selector = selectors.DefaultSelector()
-        self._wake_r, self._wake_w = socket.socketpair()
-        self._wake_r.setblocking(False)
-        self._wake_w.setblocking(False)
-        self._selector.register(listener, selectors.EVENT_READ, None)
-        self._selector.register(self._wake_r, selectors.EVENT_READ, None)
-        self.log.info("Modbus/TCP server listening on %s:%d", *self.address)
 
+    # ---------------------------------------------------------------- life cycle
     def start(self) -> TcpServer:
         """Bind the listening socket and serve from a background (daemon) thread. Returns self."""
         if self._closed:
@@ -408,250 +366,6 @@ class TcpServer:
         finally:
             self._cleanup()
 
-    def _deadlines(self, conn: _Connection) -> float:
-        """When something must happen to ``conn`` if nothing changes: its TLS handshake's deadline, its
-        idle timeout, its unfinished request's deadline, or (RTU over TCP) the quiet gap that ends an
-        unfinished frame."""
-        due = float("inf") if conn.handshake is None else conn.handshake.deadline
-        if self.idle_timeout is not None and not conn.awaiting:
-            due = min(due, conn.last_activity + self.idle_timeout)
-        if conn.partial_since is not None:
-            due = min(due, conn.partial_since + self.request_timeout)
-        if self.framing == "rtu" and conn.splitter.pending:
-            due = min(due, conn.last_byte + self.quiet_gap)
-        return due
-
-    def _next_deadline(self) -> float | None:
-        """Seconds until the next connection deadline (at the least) or accept pause's end (None: never)."""
-        due = self._earliest
-        if self._accept_paused_until:
-            due = min(due, self._accept_paused_until)
-        return None if due == float("inf") else max(0.0, due - time.monotonic())
-
-    def _expire(self) -> None:
-        """Close connections past a deadline; resume accepting after a pause."""
-        now = time.monotonic()
-        if self._accept_paused_until and now >= self._accept_paused_until:
-            self._accept_paused_until = 0.0
-            if self._selector is not None and self._listener is not None:
-                self._selector.register(self._listener, selectors.EVENT_READ, None)
-        if now < self._earliest:
-            return
-        for conn in [c for c in self._connections.values() if self._deadlines(c) <= now]:
-            if conn.handshake is not None and now >= conn.handshake.deadline:
-                self._tls_refuse(conn, f"no TLS handshake within {self.handshake_timeout:g} s", timeout=True)
-            elif self.framing == "rtu" and conn.splitter.pending and now >= conn.last_byte + self.quiet_gap:
-                # a quiet gap: what has come is all there is of this frame (a socket's silence)
-                self._cut(conn, conn.splitter.flush(), now)
-                self._pump(conn)
-            elif conn.partial_since is not None and now >= conn.partial_since + self.request_timeout:
-                self.counters.slow_closed += 1
-                self._drop(conn, f"a request did not arrive whole within {self.request_timeout:g} s")
-            else:
-                self.counters.idle_closed += 1
-                self._drop(conn, f"silent for {self.idle_timeout:g} s (idle timeout)")
-        self._earliest = min(map(self._deadlines, self._connections.values()), default=float("inf"))
-
-    def _warn(self, key: str, message: str, *args: Any) -> None:
-        """Log a warning at most once per 10 s per ``key``, saying how many were held back."""
-        now = time.monotonic()
-        last, held = self._warned.get(key, (-1e9, 0))
-        if now - last < 10.0:
-            self._warned[key] = (last, held + 1)
-            return
-        self._warned[key] = (now, 0)
-        if held:
-            message += f" ({held} more like it in the last 10 s not logged)"
-        self.log.warning(message, *args)
-
-    def _accept(self) -> None:
-        assert self._listener is not None and self._selector is not None
-        while True:
-            try:
-                sock, peer = self._listener.accept()
-            except (BlockingIOError, InterruptedError):
-                self._accept_backoff = 0.0
-                return
-            except OSError as exc:  # e.g. EMFILE: out of file descriptors; pause instead of spinning
-                self._accept_backoff = min(1.0, max(0.05, 2 * self._accept_backoff))
-                self._accept_paused_until = time.monotonic() + self._accept_backoff
-                self._selector.unregister(self._listener)
-                self._warn("accept", "accept failed: %s; pausing %.2f s", exc, self._accept_backoff)
-                return
-            if len(self._connections) >= self.max_connections:
-                # room: an unfinished handshake, then a connection never served, then the longest idle
-                oldest = min(self._connections.values(),
-                             key=lambda c: (c.handshake is None, c.served > 0, c.last_activity))
-                self.counters.evicted += 1
-                self._warn("evict", "client %s connects with %d connections open (max_connections=%d): "
-                           "closing %s", peer, len(self._connections), self.max_connections, oldest.peer)
-                self._drop(oldest, "closed to make room for a new client")
-            sock.setblocking(False)
-            sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            conn = _Connection(sock, peer, time.monotonic(), self._splitter())
-            if self.tls is not None:
-                conn.handshake = ServerHandshake(self.tls, sock, time.monotonic() + self.handshake_timeout)
-                conn.sock = sock = conn.handshake.sock
-            self._connections[sock.fileno()] = conn
-            self._selector.register(sock, selectors.EVENT_READ, conn)
-            self._earliest = min(self._earliest, self._deadlines(conn))
-            self.counters.connections += 1
-            self.log.debug("client %s connected", peer)
-
-    def _splitter(self) -> Any:
-        """A new connection's splitter: Modbus/TCP by the MBAP length (strict: a bad header ends the
-        connection), RTU by length, CRC and quiet gap (open-ended: every byte is meant as Modbus), ASCII
-        by its delimiters."""
-        if self.framing == "tcp":
-            return TcpSplitter(strict=True)
-        return splitter_for(self.framing, "request", open_ended=True)
-
-    def _drop(self, conn: _Connection, reason: str | None) -> None:
-        if self._connections.get(conn.fd) is not conn:
-            return
-        del self._connections[conn.fd]
-        self._backlog.pop(conn.fd, None)
-        if self._selector is not None and conn.events:
-            try:
-                self._selector.unregister(conn.sock)
-            except (KeyError, ValueError):  # pragma: no cover
-                pass
-        _close_socket(conn.sock)
-        if reason:
-            self.log.info("closed connection from %s: %s", conn.peer, reason)
-
-    def _set_events(self, conn: _Connection, events: int) -> None:
-        """Watch ``conn`` for ``events`` (0: not at all, while it waits its turn with nothing to send)."""
-        selector = self._selector
-        if conn.events == events or selector is None:
-            return
-        if not events:
-            selector.unregister(conn.sock)
-        elif not conn.events:
-            selector.register(conn.sock, events, conn)
-        else:
-            selector.modify(conn.sock, events, conn)
-        conn.events = events
-
-    def _read(self, conn: _Connection) -> None:
-        if conn.handshake is not None:
-            self._tls_step(conn)
-            return
-        try:
-            data = conn.sock.recv(_READ_SIZE if self.framing == "tcp" else _SERIAL_READ_SIZE)
-            if self.tls is not None and pending(conn.sock):  # TLS: the rest of a record already decrypted
-                data += conn.sock.recv(pending(conn.sock))
-        except WOULD_BLOCK:
-            return
-        except OSError as exc:
-            self._drop(conn, f"receive failed: {exc.strerror or exc}")
-            return
-        if not data:
-            self._drop(conn, None)  # the client closed its end: an ordinary goodbye
-            return
-        conn.last_activity = conn.last_byte = now = time.monotonic()
-        if self._direct and self._answer_directly(conn, data):
-            return
-        self._cut(conn, conn.splitter.feed(data), now)
-        self._pump(conn)
-
-    def _cut(self, conn: _Connection, frames: list[bytes], now: float) -> None:
-        """Queue the requests cut.  RTU, ASCII: the request clock runs from a byte to the next request."""
-        conn.frames.extend(frames)
-        if self.framing != "tcp":
-            since = conn.partial_since or now  # a whole request stops the clock (restarts if bytes remain)
-            conn.partial_since = (now if conn.splitter.pending else None) if any(
-                self._implemented(frame) for frame in frames) else since
-            self._earliest = min(self._earliest, self._deadlines(conn))
-
-    def _answer_directly(self, conn: _Connection, data: bytes) -> bool:
-        """Answer ``data`` now if it is one whole Modbus/TCP request and nothing of ``conn`` waits (no
-        bytes, requests or answers): the splitter, :meth:`_pump` and :meth:`_process` in one step."""
-        if conn.frames or conn.outbuf or conn.awaiting or conn.splitter.pending or not is_one_frame(data):
-            return False
-        conn.served += 1
-        conn.junk_mark = conn.splitter.discarded
-        conn.partial_since = None
-        reply = self._dispatch(data)
-        if reply:
-            conn.outbuf += reply
-            if self._send(conn) and conn.outbuf:
-                self._set_events(conn, selectors.EVENT_READ | selectors.EVENT_WRITE)
-        return True
-
-    def _pump(self, conn: _Connection) -> None:
-        """Answer one request that has arrived and send what is owed; queue the connection for the next
-        turn if another complete request is waiting; read it again only while it is within its bounds.
-
-        A client that sends requests without reading the answers fills our output buffer, and one that
-        pipelines fills the queue of requests: past ``_MAX_PENDING_OUTPUT`` bytes or ``_MAX_QUEUED``
-        requests the server stops reading that client until it has caught up, so that no client can
-        make the server buffer without end.
-        """
-        if conn.handshake is not None:
-            self._tls_step(conn)
-            return
-        if not self._process(conn) or not self._send(conn):
-            return
-        full = len(conn.outbuf) >= _MAX_PENDING_OUTPUT or len(conn.frames) >= _MAX_QUEUED
-        if full and conn.events & selectors.EVENT_READ:
-            self.counters.held_back += 1
-        events = (0 if full else selectors.EVENT_READ) | (selectors.EVENT_WRITE if conn.outbuf else 0)
-        self._set_events(conn, events)
-        waiting = conn.frames or conn.splitter.error or conn.splitter.discarded - conn.junk_mark > _MAX_JUNK
-        if waiting and not conn.awaiting and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-            self._backlog[conn.fd] = conn
-
-    def _process(self, conn: _Connection) -> bool:
-        """Answer the first complete request, if there is one and the connection's bounds allow.
-
-        The connection's splitter has cut the requests (Modbus/TCP by the MBAP length, RTU by length and
-        CRC, ASCII by its delimiters).  Returns False if the connection was closed because its bytes are
-        not Modbus.
-        """
-        splitter = conn.splitter
-        if conn.frames and not conn.awaiting and len(conn.outbuf) < _MAX_PENDING_OUTPUT:
-            frame = conn.frames.popleft()
-            conn.served += 1
-            if self._implemented(frame):  # junk that happens to pass a CRC check does not count
-                conn.junk_mark = splitter.discarded
-            refused = self._tls_authorize(conn, frame)  # Modbus/TCP Security: the client's role decides
-            if refused:
-                conn.outbuf += refused
-            elif self._submit is not None:
-                self._hand_over(conn, frame)
-            else:
-                reply = self._dispatch(frame) if self.framing == "tcp" else self._dispatch_serial(frame)
-                if reply:
-                    conn.outbuf += reply
-        elif not conn.frames and (splitter.error or splitter.discarded - conn.junk_mark > _MAX_JUNK):
-            # a header that is not Modbus/TCP, or a stream of bytes that never make a frame
-            self.counters.bad_frames += 1
-            junk = splitter.discarded - conn.junk_mark
-            why = splitter.error or f"{junk} bytes that make no {self.framing.upper()} frame"
-            if self._send(conn):  # the answers to the good frames before it, as far as they go
-                self._drop(conn, f"not Modbus: {why}")
-            return False
-        # Modbus/TCP: bytes of a request start its clock, a whole one stops it (RTU and ASCII: _cut)
-        if self.framing == "tcp":
-            if not splitter.pending or conn.frames:
-                conn.partial_since = None
-            elif conn.partial_since is None:
-                conn.partial_since = time.monotonic()
-                self._earliest = min(self._earliest, self._deadlines(conn))
-        return True
-
-    def _implemented(self, frame: bytes) -> bool:
-        """Whether a request's function code is one the library implements (RTU and ASCII over TCP: one
-        in a thousand junk bytes starts something whose CRC checks out, with an unknown function)."""
-        if self.framing == "tcp":
-            return True
-        try:
-            function = frame[1] if self.framing == "rtu" else int(frame[3:5], 16)
-        except ValueError:
-            return False
-        return function in REQUEST_CLASSES
-
     # ---------------------------------------------------------------- asynchronous slaves (a gateway)
     def _hand_over(self, conn: _Connection, frame: bytes) -> None:
         """Give ``frame`` to the asynchronous slave; its reply comes back through :meth:`_reply_later`,
@@ -719,82 +433,3 @@ class TcpServer:
         if reply:
             self.counters.responses += 1
         return reply
-
-    # ---------------------------------------------------------------- Modbus/TCP Security (tls=)
-    def _tls_setup(self, tls: Any, handshake_timeout: float | None, authorization: Any, framing: str,
-                   request_timeout: Any) -> None:
-        """Check the TLS settings: ``tls`` a server context requiring client certificates,
-        ``handshake_timeout`` (default: ``request_timeout``), ``authorization`` an object with
-        ``check(pdu, role, peer) -> decision`` such as :class:`~modbus_edu.security.RoleTable`."""
-        self.tls = check_context(tls, "server")
-        if self.tls is not None and framing != "tcp":
-            raise ConfigError("Modbus/TCP Security carries MBAP frames: tls= needs framing=\"tcp\"")
-        if self.tls is not None:
-            load_x509()  # cryptography loads now, not during the first client's handshake
-        if handshake_timeout is None:
-            handshake_timeout = request_timeout
-        self.handshake_timeout = _positive_seconds(
-            "handshake_timeout", handshake_timeout, "(the time a client has to finish the TLS handshake)")
-        if authorization is not None and not callable(getattr(authorization, "check", None)):
-            raise ConfigError("authorization= takes a RoleTable (modbus_edu.security.course_roles()), "
-                              f"got {type(authorization).__name__}")
-        self.authorization = authorization
-        self.tls_log: deque[str] = deque(maxlen=100)
-        """The last 100 TLS refusals and timeouts: who, and why."""
-
-    def _tls_step(self, conn: _Connection) -> None:
-        """One step of a client's handshake; when done, its role is read from its certificate."""
-        handshake = conn.handshake
-        assert handshake is not None
-        try:
-            want = handshake.step()
-        except TlsRefused as exc:
-            self._tls_refuse(conn, str(exc))
-            return
-        if want != "done":
-            self._set_events(conn, selectors.EVENT_READ if want == "read" else selectors.EVENT_WRITE)
-            return
-        conn.handshake = None
-        try:
-            conn.role = role_of(handshake.peer_certificate())
-        except Exception as exc:  # a role extension that is not a UTF8String: refuse the client
-            self._tls_refuse(conn, f"the client's certificate has a broken role: {exc}")
-            return
-        self.counters.tls_handshakes += 1
-        self.log.debug("client %s: TLS handshake done, role %r", conn.peer, conn.role)
-        self._set_events(conn, selectors.EVENT_READ)
-        self._read(conn)  # a request may have come with the end of the handshake
-
-    def _tls_refuse(self, conn: _Connection, why: str, timeout: bool = False) -> None:
-        if timeout:
-            self.counters.tls_timeouts += 1
-        else:
-            self.counters.tls_refused += 1
-        self.tls_log.append(f"{conn.peer[0]}:{conn.peer[1]}: {why}")
-        self._drop(conn, f"TLS: {why}")  # logged as info: the counters and tls_log keep the record
-
-    def _tls_authorize(self, conn: _Connection, frame: bytes) -> bytes | None:
-        """The exception 01 a refused request gets (counted), or None to let the slave answer."""
-        if self.authorization is None or self.framing != "tcp" or len(frame) <= MBAP_HEADER_SIZE:
-            return None
-        peer = f"{conn.peer[0]}:{conn.peer[1]}"
-        decision = self.authorization.check(frame[MBAP_HEADER_SIZE:], conn.role, peer)
-        if decision.allowed:
-            return None
-        self.counters.requests += 1
-        self.counters.unauthorized += 1
-        self.counters.responses += 1
-        return exception_reply(frame, 0x01)
-
-    def _send(self, conn: _Connection) -> bool:
-        """Send as much of the output buffer as the socket takes. False if the connection died."""
-        if conn.outbuf:
-            try:
-                sent = conn.sock.send(conn.outbuf)
-            except WOULD_BLOCK:
-                sent = 0
-            except OSError as exc:
-                self._drop(conn, f"send failed: {exc.strerror or exc}")
-                return False
-            del conn.outbuf[:sent]
-        return True

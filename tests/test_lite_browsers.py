@@ -1,0 +1,183 @@
+"""The offline Lite site in every browser a class brings: Chromium, Firefox ESR and WebKitGTK (Safari's
+engine), each the Debian package, none downloaded.
+
+* Chromium: playwright (tests/test_lite.py runs every notebook in it; here the same short notebook);
+* Firefox ESR: puppeteer-core (npm, pinned in package.json and package-lock.json) over WebDriver BiDi,
+  ``tests/browser/firefox_lite.mjs``;
+* WebKitGTK: selenium (pinned in binder/requirements-test.txt) and Debian's ``WebKitWebDriver``, on a
+  display of its own (Xvfb).
+
+In each, one short notebook (:data:`~browser.lite_probe.NOTEBOOK`) is opened and run, and the same
+questions are asked of the page (:mod:`browser.lite_probe`): the kernel starts (Pyodide 314.0.6, which
+runs without JSPI, as Firefox and WebKit need), its first cell's ``%pip install`` works, an exercise's
+``check`` gives its message, a panel renders as controls, and a drawing cell shows its picture.  The
+table (browser, version, the five answers, seconds) is printed and written to
+tests/artifacts/lite_browsers.json.
+
+A browser or driver that is missing skips its test with the reason; with ``CI`` set it is a failure.
+The offline site is built (`make lite OFFLINE=1`) unless _site already is one.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from http.server import ThreadingHTTPServer
+from pathlib import Path
+
+import pytest
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+from browser import lab_driver, lite_probe  # noqa: E402
+from test_browser import _in_ci, _require_browser  # noqa: E402
+from test_lite import ARTIFACTS, SITE, _make_lite, _Quiet  # noqa: E402
+
+FIREFOX = "/usr/bin/firefox-esr"
+WEBKIT_DRIVER = "/usr/bin/WebKitWebDriver"
+START_TIMEOUT_S = 600  # Pyodide's start in a browser without a JIT tier it likes, on two shared cores
+RUN_TIMEOUT_S = 600
+pytestmark = pytest.mark.slow
+
+
+def _missing(reason: str) -> None:
+    if _in_ci():
+        pytest.fail(reason + " -- and CI is set, so this is a failure, not a skip")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def table():
+    rows: list[dict] = []
+    yield rows
+    ARTIFACTS.mkdir(exist_ok=True)
+    (ARTIFACTS / "lite_browsers.json").write_text(json.dumps(rows, indent=1) + "\n")
+    print("\nbrowser        version                 kernel pip  check panel picture  seconds")
+    for row in rows:
+        marks = "  ".join("yes" if row[k] else "NO " for k in ("kernel", "pip", "check", "panel", "picture"))
+        print(f"{row['browser']:14} {row['version'][:22]:22}  {marks}    {row['seconds']:6.1f}")
+
+
+@pytest.fixture(scope="module")
+def notebook_url():
+    """The offline site on 127.0.0.1, and the URL of the probe's notebook in it."""
+    if not (SITE / "static" / "pyodide" / "pyodide.mjs").exists():
+        _make_lite(offline=True)
+    server = ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(_Quiet, directory=str(SITE)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    yield f"http://127.0.0.1:{server.server_address[1]}/lab/index.html?path={lite_probe.NOTEBOOK}"
+    server.shutdown()
+
+
+def _record(table: list, browser: str, version: str, result: dict, seconds: float) -> dict:
+    answers = lite_probe.judge(result)
+    table.append({"browser": browser, "version": version, **answers, "seconds": round(seconds, 1),
+                  "result": result})
+    return answers
+
+
+def _assert_all(answers: dict, result: dict) -> None:
+    assert all(answers.values()), (answers, {k: v for k, v in result.items() if k != "user_agent"})
+
+
+def test_chromium(notebook_url, table):
+    sync_playwright = _require_browser()
+    start = time.monotonic()
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=lab_driver.CHROMIUM, args=lab_driver.BROWSER_ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 900})
+        page.goto(notebook_url, wait_until="domcontentloaded", timeout=120_000)
+        page.wait_for_function(lite_probe.READY, timeout=START_TIMEOUT_S * 1000, polling=500)
+        page.evaluate(lite_probe.RUN_ALL)
+        page.wait_for_function(lite_probe.DONE, timeout=RUN_TIMEOUT_S * 1000, polling=500)
+        result = page.evaluate(lite_probe.RESULT)
+        version = browser.version
+        browser.close()
+    _assert_all(_record(table, "Chromium", version, result, time.monotonic() - start), result)
+
+
+def test_firefox_esr(notebook_url, table):
+    """Firefox ESR driven over WebDriver BiDi by puppeteer-core (no browser download)."""
+    node, npm = shutil.which("node"), shutil.which("npm")
+    if not os.path.exists(FIREFOX) or node is None or npm is None:
+        _missing(f"Firefox ESR ({FIREFOX}: apt-get install firefox-esr), node and npm are needed")
+    if not (ROOT / "node_modules" / "puppeteer-core" / "package.json").exists():
+        subprocess.run([npm, "ci", "--ignore-scripts", "--no-audit", "--no-fund"], cwd=ROOT, check=True,
+                       capture_output=True, timeout=600)
+    spec = {"url": notebook_url, "steps": [
+        {"poll": lite_probe.READY, "timeout_s": START_TIMEOUT_S},
+        {"eval": lite_probe.RUN_ALL},
+        {"poll": lite_probe.DONE, "timeout_s": RUN_TIMEOUT_S},
+        {"eval": lite_probe.RESULT}]}
+    start = time.monotonic()
+    done = subprocess.run([node, str(HERE / "browser" / "firefox_lite.mjs"), FIREFOX], cwd=ROOT,
+                          input=json.dumps(spec), capture_output=True, text=True,
+                          timeout=START_TIMEOUT_S + RUN_TIMEOUT_S + 120)
+    lines = done.stdout.strip().splitlines()
+    assert done.returncode == 0 and lines, (done.returncode, done.stdout[-2000:], done.stderr[-2000:])
+    out = json.loads(lines[-1])
+    result = out["results"][-1]
+    _assert_all(_record(table, "Firefox ESR", out["browser"], result, time.monotonic() - start), result)
+
+
+@pytest.fixture
+def display():
+    """A display of its own for WebKitGTK: Xvfb, on the first free display number."""
+    xvfb = shutil.which("Xvfb")
+    if xvfb is None:
+        _missing("Xvfb is needed for WebKitGTK (apt-get install xvfb)")
+    read, write = os.pipe()
+    server = subprocess.Popen([xvfb, "-displayfd", str(write), "-screen", "0", "1400x900x24", "-nolisten",
+                               "tcp"], pass_fds=[write], stderr=subprocess.DEVNULL)
+    os.close(write)
+    try:
+        number = os.read(read, 16).decode().strip()
+        os.close(read)
+        if not number:
+            pytest.fail("Xvfb did not start")
+        yield f":{number}"
+    finally:
+        server.terminate()
+        server.wait(timeout=10)
+
+
+def test_webkitgtk(notebook_url, table, display):
+    """WebKitGTK, Safari's engine: Debian's WebKitWebDriver driven by selenium, on Xvfb."""
+    if not os.path.exists(WEBKIT_DRIVER):
+        _missing(f"WebKitGTK's driver ({WEBKIT_DRIVER}: apt-get install webkit2gtk-driver) is needed")
+    from selenium import webdriver  # a test tool: imported only where WebKitGTK is tested
+    from selenium.webdriver.webkitgtk.options import Options
+    from selenium.webdriver.webkitgtk.service import Service
+
+    def poll(expression: str, timeout_s: float) -> None:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            try:
+                if driver.execute_script("return " + expression):
+                    return
+            except Exception:  # noqa: BLE001 - the page is still loading: ask again
+                pass
+            time.sleep(0.5)
+        raise TimeoutError(f"not true within {timeout_s} s: {expression[:200]}")
+
+    start = time.monotonic()
+    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": display})
+    driver = webdriver.WebKitGTK(options=Options(), service=service)
+    try:
+        driver.set_window_size(1400, 900)
+        driver.get(notebook_url)
+        poll(lite_probe.READY, START_TIMEOUT_S)
+        driver.execute_script("return " + lite_probe.RUN_ALL)
+        poll(lite_probe.DONE, RUN_TIMEOUT_S)
+        result = driver.execute_script("return " + lite_probe.RESULT)
+        version = driver.capabilities.get("browserVersion", "?")
+    finally:
+        driver.quit()
+    _assert_all(_record(table, "WebKitGTK", version, result, time.monotonic() - start), result)
