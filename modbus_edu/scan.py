@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import math
 import sys
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -126,22 +127,13 @@ def scan(
     """
     units, settings, tqdm = _check(link, units, settings, timeout, budget)
     report = ScanReport()
-    bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")
-    try:
+    with _scanning(report, tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr,
+                                unit="unit")) as bar:
         for setting in settings:
-            current = link if isinstance(link, Link) else link(**setting)
-            try:
-                master = _master(current, timeout, log)
-                if not run_steps(current, _scan_setting(master, units, setting, budget, report, bar)):
+            with _opened(link, setting) as current:
+                if not run_steps(current, _scan_setting(_master(current, timeout, log), units, setting,
+                                                        budget, report, bar)):
                     break
-            finally:
-                if current is not link:
-                    current.close()
-    except KeyboardInterrupt:
-        report.complete = False
-        report.interrupted = True
-    finally:
-        bar.close()
     return report
 
 
@@ -160,23 +152,38 @@ async def ascan(
     report."""
     units, settings, tqdm = _check(link, units, settings, timeout, budget)
     report = ScanReport()
-    bar = tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr, unit="unit")
-    try:
+    with _scanning(report, tqdm(total=len(units) * len(settings), disable=not progress, file=sys.stderr,
+                                unit="unit")) as bar:
         for setting in settings:
-            current = link if isinstance(link, Link) else link(**setting)
-            try:
-                master = _master(current, timeout, log)
-                if not await arun_steps(current, _scan_setting(master, units, setting, budget, report, bar)):
+            with _opened(link, setting) as current:
+                if not await arun_steps(current, _scan_setting(_master(current, timeout, log), units, setting,
+                                                              budget, report, bar)):
                     break
-            finally:
-                if current is not link:
-                    current.close()
+    return report
+
+
+@contextmanager
+def _scanning(report: ScanReport, bar: Any) -> Iterator[Any]:
+    """The progress bar while a scan runs; a KeyboardInterrupt (Ctrl-C) ends the scan keeping what it
+    found (``complete`` False, ``interrupted`` True)."""
+    try:
+        yield bar
     except KeyboardInterrupt:
         report.complete = False
         report.interrupted = True
     finally:
         bar.close()
-    return report
+
+
+@contextmanager
+def _opened(link: Link | Callable[..., Link], setting: dict[str, Any]) -> Iterator[Link]:
+    """The link for one line setting: the given Link, or one opened for the setting and closed after."""
+    current = link if isinstance(link, Link) else link(**setting)
+    try:
+        yield current
+    finally:
+        if current is not link:
+            current.close()
 
 
 def _master(link: Link, timeout: float, log: Any) -> Master:
