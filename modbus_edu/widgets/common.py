@@ -588,6 +588,11 @@ class PlotImage(W.HTML):
 
 
 # --- small widget factories ----------------------------------------------------------------------
+#: A field's widest: its box, less ipywidgets' margins (2 px a side), so that at 200% zoom it shrinks with
+#: the panel instead of running past it (WCAG 1.4.10).
+NARROW = "calc(100% - 4px)"
+
+
 def text_field(description: str, value: str = "", css: str | None = None, width: str = "230px",
                placeholder: str = "", tooltip: str = "") -> W.Text:
     """A labelled text box (``css`` adds a class for browser tests, e.g. ``mbe-field-address``).
@@ -596,7 +601,7 @@ def text_field(description: str, value: str = "", css: str | None = None, width:
     the last one (:class:`Typing`), so the frame follows the typing without Enter or Tab."""
     box = W.Text(value=value if isinstance(value, str) else shown_value(value), description=description,
                  placeholder=placeholder,
-                 style={"description_width": "110px"}, layout=W.Layout(width=width),
+                 style={"description_width": "110px"}, layout=W.Layout(width=width, max_width=NARROW),
                  continuous_update=True)
     if tooltip:
         box.tooltip = tooltip
@@ -608,7 +613,8 @@ def text_field(description: str, value: str = "", css: str | None = None, width:
 def dropdown(description: str, options: Any, value: Any = None, css: str | None = None,
              width: str = "230px") -> W.Dropdown:
     kwargs: dict[str, Any] = {"options": options, "description": description,
-                              "style": {"description_width": "110px"}, "layout": W.Layout(width=width)}
+                              "style": {"description_width": "110px"},
+                              "layout": W.Layout(width=width, max_width=NARROW)}
     if value is not None:
         kwargs["value"] = value
     box = W.Dropdown(**kwargs)
