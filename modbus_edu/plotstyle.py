@@ -10,18 +10,21 @@ fit the 968 px of a notebook's output area::
     legend_outside(ax)                       # beside the plot, never over the data
 
 :func:`figure` uses matplotlib's constrained layout, which leaves room for a legend placed outside.
+:func:`show` shows a figure with its text equivalent, the words a reader who cannot see it gets instead.
 """
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 from .errors import require
+from .pictures import _display, _shell  # IPython's pieces, from the kernel this runs in (if any)
 
 mpl = require("matplotlib", "modbus_edu.plotstyle")
 from matplotlib.figure import Figure  # noqa: E402  (a figure of no pyplot state, for a panel's picture)
 
-__all__ = ["HEIGHT", "STYLE", "WIDTH", "Figure", "figure", "legend_outside", "mpl"]
+__all__ = ["HEIGHT", "STYLE", "WIDTH", "Figure", "figure", "legend_outside", "legend_below", "show", "mpl"]
 
 WIDTH = 9.0
 """Inches: at the notebook's 100 dpi, about 900 px, inside the 968 px output area of a 1400 px screen."""
@@ -73,3 +76,25 @@ def legend_below(ax, ncols: int = 3, **legend: Any):
                "frameon": False, "fontsize": STYLE["legend.fontsize"]}
     options.update(legend)
     return ax.legend(**options)
+
+
+FIGURE_IN_WORDS = "The figure in words: "
+"""What starts the line under a figure that :func:`show` writes."""
+
+
+def show(fig, text: str) -> None:
+    """Show ``fig`` with its text equivalent ``text``: what the figure shows, in words (WCAG 1.1.1).
+
+    In a notebook the figure goes to the cell's output with ``text`` as its image's ``alt`` (the
+    ``image/png`` metadata, which nbconvert writes as the ``alt`` of the ``<img>``), and ``text`` is
+    printed right under it: JupyterLab draws an output image without alt text, so that line is where a
+    screen reader finds the words.  Outside a notebook: pyplot's ``show``, then the words.
+    """
+    pyplot = sys.modules.get("matplotlib.pyplot")  # loaded by figure(), which made the figure
+    if _shell() is not None:
+        _display().display(fig, metadata={"image/png": {"alt": text}})
+        if pyplot is not None:
+            pyplot.close(fig)  # shown once: not again by the inline backend at the end of the cell
+    elif pyplot is not None:
+        pyplot.show()
+    print(FIGURE_IN_WORDS + text)

@@ -246,13 +246,60 @@ def test_each_field_s_bytes_and_its_legend_chip_carry_the_same_number_and_the_le
         assert f'title="{row.field}' in frame.replace("&#x27;", "'")
 
 
+def _through(colour: str, opacity: float) -> str:
+    """``colour`` drawn at ``opacity`` on white."""
+    rgb = [int(colour.lstrip("#")[i:i + 2], 16) for i in (0, 2, 4)]
+    return "#" + "".join(f"{round(opacity * c + (1 - opacity) * 255):02x}" for c in rgb)
+
+
 def test_a_stale_view_stays_readable_and_is_marked_by_more_than_colour():
+    """Every text colour the panels write (the CRC explorer's grey bytes, #5c636a, the lightest) still
+    reads at AA when a view is greyed out (the opacity, if any, of the stale style)."""
     html = stale_html("<b>frame</b>")
-    opacity = float(re.search(r"opacity:([0-9.]+)", html).group(1))
-    # text of JupyterLab's colour at this opacity on white still reads at AA
-    level = round(255 - (255 - 0x21) * opacity)
-    assert contrast(f"#{level:02x}{level:02x}{level:02x}", "#ffffff") >= 4.5
+    found = re.search(r"opacity:([0-9.]+)", html)
+    opacity = float(found.group(1)) if found else 1.0
+    colours = {"#212529", "#5c636a"}  # JupyterLab's text, and the grey of bytes not reached yet
+    for panel in _panels().values():
+        for widget in _walk(panel):
+            if isinstance(widget, W.HTML):
+                colours |= set(re.findall(r"(?<![-\w])color:\s*(#[0-9a-fA-F]{6})\b", widget.value))
+    for colour in colours:
+        assert contrast(_through(colour, opacity), "#ffffff") >= 4.5, (colour, opacity)
     assert "dashed" in html and 'title="the last good result' in html
+    assert "grayscale" in html  # greyed: the colours go
+
+
+def test_the_decoder_marks_its_field_when_the_frame_breaks_a_rule_not_only_when_it_is_not_hex():
+    decoder = FrameDecoder("01 03 00 00 00 01 84 0B")  # a wrong CRC
+    assert "CRC" in decoder.message.text and decoder.message.kind == "error"
+    assert "mbe-invalid" in decoder.text._dom_classes
+    assert f"mbe-described-{decoder.message.model_id}" in decoder.text._dom_classes
+    decoder.text.value = "01 03 00 00 00 01 84 0A"
+    assert "mbe-invalid" not in decoder.text._dom_classes and decoder.message.kind == "ok"
+
+
+def test_every_number_field_holds_its_default_on_its_step():
+    """A browser marks a number field invalid when its value is off the grid min + k * step: each default
+    must lie on it (or the step be "any": ``None``), or the field is invalid before anyone types."""
+    for name, panel in _panels().items():
+        for widget in _walk(panel):
+            if isinstance(widget, (W.BoundedFloatText, W.BoundedIntText, W.FloatText, W.IntText)):
+                step = getattr(widget, "step", None)
+                if step is None:
+                    continue
+                low = getattr(widget, "min", 0) or 0
+                ratio = (widget.value - low) / step
+                assert abs(ratio - round(ratio)) < 1e-9, (name, widget.description, widget.value, low, step)
+
+
+def test_the_panel_script_keeps_every_key_but_save_and_escape_leaves_the_panel():
+    script = PANEL_SCRIPT
+    keydown = script[script.index("panel.addEventListener('keydown', function (e) {\n      var accel"):]
+    keydown = keydown[:keydown.index("});")]
+    assert "letter === 's'" in keydown and "e.stopPropagation()" in keydown
+    assert "!e.ctrlKey" not in keydown  # modifiers no longer let a key through
+    assert "cell.focus()" in script and ".jp-Cell" in script
+    assert "rangeOverflow" in script and "mbe-number-error" in script  # out of range: refused, described
 
 
 def test_the_test_tool_s_lamps_say_on_or_off_by_shape_and_tooltip():

@@ -312,8 +312,9 @@ def dissection_html(dissection: Any, with_error: bool = False) -> str:
     return DISSECTION_CSS + table
 
 
-#: Greyed, yet still readable (WCAG AA contrast): the colours go, a dashed frame goes round it.
-STALE_STYLE = "opacity:0.75;filter:grayscale(1);outline:1px dashed #5c636a;outline-offset:2px"
+#: Greyed, yet still readable (WCAG AA contrast): the colours go, a dashed frame goes round it.  No
+#: opacity: it would lighten the panels' grey text (#5c636a, 6:1 on white) below 4.5:1.
+STALE_STYLE = "filter:grayscale(1);outline:1px dashed #5c636a;outline-offset:2px"
 
 
 def stale_html(content: str) -> str:
@@ -358,12 +359,22 @@ PANEL_CSS = (
     "<style>"
     + _in_panels(":focus-visible, input:focus, select:focus, textarea:focus")
     + " {outline: 2px solid #1864ab !important; outline-offset: 1px}"
+    # ... never cut off: ipywidgets' boxes clip what overflows them (overflow: auto), and a control at a
+    # box's edge lost the ring's top and bottom; the boxes made to scroll say so in their own layout
+    + ", ".join(f".{panel}" for panel in PANEL_CLASSES) + ", " + _in_panels(".widget-box")
+    + " {overflow: visible}"
+    + _in_panels(".widget-checkbox .widget-label-basic") + " {padding-left: 4px}"
     + _in_panels(".lm-TabBar-tab") + " {color: var(--jp-ui-font-color1, #212529) !important}"
     # ipywidgets' coloured buttons carry white text on light colours: darker ones, the same hues
     + _in_panels(".jupyter-button.mod-primary, .jupyter-button.mod-info") + " {background-color: #1864ab}"
     + _in_panels(".jupyter-button.mod-success") + " {background-color: #2b6e35}"
     + _in_panels(".jupyter-button.mod-warning") + " {background-color: #9c4a00}"
     + _in_panels(".jupyter-button.mod-danger") + " {background-color: #b02525}"
+    # a number field typed out of its range (PANEL_SCRIPT): red, and the reason on a line under it
+    + _in_panels(".mbe-number-invalid") + " {flex-wrap: wrap; height: auto}"
+    + _in_panels(".mbe-number-invalid > input") + " {border: 2px solid #c92a2a !important}"
+    + _in_panels(".mbe-number-error") + " {flex: 0 0 100%; color: #c92a2a; font-weight: 600;"
+    " font-size: 0.9em; line-height: 1.3; white-space: normal; margin: 2px 0}"
     + "</style>"
 )
 
@@ -372,14 +383,22 @@ PANEL_CSS = (
 #: attribute, and a widget sets no attribute of its own on its element).  It runs once per view of the
 #: panel, on the panel's outermost element, and again whenever the panel's DOM changes:
 #:
-#: * the panel keeps its keys: a key pressed in it without Ctrl, Alt or Meta (and not Escape) goes no
-#:   further than the panel, so JupyterLab's command-mode shortcuts (Lumino's keymap listens on the
-#:   document, in the bubbling phase) never see it: ↓ changes a dropdown and scrolls a log instead of
-#:   moving to the next cell, and "m" on a button does not turn the panel's cell into Markdown.  The
-#:   control's own handling and the browser's default action still happen; Ctrl+S and the other
-#:   shortcuts with a modifier still work.  (Lumino's ``data-lm-suppress-shortcuts`` would have to sit on
-#:   every focused control itself -- the keymap matches the notebook's ``... :focus`` selector on the
-#:   control before it reaches an ancestor -- and it would silence Ctrl+S too.);
+#: * the panel keeps its keys: a key pressed in it goes no further than the panel, with or without Ctrl,
+#:   Alt, Shift or Meta, so JupyterLab's shortcuts (Lumino's keymap listens on the document, in the
+#:   bubbling phase) never see it: ↓ changes a dropdown and scrolls a log instead of moving to the next
+#:   cell, "m" on a button does not turn the panel's cell into Markdown, Ctrl+Backspace does not merge
+#:   the cell into the one above, Ctrl+Enter and Alt+Enter do not run it again, Ctrl+Shift+↓ does not move
+#:   it.  The control's own handling and the browser's default action still happen (Ctrl+C, Ctrl+V and
+#:   Ctrl+A in a text field), except that Ctrl+A outside a text field selects nothing (not the whole
+#:   page).  Two keys go on: Ctrl+S (Cmd+S, with or without Shift) saves the notebook, and Escape leaves
+#:   the panel: the focus goes back to the panel's cell, in command mode, where every shortcut works.
+#:   (Lumino's ``data-lm-suppress-shortcuts`` would have to sit on every focused control itself -- the
+#:   keymap matches the notebook's ``... :focus`` selector on the control before it reaches an ancestor --
+#:   and it would silence Ctrl+S too.);
+#: * a number field typed out of its range (a unit of 300 where 0 to 255 are allowed) is refused, not
+#:   clamped: the change does not reach ipywidgets (which would silently make it 255), and the field is
+#:   ``aria-invalid``, described by a line under it that says what it takes and which value is still
+#:   used.  A field back in range is sent and unmarked;
 #: * ``aria-hidden`` on the FontAwesome ``<i>`` of a button (its glyph, U+F0xx, is not a word: without
 #:   it a button is named "\uf019 read once");
 #: * ``aria-pressed`` on each button of a ToggleButtons (from its ``mod-active`` class), and the group
@@ -431,6 +450,43 @@ PANEL_SCRIPT = r"""
       set(input, 'aria-invalid', bad ? 'true' : null);
       set(input, 'aria-describedby', bad && says ? ids(says) : null);
     });
+    each(panel, '.mbe-number-invalid > input', number);
+  }
+  function editable(el) {
+    return el.isContentEditable || el.tagName === 'TEXTAREA' || (el.tagName === 'INPUT'
+      && ['button', 'checkbox', 'radio', 'range', 'color', 'file', 'submit', 'reset'].indexOf(el.type) < 0);
+  }
+  function number(el) {  // a number field out of its range, or holding no number: say why, under it
+    var v = el.validity, w = el.parentElement, note = w.querySelector(':scope > .mbe-number-error');
+    var bad = v.rangeOverflow || v.rangeUnderflow || v.stepMismatch || v.badInput || v.valueMissing;
+    if (!bad) {
+      if (note) { note.remove(); w.classList.remove('mbe-number-invalid'); }
+      set(el, 'aria-invalid', null); set(el, 'aria-describedby', null);
+      return false;
+    }
+    if (!note) {
+      note = document.createElement('div'); note.className = 'mbe-number-error';
+      set(note, 'role', 'status'); set(note, 'aria-live', 'polite');
+      w.appendChild(note); w.classList.add('mbe-number-invalid');
+    }
+    var range = el.min !== '' && el.max !== '' ? el.min + ' to ' + el.max
+      : el.min !== '' ? el.min + ' or more' : el.max !== '' ? el.max + ' or less' : 'a number';
+    var kept = el.dataset.mbeKept ? '; still ' + el.dataset.mbeKept : '';
+    var text = '\u26a0 ' + (v.rangeOverflow ? range + ' only: ' + el.value + ' is too large' + kept
+      : v.rangeUnderflow ? range + ' only: ' + el.value + ' is too small' + kept
+      : v.stepMismatch ? 'steps of ' + el.step + ' from ' + (el.min || 0) + ': '
+                         + el.value + ' is between two'
+      : 'type a number, ' + range);
+    if (note.textContent !== text) note.textContent = text;
+    set(el, 'aria-invalid', 'true'); set(el, 'aria-describedby', ids(note));
+    return true;
+  }
+  function leave(panel, e) {  // Escape: back to the panel's cell, in command mode
+    var cell = panel.closest('.jp-Cell');
+    if (!cell) return;
+    e.preventDefault(); e.stopPropagation();
+    if (document.activeElement && document.activeElement.blur) document.activeElement.blur();
+    cell.focus();
   }
   function keep() {
     var panel = img.closest(sel);
@@ -438,11 +494,29 @@ PANEL_SCRIPT = r"""
     label(panel);
     if (panel.mbeObserver) return;
     panel.addEventListener('keydown', function (e) {
-      if (!e.ctrlKey && !e.altKey && !e.metaKey && e.key !== 'Escape') e.stopPropagation();
+      var accel = e.ctrlKey || e.metaKey, letter = (e.key || '').toLowerCase();
+      if (accel && !e.altKey && letter === 's') return;  // save: JupyterLab's, as everywhere
+      e.stopPropagation();
+      if (accel && !e.altKey && letter === 'a' && !editable(e.target)) e.preventDefault();
     });
+    panel.addEventListener('keydown', function (e) {  // first: ipywidgets' text fields stop their keys
+      if (e.key === 'Escape') leave(panel, e);
+    }, true);
+    panel.addEventListener('focusin', function (e) {
+      var t = e.target;
+      if (t.type === 'number' && t.checkValidity()) t.dataset.mbeKept = t.value;
+    });
+    panel.addEventListener('input', function (e) { if (e.target.type === 'number') number(e.target); }, true);
+    panel.addEventListener('change', function (e) {  // before ipywidgets' own handler, which clamps
+      var t = e.target;
+      if (t.type !== 'number') return;
+      var v = t.validity;
+      if (v.rangeOverflow || v.rangeUnderflow) { e.stopPropagation(); number(t); return; }
+      if (!number(t)) t.dataset.mbeKept = t.value;
+    }, true);
     panel.mbeObserver = new MutationObserver(function () { label(panel); });
     panel.mbeObserver.observe(panel, {subtree: true, childList: true, attributes: true,
-                                      attributeFilter: ['class', 'title']});
+                                      attributeFilter: ['class', 'title', 'min', 'max', 'step']});
   }
   keep();
 })(this)
@@ -514,6 +588,11 @@ class PlotImage(W.HTML):
 
 
 # --- small widget factories ----------------------------------------------------------------------
+#: A field's widest: its box, less ipywidgets' margins (2 px a side), so that at 200% zoom it shrinks with
+#: the panel instead of running past it (WCAG 1.4.10).
+NARROW = "calc(100% - 4px)"
+
+
 def text_field(description: str, value: str = "", css: str | None = None, width: str = "230px",
                placeholder: str = "", tooltip: str = "") -> W.Text:
     """A labelled text box (``css`` adds a class for browser tests, e.g. ``mbe-field-address``).
@@ -522,7 +601,7 @@ def text_field(description: str, value: str = "", css: str | None = None, width:
     the last one (:class:`Typing`), so the frame follows the typing without Enter or Tab."""
     box = W.Text(value=value if isinstance(value, str) else shown_value(value), description=description,
                  placeholder=placeholder,
-                 style={"description_width": "110px"}, layout=W.Layout(width=width),
+                 style={"description_width": "110px"}, layout=W.Layout(width=width, max_width=NARROW),
                  continuous_update=True)
     if tooltip:
         box.tooltip = tooltip
@@ -534,7 +613,8 @@ def text_field(description: str, value: str = "", css: str | None = None, width:
 def dropdown(description: str, options: Any, value: Any = None, css: str | None = None,
              width: str = "230px") -> W.Dropdown:
     kwargs: dict[str, Any] = {"options": options, "description": description,
-                              "style": {"description_width": "110px"}, "layout": W.Layout(width=width)}
+                              "style": {"description_width": "110px"},
+                              "layout": W.Layout(width=width, max_width=NARROW)}
     if value is not None:
         kwargs["value"] = value
     box = W.Dropdown(**kwargs)

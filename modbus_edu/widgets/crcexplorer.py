@@ -100,14 +100,16 @@ class CrcExplorer(StaticView, W.VBox):
         self.position = 0
         text = data if isinstance(data, str) else hex_text(bytes(data))
         self.text = W.Text(value=text, description="bytes (hex)", style={"description_width": "90px"},
-                           layout=W.Layout(width="560px"), continuous_update=True)
+                           layout=W.Layout(width="560px", max_width="calc(100% - 4px)"),
+                           continuous_update=True)
         self.text.add_class("mbe-crc-input")
         self.method = W.ToggleButtons(options=METHODS, value=method, tooltips=METHOD_TIPS,
                                       description="method", style={"description_width": "90px"})
         self.method.add_class("mbe-crc-method")
 
         def button(label: str, icon: str, tip: str) -> W.Button:
-            b = W.Button(description=label, icon=icon, tooltip=tip, layout=W.Layout(width="auto"))
+            b = W.Button(description=label, icon=icon, tooltip=tip,
+                         layout=W.Layout(width="auto", flex="0 0 auto"))
             b.add_class("mbe-crc-" + label.replace(" ", "-"))
             return b
 
@@ -130,7 +132,8 @@ class CrcExplorer(StaticView, W.VBox):
             self.text,
             self.message,  # right under the field: what it says is about the bytes typed there
             self.method,
-            W.HBox([self.reset, self.back, self.next_bit, self.next_byte, self.run_to_end]),
+            W.HBox([self.reset, self.back, self.next_bit, self.next_byte, self.run_to_end],
+                   layout=W.Layout(flex_flow="row wrap")),  # buttons on two lines rather than squeezed
             self.bytes_view,
             self.step_view,
             self.result_view,

@@ -91,16 +91,22 @@ class MeterDashboard(StaticView, W.VBox):
         self.entries: tuple[MeterRegister, ...] = tuple(entries)
         groups = list(dict.fromkeys(e.unit for e in self.entries))
 
-        self.interval = W.BoundedFloatText(value=interval, min=0.01, max=3600, step=0.5,
+        # step None: the page's step is "any", so that every value from 0.01 s on is valid (a step of 0.5
+        # from a minimum of 0.01 made the default, 1, invalid in the browser)
+        self.interval = W.BoundedFloatText(value=interval, min=0.01, max=3600, step=None,
                                            description="interval (s)", style={"description_width": "80px"},
                                            layout=W.Layout(width="190px"))
-        self.read_button = W.Button(description="read once", icon="download", layout=W.Layout(width="auto"),
+        self.read_button = W.Button(description="read once", icon="download",
+                                    layout=W.Layout(width="auto", flex="0 0 auto"),
                                     tooltip="read every quantity once (function 03)")
         self.start_button = W.Button(description="start", icon="play", button_style="primary",
-                                     layout=W.Layout(width="auto"), tooltip="read every interval seconds")
-        self.stop_button = W.Button(description="stop", icon="stop", layout=W.Layout(width="auto"),
+                                     layout=W.Layout(width="auto", flex="0 0 auto"),
+                                     tooltip="read every interval seconds")
+        self.stop_button = W.Button(description="stop", icon="stop",
+                                    layout=W.Layout(width="auto", flex="0 0 auto"),
                                     tooltip="stop reading")
-        self.clear_button = W.Button(description="clear history", icon="trash", layout=W.Layout(width="auto"),
+        self.clear_button = W.Button(description="clear history", icon="trash",
+                                     layout=W.Layout(width="auto", flex="0 0 auto"),
                                      tooltip="forget the readings plotted so far")
         self.plot_group = W.Dropdown(options=[(_group_title(g), g) for g in groups],
                                      value=plot if plot in groups else groups[0], description="plot",
@@ -127,7 +133,7 @@ class MeterDashboard(StaticView, W.VBox):
                    "with function 03"),
             self.message,
             W.HBox([self.interval, self.read_button, self.start_button, self.stop_button, self.plot_group,
-                    self.clear_button]),
+                    self.clear_button], layout=W.Layout(flex_flow="row wrap", align_items="center")),
             self.status,
             self.tabs,
             panel_style(),

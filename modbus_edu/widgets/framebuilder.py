@@ -302,7 +302,7 @@ class FrameBuilder(StaticView, W.VBox):
         label.add_class("mbe-field-error")
         label.add_class(f"mbe-field-error-{name.replace('_', '-')}")
         self._error_labels[name] = label
-        self._rows[name] = W.HBox([box, label], layout=W.Layout(align_items="center"))
+        self._rows[name] = W.HBox([box, label], layout=W.Layout(align_items="center", max_width="100%"))
         return self._rows[name]
 
     def _spec_label(self, name: str) -> str:

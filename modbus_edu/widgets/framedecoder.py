@@ -66,7 +66,8 @@ class FrameDecoder(StaticView, W.VBox):
 
         self.text = W.Textarea(value=text, placeholder="01 03 00 00 00 01 84 0A   or   :050310000002E6",
                                description="frame", style={"description_width": "60px"},
-                               layout=W.Layout(width="640px", height="64px"), continuous_update=True)
+                               layout=W.Layout(width="640px", max_width="calc(100% - 4px)", height="64px"),
+                               continuous_update=True)
         self.text.add_class("mbe-decoder-input")
         self.mode = dropdown("mode", MODE_OPTIONS, mode, css="mbe-field-mode", width="220px")
         self.role = dropdown("role", ROLE_OPTIONS, role, css="mbe-field-role", width="220px")
@@ -81,7 +82,7 @@ class FrameDecoder(StaticView, W.VBox):
             W.HTML("<b>Frame decoder</b> &mdash; paste hex in any common spacing"),
             self.text,
             self.message,  # right under the field: what it says is about the frame typed there
-            W.HBox([self.mode, self.role]),
+            W.HBox([self.mode, self.role], layout=W.Layout(flex_flow="row wrap")),  # one column when narrow
             self.frame_view,
             self.dissection_view,
             panel_style(),
@@ -111,7 +112,6 @@ class FrameDecoder(StaticView, W.VBox):
             self.frame_view.value = stale_html(self.frame_view.value)
             self.dissection_view.value = stale_html(self.dissection_view.value)
             return
-        mark_invalid(self.text, False, self.message)
         self.frame = data
         mode = None if self.mode.value == "auto" else self.mode.value
         role = None if self.role.value == "auto" else self.role.value
@@ -119,10 +119,11 @@ class FrameDecoder(StaticView, W.VBox):
         self.dissection = d
         self.error = d.error
         how = f"{_NAMES.get(d.mode, d.mode)} ({f'detected: {d.detected}' if mode is None else 'chosen'})"
-        if d.error is not None:
+        if d.error is not None:  # a frame that breaks a rule (a wrong CRC): the field is marked too
             self.message.show(f"{how}: {type(d.error).__name__}: {d.error}", "error")
         else:
             self.message.show(f"{how}: {d.summary}  ({len(data)} bytes)", "ok")
+        mark_invalid(self.text, d.error is not None, self.message)
         body = frame_html(d) + legend_html(d) if d.rows else ""
         self.frame_view.value = body + (
             f'<div style="margin-top:4px;font-size:0.9em">bytes: <code class="mbe-frame-hex">'

@@ -181,17 +181,20 @@ _FOCUSED = r"""
 """
 
 
-def tab_through(page, panel, max_presses: int = 80) -> dict:
+def tab_through(page, panel, max_presses: int = 80, ring_cut: str | None = None) -> dict:
     """Focus the panel's first control, then press Tab until the focus leaves the panel.
 
-    Returns ``{"controls": n, "reached": [...], "missed": [...], "no_ring": [...], "positive_tabindex": n}``:
-    the controls reached (in order), those never reached, those without a visible focus ring, and how
-    many elements force their own order (tabindex > 0)."""
+    Returns ``{"controls": n, "reached": [...], "missed": [...], "no_ring": [...], "ring_cut": [...],
+    "positive_tabindex": n}``: the controls reached (in order), those never reached, those without a
+    visible focus ring, those whose ring is cut off (``ring_cut``: a function of the focused element
+    that says where its ring is cut, or null), and how many elements force their own order
+    (tabindex > 0)."""
     keys = panel.evaluate(_CONTROLS)
     if not keys:
-        return {"controls": 0, "reached": [], "missed": [], "no_ring": [], "positive_tabindex": 0}
+        return {"controls": 0, "reached": [], "missed": [], "no_ring": [], "ring_cut": [],
+                "positive_tabindex": 0}
     panel.locator(f'[data-axe-key="{keys[0]}"]').focus()
-    reached, no_ring = [], []
+    reached, no_ring, cut = [], [], []
     for _ in range(max_presses):
         now = panel.evaluate(_FOCUSED)
         if now is None:
@@ -200,9 +203,12 @@ def tab_through(page, panel, max_presses: int = 80) -> dict:
             reached.append(now["key"])
             if not now["ring"]:
                 no_ring.append(f"{now['tag']} {now['what']!r}")
+            where = page.evaluate(f"({ring_cut})(document.activeElement)") if ring_cut else None
+            if where:
+                cut.append(f"{now['tag']} {now['what']!r}: {where}")
         page.keyboard.press("Tab")
     positive = panel.evaluate("p => [...p.querySelectorAll('[tabindex]')].filter(e => e.tabIndex > 0).length")
     return {"controls": len(keys), "reached": reached, "missed": [k for k in keys if k not in reached],
-            "no_ring": no_ring, "positive_tabindex": positive}
+            "no_ring": no_ring, "ring_cut": cut, "positive_tabindex": positive}
 __all__ = ["SERIOUS", "TAGS", "axe_script", "counts", "describe", "inject", "pinned_version", "run_axe",
            "tab_through"]

@@ -195,7 +195,8 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
                                           description="stop bits"))
         self.host = small(W.Text(value="127.0.0.1", description="host"))
         self.port = small(W.BoundedIntText(value=5020, min=0, max=65535, description="TCP port"))
-        self.timeout = small(W.BoundedFloatText(value=1.0, min=0.001, max=60, step=0.1,
+        # step None (the page's "any"): a step of 0.1 from a minimum of 0.001 made 1.0 invalid in the page
+        self.timeout = small(W.BoundedFloatText(value=1.0, min=0.001, max=60, step=None,
                                                  description="timeout (s)"))
         self.connect_button = button("connect", "plug", "mbe-tt-connect",
                                      "open the wire the connection settings describe", style="success")
@@ -219,7 +220,7 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
         self.request_count = W.HTML()
 
         # -- polling -------------------------------------------------------------------------------------
-        self.interval = small(W.BoundedFloatText(value=1.0, min=0.01, max=3600, step=0.1,
+        self.interval = small(W.BoundedFloatText(value=1.0, min=0.01, max=3600, step=None,
                                                   description="interval (s)"))
         self.continuous = W.Checkbox(value=True, description="continuous", indent=False,
                                      layout=W.Layout(width="110px"))
@@ -260,8 +261,8 @@ class TestTool(StaticView, ConnectionMixin, GridMixin, TrafficMixin, ConfigMixin
                                         "write cells from the selected one (FC16, FC15 for coils)")
         self.write_one_button.on_click(g(self.message, lambda _b: self.write_cell()))
         self.write_many_button.on_click(g(self.message, lambda _b: self.write_cells()))
-        self.write_box = W.HBox([self.selected, self.write_value, self.write_one_button, self.write_count,
-                                 self.write_many_button])
+        self.write_box = row(self.selected, self.write_value, self.write_one_button, self.write_count,
+                             self.write_many_button)
 
         # -- dummy data --------------------------------------------------------------------------------------
         self.fill_start = small(W.IntText(value=0, description="first value"), "190px", "75px")
