@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import struct
 
 import pytest
@@ -451,7 +452,7 @@ def test_integer_types_refuse_a_bool() -> None:
 
 @pytest.mark.parametrize("huge", [10**5000, -(10**5000), 2**70], ids=["10**5000", "-10**5000", "2**70"])
 def test_decode_values_names_a_huge_register_without_leaking_python_errors(huge):
-    words = "registers\\[1\\] = an int of \\d+ bits \\(about \\d+ digits\\) is outside 0..65535"
+    words = "registers\\[1\\] = (an|a negative) int of \\d+ bits \\(about \\d+ digits\\) is outside 0..65535"
     with pytest.raises(ModbusError, match=words):
         decode_values([1, huge], "uint16")
 
@@ -460,7 +461,7 @@ def test_decode_values_names_a_huge_register_without_leaking_python_errors(huge)
 def test_text_to_registers_refuses_a_huge_length_by_its_size(length):
     with pytest.raises(ValueFormatError, match="length is a number of registers, 0..65536") as caught:
         text_to_registers("\x00", length)
-    assert "an int of" in str(caught.value) and len(str(caught.value)) < 200
+    assert re.search("(an|a negative) int of", str(caught.value)) and len(str(caught.value)) < 200
 
 
 @settings(max_examples=50, deadline=None)
