@@ -584,14 +584,18 @@ def test_make_grade_keeps_a_name_with_spaces_whole_and_exports():
     import subprocess
 
     root = Path(__file__).resolve().parents[1]
-    shown = subprocess.run(["make", "-n", "grade", "SUBMISSIONS=MOD 101-Assignment 1-12345.zip",
-                            "OUT=my grades", "EXPORT=moodle", "NOTEBOOKS=00,01,03"], cwd=root,
+    # a make of its own: run under `make test`, MAKELEVEL would make it print its directory lines
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MAKELEVEL", "MFLAGS")}
+    shown = subprocess.run(["make", "--no-print-directory", "-n", "grade",
+                            "SUBMISSIONS=MOD 101-Assignment 1-12345.zip", "OUT=my grades", "EXPORT=moodle",
+                            "NOTEBOOKS=00,01,03"], cwd=root, env=env,
                            capture_output=True, text=True, timeout=60, check=True).stdout
     command = [line for line in shown.splitlines() if "modbus_edu grade" in line][-1]
     assert command.endswith("grade 'MOD 101-Assignment 1-12345.zip' --out 'my grades' --notebooks '00,01,03' "
                             "--export 'moodle'")
-    quoted = subprocess.run(["make", "-n", "grade", "SUBMISSIONS=Ada's work.zip"], cwd=root,
-                            capture_output=True, text=True, timeout=60, check=True).stdout.splitlines()[-1]
+    quoted = subprocess.run(["make", "--no-print-directory", "-n", "grade", "SUBMISSIONS=Ada's work.zip"],
+                            cwd=root, env=env, capture_output=True, text=True, timeout=60,
+                            check=True).stdout.splitlines()[-1]
     assert quoted.endswith("grade 'Ada'\\''s work.zip' --out 'grades'")
 
 
