@@ -170,10 +170,13 @@ def kernel_walk(host_sockets, tmp_path_factory):
     hosts = [str(listener.path) for listener in host_sockets]
     cell = f"{WALK}\ncheck('seal.walk', json.dumps(walk({hosts!r})))"
     write(base / "class" / "ada", "03_rtu_and_crc", [SETUP, right("03.1"), cell, right("03.5")])
-    scratch = base / "scratch"
-    scratch.mkdir()
-    runs = grading._grade_learner(SANDBOX, 0, [base / "class" / "ada" / "03_rtu_and_crc.ipynb"], scratch, [],
-                                  120, 1024, f"{os.getpid()}-{secrets.token_hex(4)}")
+    # the grader's scratch as grade() makes it, short: the kernels' Unix socket paths must fit 100 bytes
+    scratch = Path(tempfile.mkdtemp(prefix="modbus-edu-grade-"))
+    try:
+        runs = grading._grade_learner(SANDBOX, 0, [base / "class" / "ada" / "03_rtu_and_crc.ipynb"], scratch,
+                                      [], 120, 1024, f"{os.getpid()}-{secrets.token_hex(4)}")
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
     answers = [s["answer"] for run in runs for s in run.submissions if s["key"] == "seal.walk"]
     assert answers, [run.problems for run in runs]
     report = answers[0] if isinstance(answers[0], dict) else json.loads(answers[0])
