@@ -680,3 +680,16 @@ def test_scan_report_keeps_hits_when_interrupted(monkeypatch):
     report = scan_module.scan(bus, range(1, 20), timeout=0.05)
     assert report.interrupted and not report.complete
     assert [h.unit for h in report] == [1] and report.asked == 3
+
+
+def test_a_command_run_in_process_gives_the_signals_back(capsys):
+    """poll, scan, serve and gateway make Ctrl-C and SIGTERM stop them; run inside another program (a
+    test, a notebook's kernel), the command gives that program its own handlers back when it returns."""
+    before = [signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)]
+    with socket.socket() as probe:  # a port nobody listens on: the scan stops at once, refused
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    status = main(["scan", "--tcp", f"127.0.0.1:{port}", "--units", "1", "--timeout", "0.05"])
+    capsys.readouterr()
+    assert status != 0
+    assert [signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)] == before

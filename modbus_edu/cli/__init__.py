@@ -31,7 +31,16 @@ from .. import __version__
 from ..errors import ModbusError
 from .build import _options_build, cmd_build
 from .capture import _options_capture, cmd_capture
-from .common import PROG, CliError, _common, _one_line, _Parser, parse_endpoint
+from .common import (
+    PROG,
+    CliError,
+    _common,
+    _one_line,
+    _Parser,
+    parse_endpoint,
+    restore_stop_signal_handlers,
+    stop_signal_handlers,
+)
 from .crc import _options_crc, cmd_crc
 from .decode import _options_decode, cmd_decode
 from .gateway import _options_gateway, cmd_gateway
@@ -94,6 +103,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 ok, 1 error, 2 bad command line)."""
     parser = build_parser()
     verbose = False
+    handlers = stop_signal_handlers()
     try:
         args = parser.parse_args(argv)
         verbose = bool(getattr(args, "verbose", False))
@@ -122,3 +132,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"{PROG}: error: unexpected {type(exc).__name__}: {_one_line(exc)} "
               f"(run with --verbose to see where)", file=sys.stderr)
         return 1
+    finally:
+        restore_stop_signal_handlers(handlers)

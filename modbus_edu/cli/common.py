@@ -257,10 +257,27 @@ def _install_stop_signals() -> None:
     def _raise(signum: int, frame: Any) -> NoReturn:
         raise KeyboardInterrupt
 
-    for sig in (signal.SIGINT, signal.SIGTERM):
+    for sig in _STOP_SIGNALS:
         try:
             signal.signal(sig, _raise)
         except (ValueError, OSError):  # pragma: no cover - not the main thread
+            pass
+
+
+_STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def stop_signal_handlers() -> list[Any]:
+    """The handlers of SIGINT and SIGTERM now: :func:`main` gives them back after a command, so that a
+    command run inside another program (a test, a notebook) leaves that program's signals as they were."""
+    return [signal.getsignal(sig) for sig in _STOP_SIGNALS]
+
+
+def restore_stop_signal_handlers(handlers: list[Any]) -> None:
+    for sig, handler in zip(_STOP_SIGNALS, handlers):
+        try:
+            signal.signal(sig, handler)
+        except (ValueError, OSError, TypeError):  # pragma: no cover - not the main thread, or not settable
             pass
 
 
