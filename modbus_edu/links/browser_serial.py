@@ -57,8 +57,7 @@ from typing import Any
 
 from ..clock import RealClock
 from ..errors import ConfigError, LinkError, guard_numbers, shown
-from .base import Link
-from .serial import _FrameCutter, _timing
+from .serial import _CutLink, _FrameCutter, _timing
 from .webserial_port import NO_WEB_SERIAL, make_port
 from .wire import SerialTiming
 
@@ -92,7 +91,7 @@ def _in_event_loop() -> bool:
     return True
 
 
-class BrowserSerialLink(Link):
+class BrowserSerialLink(_CutLink):
     """A :class:`~modbus_edu.links.base.Link` over the browser's serial port (made by
     :func:`browser_serial`).
 
@@ -160,15 +159,6 @@ class BrowserSerialLink(Link):
             waiter.get_loop().call_soon_threadsafe(_wake, waiter)
 
     # -- the master side ---------------------------------------------------------------------------------
-    @property
-    def frame_gap(self) -> float:
-        return self._cutter.frame_gap
-
-    @property
-    def discarded(self) -> int:
-        """Received bytes that could not be part of a frame (noise, a wrong baud rate, broken frames)."""
-        return self._cutter.discarded
-
     @property
     def description(self) -> str:
         return f"browser serial port, {self.timing}, {self.mode.upper()}"

@@ -276,7 +276,24 @@ class _FrameCutter:
 # --------------------------------------------------------------------------------------------------
 # the master's link
 # --------------------------------------------------------------------------------------------------
-class SerialLink(Link):
+class _CutLink(Link):
+    """A serial line's link: what it receives is cut into frames by ``self._cutter``, a
+    :class:`_FrameCutter` (shared by :class:`SerialLink` and the browser's serial link)."""
+
+    _cutter: _FrameCutter
+
+    @property
+    def frame_gap(self) -> float:
+        """Seconds of silence after the last byte that end a frame (see :func:`serial_link`)."""
+        return self._cutter.frame_gap
+
+    @property
+    def discarded(self) -> int:
+        """Received bytes that could not be part of a frame (noise, a wrong baud rate, broken frames)."""
+        return self._cutter.discarded
+
+
+class SerialLink(_CutLink):
     """A :class:`~modbus_edu.links.base.Link` over a pyserial port (made by :func:`serial_link`).
 
     ``role`` is the role of the frames this link *receives*: ``"response"`` for a master (the
@@ -303,16 +320,6 @@ class SerialLink(Link):
         """Frames or bytes received outside a transaction and dropped before a new request."""
         self._name = name or getattr(port, "portstr", None) or getattr(port, "port", None) or "serial port"
         self._cutter = _FrameCutter(timing.mode, role, frame_gap)
-
-    @property
-    def frame_gap(self) -> float:
-        """Seconds of silence after the last byte that end a frame (see :func:`serial_link`)."""
-        return self._cutter.frame_gap
-
-    @property
-    def discarded(self) -> int:
-        """Received bytes that could not be part of a frame (noise, broken frames)."""
-        return self._cutter.discarded
 
     @property
     def description(self) -> str:
