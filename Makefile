@@ -31,7 +31,7 @@ LITE_VENV := .venv-lite
 LITE_WHEELS := build/lite/wheels
 OFFLINE ?=
 
-.PHONY: help install lab test test-unit notebooks lint bench requirements coverage release grade lite clean
+.PHONY: help install lab test test-unit test-library notebooks lint bench requirements coverage release grade lite clean
 
 ## help: list these targets
 help:
@@ -85,6 +85,17 @@ test:
 test-unit:
 	$(call venv,$(TEST_PINS))
 	$(BIN)/python -m pytest tests --ignore=tests/test_browser.py -m "not slow" -p no:cacheprovider -q
+
+## test-library: the library's own tests (protocol, links, devices, command line, peers), what a second
+##     Python must pass: the course's tooling (gradebook, checkers, notebooks, browsers, the Lite site,
+##     packaging) is left to `make test` (CI: .ci/run runs this on the oldest and the newest Python)
+COURSE_TESTS := test_browser* test_widgets* test_pictures.py test_lite* test_pyodide.py test_course.py \
+    test_grade* test_exercise* test_checker_* test_procedures.py test_heldout.py test_slips.py \
+    test_teaching.py test_inventory.py test_packaging.py test_bench_day.py test_architecture.py
+test-library:
+	$(call venv,$(TEST_PINS))
+	$(BIN)/python -m pytest tests $(foreach t,$(COURSE_TESTS),--ignore-glob='tests/$(t)') -m "not slow" \
+	    -p no:cacheprovider -q
 
 ## notebooks: re-execute every notebook in place, in order, from a fresh kernel
 notebooks:

@@ -24,6 +24,7 @@ import functools
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import threading
@@ -111,15 +112,9 @@ def test_firefox_esr(notebook_url, table):
     if not (ROOT / "node_modules" / "puppeteer-core" / "package.json").exists():
         subprocess.run([npm, "ci", "--ignore-scripts", "--no-audit", "--no-fund"], cwd=ROOT, check=True,
                        capture_output=True, timeout=600)
-    spec = {"url": notebook_url, "steps": [
-        {"poll": lite_probe.READY, "timeout_s": START_TIMEOUT_S},
-        {"eval": lite_probe.RUN_ALL},
-        {"poll": lite_probe.DONE, "timeout_s": RUN_TIMEOUT_S},
-        {"eval": lite_probe.RESULT}]}
     start = time.monotonic()
-    done = subprocess.run([node, str(HERE / "browser" / "firefox_lite.mjs"), FIREFOX], cwd=ROOT,
-                          input=json.dumps(spec), capture_output=True, text=True,
-                          timeout=START_TIMEOUT_S + RUN_TIMEOUT_S + 120)
+    done = _run_group([node, str(HERE / "browser" / "firefox_lite.mjs"), FIREFOX], _spec(notebook_url),
+                      dict(os.environ), START_TIMEOUT_S + RUN_TIMEOUT_S + 120)
     lines = done.stdout.strip().splitlines()
     assert done.returncode == 0 and lines, (done.returncode, done.stdout[-2000:], done.stderr[-2000:])
     out = json.loads(lines[-1])
@@ -149,35 +144,38 @@ def display():
 
 
 def test_webkitgtk(notebook_url, table, display):
-    """WebKitGTK, Safari's engine: Debian's WebKitWebDriver driven by selenium, on Xvfb."""
+    """WebKitGTK, Safari's engine: Debian's WebKitWebDriver driven by selenium, on Xvfb, in a process
+    group of its own (tests/browser/webkit_lite.py) that is ended, browser and all, at the deadline."""
     if not os.path.exists(WEBKIT_DRIVER):
         _missing(f"WebKitGTK's driver ({WEBKIT_DRIVER}: apt-get install webkit2gtk-driver) is needed")
-    from selenium import webdriver  # a test tool: imported only where WebKitGTK is tested
-    from selenium.webdriver.webkitgtk.options import Options
-    from selenium.webdriver.webkitgtk.service import Service
-
-    def poll(expression: str, timeout_s: float) -> None:
-        deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            try:
-                if driver.execute_script("return " + expression):
-                    return
-            except Exception:  # noqa: BLE001 - the page is still loading: ask again
-                pass
-            time.sleep(0.5)
-        raise TimeoutError(f"not true within {timeout_s} s: {expression[:200]}")
-
     start = time.monotonic()
-    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": display})
-    driver = webdriver.WebKitGTK(options=Options(), service=service)
+    done = _run_group([sys.executable, str(HERE / "browser" / "webkit_lite.py")], _spec(notebook_url),
+                      dict(os.environ, DISPLAY=display), START_TIMEOUT_S + RUN_TIMEOUT_S + 120)
+    lines = done.stdout.strip().splitlines()
+    assert done.returncode == 0 and lines, (done.returncode, done.stdout[-2000:], done.stderr[-3000:])
+    out = json.loads(lines[-1])
+    result = out["results"][-1]
+    _assert_all(_record(table, "WebKitGTK", out["browser"], result, time.monotonic() - start), result)
+
+
+def _spec(notebook_url: str) -> str:
+    """The steps every driven browser takes: the kernel ready, run all, every cell done, the answers."""
+    return json.dumps({"url": notebook_url, "steps": [
+        {"poll": lite_probe.READY, "timeout_s": START_TIMEOUT_S},
+        {"eval": lite_probe.RUN_ALL},
+        {"poll": lite_probe.DONE, "timeout_s": RUN_TIMEOUT_S},
+        {"eval": lite_probe.RESULT}]})
+
+
+def _run_group(command: list[str], stdin: str, env: dict, timeout_s: float) -> subprocess.CompletedProcess:
+    """Run ``command`` in a session of its own; at the deadline the whole group (a driver and the
+    browser it started) is killed, and the test fails with what the run had said so far."""
+    process = subprocess.Popen(command, cwd=ROOT, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
-        driver.set_window_size(1400, 900)
-        driver.get(notebook_url)
-        poll(lite_probe.READY, START_TIMEOUT_S)
-        driver.execute_script("return " + lite_probe.RUN_ALL)
-        poll(lite_probe.DONE, RUN_TIMEOUT_S)
-        result = driver.execute_script("return " + lite_probe.RESULT)
-        version = driver.capabilities.get("browserVersion", "?")
-    finally:
-        driver.quit()
-    _assert_all(_record(table, "WebKitGTK", version, result, time.monotonic() - start), result)
+        out, err = process.communicate(stdin, timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        out, err = process.communicate()
+        pytest.fail(f"{command[-1]} did not end within {timeout_s:.0f} s; it said:\n{err[-3000:]}")
+    return subprocess.CompletedProcess(command, process.returncode, out, err)
