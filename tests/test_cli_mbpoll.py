@@ -1,5 +1,6 @@
 """mbpoll (Debian's, the command-line Modbus master technicians know) as the peer of ``modbus-edu write``
-and ``poll``: what one writes, the other reads back, in every value type they share.
+and ``poll``: what one writes, the other reads back, in every value type they share, over TCP and over
+RTU on a pair of ptys.
 
 mbpoll is installed by ``.ci/run``. Without it these tests are skipped with the reason, unless the
 environment variable ``CI`` is set: then a missing mbpoll FAILS them (as tshark's tests do).
@@ -9,8 +10,11 @@ from __future__ import annotations
 
 import os
 import re
+import select
 import shutil
 import subprocess
+import threading
+import tty
 
 import pytest
 
@@ -181,3 +185,58 @@ def test_mbpoll_reads_what_serve_serves(mbpoll):
             timeout=30,
         )
     assert "[1]: \t42" in result.stdout
+
+
+@pytest.fixture()
+def rtu_line():
+    """A serial cable between two ptys: a thread copies what each end's far side writes to the other, so
+    that a slave opened on one tty and mbpoll on the other talk RTU as over a real line (8N1: a Linux pty
+    refuses the parity bit)."""
+    ends = [os.openpty(), os.openpty()]  # (leader, follower) each
+    for _, follower in ends:
+        tty.setraw(follower)
+    names = [os.ttyname(follower) for _, follower in ends]
+    stop = threading.Event()
+
+    def carry() -> None:
+        leaders = {ends[0][0]: ends[1][0], ends[1][0]: ends[0][0]}
+        while not stop.is_set():
+            ready, _, _ = select.select(list(leaders), [], [], 0.05)
+            for fd in ready:
+                try:
+                    os.write(leaders[fd], os.read(fd, 4096))
+                except OSError:  # an end closed for a moment (a program opening its tty): nothing lost
+                    pass
+
+    thread = threading.Thread(target=carry, daemon=True)
+    thread.start()
+    yield names
+    stop.set()
+    thread.join(timeout=5)
+    for pair in ends:
+        for fd in pair:
+            os.close(fd)
+
+
+def run_mbpoll_rtu(tty_name: str, *args: str) -> list[str]:
+    """mbpoll once as the RTU master at 19200 baud 8N1 on ``tty_name``; the values it prints."""
+    result = subprocess.run([MBPOLL, "-m", "rtu", "-b", "19200", "-P", "none", "-a", "1", "-1", "-o", "2",
+                             *args, tty_name], capture_output=True, text=True, timeout=30)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return re.findall(r"^\[\d+\]:\s+(\S+)", result.stdout, re.MULTILINE)
+
+
+def test_over_rtu_on_a_pair_of_ptys_each_reads_what_the_other_wrote(capsys, mbpoll, rtu_line):
+    """Over RTU: mbpoll reads what ``write`` wrote, and ``poll`` reads what mbpoll wrote, through the
+    library's RTU slave on the line's other end."""
+    slave_end, master_end = rtu_line
+    slave = mb.Slave(unit=1, bank=mb.DataBank())
+    serial = ["--serial", master_end, "--baud", "19200", "--parity", "N"]
+    with mb.SerialServer([slave], slave_end, baudrate=19200, parity="N"):
+        ours(capsys, "write", *serial, "--address", "40011", "--format", "float32_CDAB", "--", "-0.125")
+        assert run_mbpoll_rtu(master_end, "-t", "4:float", "-r", "11", "-c", "1") == ["-0.125"]
+        subprocess.run([MBPOLL, "-m", "rtu", "-b", "19200", "-P", "none", "-a", "1", "-r", "21", "-t", "4",
+                        master_end, "1234", "42"], capture_output=True, timeout=30, check=True)
+        out = ours(capsys, "poll", *serial, "--address", "40021", "--count", "2", "--polls", "1")
+    assert out.startswith("#1 [20] 1234  [21] 42"), out
+    assert slave.bank.holding_registers[20] == 1234
