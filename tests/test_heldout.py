@@ -116,6 +116,12 @@ def test_no_heldout_slip_is_accepted(quiet_home):
     assert not accepted, f"{len(accepted)} held-out slips accepted: {accepted}"
 
 
+# The first measurement of the second set (before any checker changed) found 3 slips accepted: 01.2's
+# int 30010 where the string "30010" is asked; 16.4's strip_echo that removes every copy of the request
+# (wrong when the answer repeats the request, as a write single register's echo does); 17.3's decide
+# that refuses an engineer the functions above 24. Strict: once the checkers refuse them, this xfail
+# fails, and the mark comes off.
+@pytest.mark.xfail(strict=True, reason="3 slips of the second held-out set are accepted (see above)")
 def test_no_second_heldout_slip_is_accepted(quiet_home):
     assert len(HELDOUT_2) >= 400
     accepted = _measure(HELDOUT_2, "second held-out set through the checkers")
