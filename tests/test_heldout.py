@@ -14,11 +14,12 @@ something. With ``-s`` it prints, per notebook, how many slips the checkers
 
 A verdict names a misconception when the text before its hint carries that misconception's label.
 
-The two sets are measured and printed separately. The second set records no candidates (it was written
-without the catalogue), so what its verdicts name counts as "named, no candidate" until someone who may
-read the catalogue maps its mistakes to ids; its named share is reported, not yet asserted. A third
-test, which runs no checker, holds every slip of the second set against the right answer the library
-computes (tests/heldout_right.py): each must be wrong.
+The two sets are measured and printed separately. The second set was written without the catalogue;
+its candidates were mapped afterwards from the slips' words and the catalogue's (see its docstring), so
+it splits "named" from "wrongly named" as the first does; its named share is reported, not yet asserted.
+A third test, which runs no checker, holds every slip of the second set against the right answer the
+library computes (tests/heldout_right.py): each must be wrong; a fourth, that every candidate of either
+set is an id of the catalogue.
 
     python -m pytest tests/test_heldout.py -s
 """
@@ -214,3 +215,11 @@ def test_the_judge_of_wrongness_takes_the_right_answers(quiet_home):
     assert not _value_is_wrong({"key": "09.3", "answer": 2.0})
     assert not _value_is_wrong({"key": "16.1", "answer": RIGHT_MAP_16_1})
     assert not _value_is_wrong({"key": "09.2", "answer": board((40150, 26), (40200, 26))})
+
+
+def test_every_candidate_is_a_catalogue_id():
+    """A misspelt candidate would silently turn a right verdict into a wrong one: every id must exist."""
+    assert all(slip["candidates"] is not None for slip in HELDOUT + HELDOUT_2)
+    unknown = {(slip["key"], key) for slip in HELDOUT + HELDOUT_2 for key in slip["candidates"]
+               if key not in CATALOGUE}
+    assert not unknown, f"candidates that are no catalogue id: {sorted(unknown)}"
