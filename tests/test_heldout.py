@@ -1,4 +1,5 @@
-"""Run the held-out slips (tests/heldout_slips.py) through the course's checkers.
+"""Run the held-out slips (tests/heldout_slips.py, and the second set tests/heldout_slips_2.py) through
+the course's checkers.
 
 The slips were written from the notebooks alone and never tuned against the checkers, so this test
 measures how the checkers meet mistakes they were not written for. It asserts only what must hold
@@ -13,10 +14,18 @@ something. With ``-s`` it prints, per notebook, how many slips the checkers
 
 A verdict names a misconception when the text before its hint carries that misconception's label.
 
+The two sets are measured and printed separately. The second set was written without the catalogue;
+its candidates were mapped afterwards from the slips' words and the catalogue's (see its docstring), so
+it splits "named" from "wrongly named" as the first does; its named share is reported, not yet asserted.
+A third test, which runs no checker, holds every slip of the second set against the right answer the
+library computes (tests/heldout_right.py): each must be wrong; a fourth, that every candidate of either
+set is an id of the catalogue.
+
     python -m pytest tests/test_heldout.py -s
 """
 
 import ast
+import math
 import sys
 from collections import Counter
 from pathlib import Path
@@ -27,7 +36,9 @@ from modbus_edu.exercises import evaluate
 from modbus_edu.exercises.diagnosis.catalogue import CATALOGUE
 
 sys.path.insert(0, str(Path(__file__).parent))
+from heldout_right import ACCEPTS, REFERENCE, RIGHT, RIGHT_MAP_16_1, TOLERANCE  # noqa: E402
 from heldout_slips import HELDOUT  # noqa: E402
+from heldout_slips_2 import HELDOUT_2, board  # noqa: E402
 
 COLUMNS = ("named", "wrongly named", "named, no candidate", "generic", "accepted")
 
@@ -57,7 +68,7 @@ def _outcome(slip: dict, result) -> str:
     if result.ok:
         return "accepted"
     named = _named(result.message)
-    candidates = set(slip["candidates"])
+    candidates = set(slip["candidates"] or ())
     if not named:
         return "generic"
     if not candidates:
@@ -73,11 +84,11 @@ def quiet_home(tmp_path, monkeypatch):
     return tmp_path
 
 
-def test_no_heldout_slip_is_accepted(quiet_home):
-    assert len(HELDOUT) >= 300
+def _measure(slips: list[dict], title: str) -> list[tuple[str, str]]:
+    """Print the per-notebook table of a set's verdicts; return the accepted slips (key, mistake)."""
     table: dict[str, Counter] = {}
     accepted = []
-    for slip in HELDOUT:
+    for slip in slips:
         outcome = _outcome(slip, _verdict(slip))
         table.setdefault(slip["key"].split(".")[0], Counter())[outcome] += 1
         if outcome == "accepted":
@@ -94,6 +105,121 @@ def test_no_heldout_slip_is_accepted(quiet_home):
         total.update(table[notebook])
         lines.append(row(notebook, table[notebook]))
     lines.append(row("all", total))
-    print("\nheld-out slips through the checkers\n" + "\n".join(lines))
+    named = total["named"] + total["wrongly named"] + total["named, no candidate"]
+    lines.append(f"a misconception named for {named} of {len(slips)} ({100 * named / len(slips):.1f}%)")
+    print(f"\n{title}\n" + "\n".join(lines))
+    return accepted
 
+
+def test_no_heldout_slip_is_accepted(quiet_home):
+    assert len(HELDOUT) >= 300
+    accepted = _measure(HELDOUT, "held-out slips through the checkers")
     assert not accepted, f"{len(accepted)} held-out slips accepted: {accepted}"
+
+
+# The first measurement of the second set (before any checker changed) found 3 slips accepted: 01.2's
+# int 30010 where the string "30010" is asked; 16.4's strip_echo that removes every copy of the request
+# (wrong when the answer repeats the request, as a write single register's echo does); 17.3's decide
+# that refuses an engineer the functions above 24. Strict: once the checkers refuse them, this xfail
+# fails, and the mark comes off.
+@pytest.mark.xfail(strict=True, reason="3 slips of the second held-out set are accepted (see above)")
+def test_no_second_heldout_slip_is_accepted(quiet_home):
+    assert len(HELDOUT_2) >= 400
+    accepted = _measure(HELDOUT_2, "second held-out set through the checkers")
+    assert not accepted, f"{len(accepted)} slips of the second held-out set accepted: {accepted}"
+
+
+# --- every slip of the second set is wrong (no checker involved) ---------------------------------
+def _bytes_of(key: str, answer):
+    """Hex text as the bytes it names (an ASCII frame's characters as they are); other answers as given."""
+    if isinstance(answer, (list, tuple)):
+        return type(answer)(_bytes_of(key, a) for a in answer)
+    if isinstance(answer, str) and isinstance(RIGHT.get(key), (bytes, list)):
+        if key == "04.2":
+            return answer.encode("ascii")
+        try:
+            return bytes.fromhex(answer)
+        except ValueError:
+            return answer
+    if isinstance(answer, bytearray):
+        return bytes(answer)
+    return answer
+
+
+def _same(a, b, tolerance: float = 1e-9) -> bool:
+    if isinstance(a, bool) or isinstance(b, bool):
+        return type(a) is type(b) and a == b
+    if isinstance(a, (int, float)) and isinstance(b, (int, float)):
+        if math.isnan(a) or math.isnan(b):
+            return math.isnan(a) and math.isnan(b)
+        return abs(a - b) <= tolerance
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+        return len(a) == len(b) and all(_same(x, y, tolerance) for x, y in zip(a, b))
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k], tolerance) for k in a)
+    if isinstance(a, str) and isinstance(b, str):
+        return a.strip().lower().replace(" ", "_") == b.strip().lower().replace(" ", "_")
+    if isinstance(a, type) or isinstance(b, type):
+        return a is b
+    return type(a) is type(b) and a == b
+
+
+def _value_is_wrong(slip: dict) -> bool:
+    key, answer = slip["key"], slip["answer"]
+    if key in ACCEPTS:
+        try:
+            return not ACCEPTS[key](answer)
+        except Exception:  # noqa: BLE001 (an answer of the wrong type is wrong)
+            return True
+    return not _same(_bytes_of(key, answer), _bytes_of(key, RIGHT[key]), TOLERANCE.get(key, 1e-9))
+
+
+def _run(function, args):
+    try:
+        return function(*args)
+    except Exception:  # noqa: BLE001 (the learner's function may raise anything: only that it raised counts)
+        return "raises"
+
+
+def _build_is_wrong(slip: dict) -> bool:
+    reference, probes, how = REFERENCE[slip["key"]]
+    learner = _function_from_source(slip["answer"])
+    if how is not None and how != "order":
+        learner = how(learner)
+    for args in probes:
+        mine, right = _run(learner, args), _run(reference, args)
+        if how == "order":  # right is the list of orders that fit: any of them, or None if none does
+            if not (mine in right if right else mine is None):
+                return True
+        elif not _same(_bytes_of("", mine), _bytes_of("", right)):
+            return True
+    return False
+
+
+def test_every_second_heldout_slip_is_wrong(quiet_home):
+    keys = {s["key"] for s in HELDOUT_2}
+    assert len(keys) == 79, "every exercise of every notebook has slips"
+    assert all(len([s for s in HELDOUT_2 if s["key"] == k]) >= 4 for k in keys)
+    right = [(s["key"], s["slip"]) for s in HELDOUT_2
+             if not (_build_is_wrong(s) if s["kind"] == "build" else _value_is_wrong(s))]
+    assert not right, f"{len(right)} slips of the second set are right answers: {right}"
+
+
+def test_the_judge_of_wrongness_takes_the_right_answers(quiet_home):
+    """The comparison above would call a right answer right: it can fail only for a slip."""
+    for key, answer in RIGHT.items():
+        assert not _value_is_wrong({"key": key, "answer": answer}), key
+    assert not _value_is_wrong({"key": "13.6", "answer": 2.2})
+    assert not _value_is_wrong({"key": "16.3", "answer": "swap A and B"})
+    assert not _value_is_wrong({"key": "00.0", "answer": "ab?dabcdabcd"})
+    assert not _value_is_wrong({"key": "09.3", "answer": 2.0})
+    assert not _value_is_wrong({"key": "16.1", "answer": RIGHT_MAP_16_1})
+    assert not _value_is_wrong({"key": "09.2", "answer": board((40150, 26), (40200, 26))})
+
+
+def test_every_candidate_is_a_catalogue_id():
+    """A misspelt candidate would silently turn a right verdict into a wrong one: every id must exist."""
+    assert all(slip["candidates"] is not None for slip in HELDOUT + HELDOUT_2)
+    unknown = {(slip["key"], key) for slip in HELDOUT + HELDOUT_2 for key in slip["candidates"]
+               if key not in CATALOGUE}
+    assert not unknown, f"candidates that are no catalogue id: {sorted(unknown)}"
