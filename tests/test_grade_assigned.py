@@ -167,3 +167,36 @@ def test_the_language_is_asked_on_the_command_line_and_an_unknown_one_is_refused
     assert "invalid choice: 'xx' (choose from 'en', 'fr', 'de', 'es')" in capsys.readouterr().err
     with pytest.raises(ExportError, match="no Moodle worksheet in 'xx'"):
         export(tmp_path / "x.csv", "moodle", {"Ada Lovelace": (1, 1)}, PEOPLE, language="xx")
+
+
+def test_teaching_prints_the_worksheet_words_the_export_writes():
+    from pathlib import Path
+
+    guide = (Path(__file__).resolve().parents[1] / "TEACHING.md").read_text(encoding="utf-8")
+    for language, words in MOODLE_WORDS.items():
+        identifier, _, _, grade, _, modified, comments, participant = words
+        row = (f"| `{language}` | `{identifier}` = `{participant}12345` | `{grade}` | `{modified}` | "
+               f"`{comments}` |")
+        assert row in guide, row
+
+
+# --- rows and pages keyed by the platform's id ----------------------------------------------------------
+
+def test_a_learner_named_like_a_disambiguated_classmate_gets_a_page_and_a_worksheet_row_of_their_own(
+        tmp_path, monkeypatch):
+    from modbus_edu.cli import main
+
+    faked = moodle_class(tmp_path, {name: {"05_tcp_and_mbap": {"05.1": index == 0}}
+                                    for index, name in enumerate(("Sam Lee_21", "Sam Lee_7654321",
+                                                                  "Sam Lee (21)_555"))})
+    fake_grading(monkeypatch, faked)
+    out = tmp_path / "grades"
+    assert main(["grade", str(tmp_path / "moodle"), "--out", str(out), "-q", "--export", "moodle"]) == 0
+    titles = sorted(html.unescape(page.read_text(encoding="utf-8")).split("<title>")[1].split("</title>")[0]
+                    for page in (out / "learners").iterdir())
+    assert titles == ["Feedback for Sam Lee (21) (555)", "Feedback for Sam Lee (7654321)",
+                      "Feedback for Sam Lee (Moodle 21)"]
+    assert sorted(gradebook(out)) == ["Sam Lee (21) (555)", "Sam Lee (7654321)", "Sam Lee (Moodle 21)"]
+    with (out / "moodle-import.csv").open(encoding="utf-8", newline="") as stream:
+        worksheet = {row["Identifier"]: row["Grade"] for row in csv.DictReader(stream)}
+    assert worksheet == {"Participant 21": "100.0", "Participant 555": "0.0", "Participant 7654321": "0.0"}
