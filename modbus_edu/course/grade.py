@@ -39,8 +39,8 @@ flag (:mod:`.verdicts`).
 **What counts** (:mod:`.assignment`): the grade is out of the exercises the instructor assigned
 (``--notebooks``, ``assignment.json``, with points per exercise or per notebook if it gives them: the
 score is then the points of the exercises right, of their total), else out of every column, said in one
-line; an exercise of a
-notebook not handed in is "not handed in", one left blank "not answered".  ``export`` is checked against
+line; an exercise of a notebook not handed in is "not handed in", one left blank "not answered".
+``export`` is checked against
 the class as read before anything is graded, and ``gradebook.json`` lets an export run again without
 grading (:func:`load`).
 
