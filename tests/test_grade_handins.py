@@ -526,7 +526,7 @@ def test_a_finished_gradebook_exports_again_without_grading(tmp_path, monkeypatc
     assert len(ran) == 2  # nothing graded again
     lines = (out / "canvas-import.csv").read_text(encoding="utf-8").splitlines()
     assert lines == ["Student,ID,SIS User ID,SIS Login ID,Section,Modbus notebooks",
-                     "hoppergrace,23456,,,,4.0", "lovelaceada,12345,,,,20.0"]
+                     "    Points Possible,,,,,20.0", "hoppergrace,23456,,,,4.0", "lovelaceada,12345,,,,20.0"]
     assert main(["grade", "--from", str(out), "--export", "canvas", "--assignment", "4321"]) == 0
     assert (out / "canvas-import.csv").read_text(encoding="utf-8").splitlines()[0].endswith(
         ",Modbus notebooks (4321)")
@@ -542,12 +542,19 @@ def test_canvas_without_an_assignment_id_says_what_its_import_will_do(tmp_path, 
     out = tmp_path / "grades"
     assert main(["grade", str(tmp_path / "canvas"), "--out", str(out), "-q", "--export", "canvas",
                  "--points", "15"]) == 0
+    said = capsys.readouterr()
     assert ("Canvas: no assignment id (--assignment 4321, the number in the assignment's address), so its "
-            "import makes a new assignment column 'Modbus notebooks', out of 15 points"
-            ) in capsys.readouterr().out
+            "import fills the assignment titled exactly 'Modbus notebooks' if the course has one, else makes "
+            "a new assignment 'Modbus notebooks' of 15 points possible, in a new Gradebook column"
+            ) in said.err
+    assert "no assignment id" not in said.out  # on stderr: the output stays the gradebook's
+    lines = (out / "canvas-import.csv").read_text(encoding="utf-8").splitlines()
+    assert lines[1] == "    Points Possible,,,,,15.0"  # the new assignment's points, as Canvas reads them
     assert main(["grade", str(tmp_path / "canvas"), "--out", str(out), "-q", "--export", "canvas",
                  "--assignment", "Notebooks (4321)"]) == 0
-    assert "no assignment id" not in capsys.readouterr().out
+    assert "no assignment id" not in capsys.readouterr().err
+    assert main(["grade", "--from", str(out), "--export", "canvas"]) == 0  # an export again says it too
+    assert "else makes a new assignment 'Modbus notebooks' of 100 points possible" in capsys.readouterr().err
 
 
 # --- identical answers --------------------------------------------------------------------------------

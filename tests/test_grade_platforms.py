@@ -420,7 +420,7 @@ def test_the_moodle_export_is_a_grading_worksheet_moodle_matches_by_participant(
     grades = {line["Identifier"]: float(line["Grade"]) for line in lines}
     assert grades == {"Participant 12": 66.67, "Participant 21": 33.33, "Participant 1234567": 33.33,
                       "Participant 7654321": 33.33}
-    assert all(line["Maximum Grade"] == "100" for line in lines)
+    assert all(line["Maximum grade"] == "100" for line in lines)
     names = sorted(line["Full name"] for line in lines)
     assert names == ["Ada Lovelace", "Grace Hopper", "Sam Lee", "Sam Lee"]
     datetime.fromisoformat(lines[0]["Last modified (grade)"])  # a time PHP's strtotime reads
@@ -441,8 +441,9 @@ def test_the_canvas_export_is_a_gradebook_import_matched_by_user_id(tmp_path, ca
                  "--assignment", "Notebooks (4321)"]) == 0
     assert "canvas grade import:" in capsys.readouterr().out
     with (out / "canvas-import.csv").open(encoding="utf-8", newline="") as stream:
-        header, *body = list(csv.reader(stream))
+        header, possible, *body = list(csv.reader(stream))
     assert header == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "Notebooks (4321)"]
+    assert possible == ["    Points Possible", "", "", "", "", "100"]  # as Canvas's own export has it
     grades = {line[1]: float(line[5]) for line in body}
     assert grades == {"12345": 66.67, "23456": 66.67, "34567": 66.67, "45678": 33.33, "56789": 33.33,
                       "67890": 33.33}  # of the six exercises of notebooks 01, 03 and 05
@@ -482,5 +483,5 @@ def test_a_canvas_zip_graded_in_real_kernels_and_exported(tmp_path, capsys):
     assert "handed in late" in lines["lovelaceada"]["flags"]
     assert "never overrides" in lines["hoppergrace"]["flags"]
     assert {line["ID"]: line["Modbus notebooks"] for line in read(out / "canvas-import.csv")} == {
-        "12345": "100.0", "23456": "100.0"}
+        "": "100", "12345": "100.0", "23456": "100.0"}  # "": the Points Possible row
     assert set(Path(tempfile.gettempdir()).glob("modbus-edu-unpacked-*")) == unpacked  # removed when done

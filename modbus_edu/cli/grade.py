@@ -3,21 +3,29 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
 from ..course import grade as grading
 from ..course.assignment import POINTS, resolve
-from ..course.export import FORMATS, canvas_line, export
+from ..course.export import FORMATS, LANGUAGES, canvas_line, export
 from ..course.reports import printable
 from .common import CliError
+
+
+def _canvas_line(args: argparse.Namespace, points: float) -> None:
+    """Say on stderr what Canvas's import will do with a column that names no assignment id."""
+    line = canvas_line(args.assignment, points) if args.export == "canvas" else None
+    if line:
+        print(printable(line), file=sys.stderr)
 
 
 def _export(args: argparse.Namespace, summary: dict, folder: Path) -> None:
     points = args.points or summary.get("points") or POINTS
     path = folder / f"{args.export}-import.csv"
     left_out = export(path, args.export, summary["scores"], summary["identities"], args.assignment,
-                      points=points)
+                      points=points, language=args.language)
     print(f"{args.export} grade import: {printable(path)} (grades out of {points:g})")
     if left_out:
         print(f"  not in it (no {args.export} id): {printable(', '.join(left_out))}")
@@ -30,17 +38,14 @@ def cmd_grade(args: argparse.Namespace) -> int:
                                   "SUBMISSIONS (modbus-edu grade --from grades --export moodle)")
         summary = grading.load(args.from_)
         print(printable(summary["out of"]))
+        _canvas_line(args, args.points or summary.get("points") or POINTS)
         _export(args, summary, args.from_)
         return 0
     if not args.submissions:
         raise CliError("give the class to grade (SUBMISSIONS), or --from a finished gradebook with "
                               "--export")
     assignment = resolve(args.submissions, args.notebooks, args.assigned)
-    if args.export == "canvas":
-        line = canvas_line(args.assignment, args.points or (assignment.points if assignment else None)
-                           or POINTS)
-        if line:
-            print(printable(line))
+    _canvas_line(args, args.points or (assignment.maximum() if assignment else None) or POINTS)
     summary = grading.grade(args.submissions, args.out, timeout=args.timeout, memory_mb=args.memory,
                             jobs=args.jobs, progress=not args.quiet, container=args.container,
                             assignment=assignment, export=args.export)
@@ -91,7 +96,8 @@ def _options_grade(subs: Any) -> argparse.ArgumentParser:
                         '["03.1", "03.5"]} (default: assignment.json beside the class)')
     p.add_argument("--points", type=float, default=None,
                    help="the grade of a learner with every counted exercise right, for the export (the "
-                        "platform's maximum grade or points; default: the assignment file's, else 100)")
+                        "platform's maximum grade or points; default: the assignment file's points, else "
+                        "the total of its points per exercise, else 100)")
     p.add_argument("--export", choices=FORMATS, help="also write OUT/PLATFORM-import.csv for the platform's "
                                                      "grade import (Moodle's grading worksheet, Canvas's "
                                                      "Gradebook import), matched by the ids in the "
@@ -104,6 +110,9 @@ def _options_grade(subs: Any) -> argparse.ArgumentParser:
                    help="the Canvas assignment to fill: its id (4321, the number in its address) or its "
                         "column as Canvas's export names it (\"Notebooks (4321)\"); without an id, Canvas's "
                         "import makes a new assignment (said in one line)")
+    p.add_argument("--language", choices=LANGUAGES, default="en",
+                   help="the language of the Moodle page you upload the worksheet from: Moodle matches the "
+                        "worksheet's headers in it (default en)")
     p.add_argument("--container", metavar="IMAGE", help="run each kernel in a docker or podman container of "
                                                         "IMAGE (Python, ipykernel and modbus_edu inside)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")

@@ -37,8 +37,10 @@ exercises that the class's notebooks check and those assigned, and a key the cou
 flag (:mod:`.verdicts`).
 
 **What counts** (:mod:`.assignment`): the grade is out of the exercises the instructor assigned
-(``--notebooks``, ``assignment.json``), else out of every column, said in one line; an exercise of a
-notebook not handed in is "not handed in", one left blank "not answered".  ``export`` is checked against
+(``--notebooks``, ``assignment.json``, with points per exercise or per notebook if it gives them: the
+score is then the points of the exercises right, of their total), else out of every column, said in one
+line; an exercise of a notebook not handed in is "not handed in", one left blank "not answered".
+``export`` is checked against
 the class as read before anything is graded, and ``gradebook.json`` lets an export run again without
 grading (:func:`load`).
 
@@ -71,10 +73,10 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from .._optional import load_tqdm
-from .assignment import Assignment, unassigned_line
+from .assignment import Assignment, Score, score, unassigned_line
 from .cleanroom import trace_built
 from .export import ExportError, check_layout
-from .reports import _counts, _write_csv, _write_learner, _write_summary, page_names
+from .reports import _write_csv, _write_learner, _write_summary, page_names
 from .runner import NotebookRun, exercise_keys, instrument, rebinds_check, run_isolated
 from .sandbox import MARKER, Sandbox, Seal, detect
 from .submissions import Found, Identity, Submission, collect, find_submissions
@@ -239,24 +241,26 @@ def _report(found: Found, graded: list[tuple[Submission, NotebookRun]], out: Pat
                for learner in learners}
     marks = {learner: inventory_marks(runs.get(learner, [])) for learner in learners}
     out_of = assignment.line() if assignment else unassigned_line(len(counted))
+    worth = {key: assignment.weight(key) for key in counted} if assignment and assignment.weights else None
+    scores = {learner: score([key for key in counted if table[learner][key].status == RIGHT], counted,
+                             assignment) for learner in learners}
     out.mkdir(parents=True, exist_ok=True)
-    _write_csv(out / "gradebook.csv", table, exercises, flags, marks, counted)
+    _write_csv(out / "gradebook.csv", table, exercises, flags, marks, counted, scores)
     (out / "learners").mkdir(exist_ok=True)
     pages = page_names(learners)
     for learner in learners:
         _write_learner(out / "learners" / pages[learner], learner, table[learner], counted, flags[learner],
-                       out_of, {key: table[learner][key] for key in beyond})
+                       out_of, {key: table[learner][key] for key in beyond}, scores[learner], worth)
     notes = found.notes + [f"{learner}: {choice}" for learner, made in choices.items() for choice in made]
     shared = identical_answers(chosen)
     summary = _write_summary(out, table, exercises, flags, look_at, notes, marks, handed, counted=counted,
-                             out_of=out_of, shared=shared)
-    summary["scores"] = {learner: (_counts(table[learner], counted)[RIGHT], len(counted))
-                         for learner in learners}
+                             out_of=out_of, shared=shared, worth=worth)
+    summary["scores"] = scores
     summary["identities"] = dict(found.identities)
     summary["out of"] = out_of
     summary["beyond"] = beyond
     summary["identical"] = shared
-    summary["points"] = assignment.points if assignment else None
+    summary["points"] = assignment.maximum() if assignment else None
     summary.update(extra)
     _write_json(out / GRADEBOOK_JSON, summary, pages)
     return summary
@@ -266,9 +270,10 @@ def _write_json(path: Path, summary: dict, pages: dict[str, str]) -> None:
     """``gradebook.json``: what the grade is out of, the points, and each learner's score, page and id on
     the platform: enough to export again without grading again (``--from``)."""
     identities = summary["identities"]
-    learners = {learner: {"right": right, "out of": total, "page": f"learners/{pages[learner]}",
+    learners = {learner: {"right": mark.right, "out of": mark.out_of, "points": mark.earned,
+                          "points out of": mark.possible, "page": f"learners/{pages[learner]}",
                           "identity": vars(identities[learner]) if learner in identities else None}
-                for learner, (right, total) in summary["scores"].items()}
+                for learner, mark in summary["scores"].items()}
     data = {"out of": summary["out of"], "points": summary["points"], "learners": learners}
     path.write_text(json.dumps(data, indent=1, ensure_ascii=False), encoding="utf-8")
 
@@ -280,7 +285,10 @@ def load(folder: Path) -> dict:
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
         learners = data["learners"]
-        return {"scores": {name: (int(row["right"]), int(row["out of"])) for name, row in learners.items()},
+        return {"scores": {name: Score(int(row["right"]), int(row["out of"]),
+                                       float(row.get("points", row["right"])),
+                                       float(row.get("points out of", row["out of"])))
+                           for name, row in learners.items()},
                 "identities": {name: Identity(**row["identity"]) for name, row in learners.items()
                                if row.get("identity")},
                 "points": data.get("points"), "out of": str(data.get("out of", ""))}

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from ..codes import _printable
 from ..exercises import inventory
+from .assignment import Score
 from .verdicts import ERRORED, NOT_ANSWERED, NOT_HANDED_IN, RIGHT, WRONG, Verdict, feedback, slip
 
 FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
@@ -99,6 +100,13 @@ def inventory_score(marks: dict[str, bool] | None) -> int | str:
 
 OUT_OF = "out of"
 """The gradebook's column of how many exercises a score is out of."""
+POINTS, POINTS_OUT_OF = "points", "points out of"
+"""The gradebook's columns of the points a learner earned and of the points assigned."""
+
+
+def _number(value: float) -> int | float:
+    """A number of points as a spreadsheet should show it: ``4`` rather than ``4.0``."""
+    return int(value) if float(value).is_integer() else round(value, 2)
 INVENTORY_QUESTIONS = "inventory questions"
 
 
@@ -107,22 +115,27 @@ NOT_COUNTED = " (not counted)"
 
 
 def _write_csv(path: Path, table: dict, exercises: list[str], flags: dict,
-               marks: dict[str, dict] | None = None, counted: list[str] | None = None) -> None:
+               marks: dict[str, dict] | None = None, counted: list[str] | None = None,
+               scores: dict[str, Score] | None = None) -> None:
     """``gradebook.csv``: a row per learner, each exercise's verdict (an exercise beyond the assignment,
     ``counted``, headed "03.4 (not counted)"), the counts of each verdict over the counted exercises
-    (``right`` is the score, ``out of`` how many exercises), the concept inventory's right answers before
-    and after (of ``inventory questions``), and the flags; every score a number."""
+    (``right``, ``out of`` how many exercises), the points earned (``points``, of ``points out of``: the
+    score the grade is the share of; each exercise 1 point unless the assignment gives its points), the
+    concept inventory's right answers before and after (of ``inventory questions``), and the flags; every
+    score a number."""
     counted = exercises if counted is None else counted
     header = [key if key in counted else key + NOT_COUNTED for key in exercises]
     rows: list[list] = [["learner", *header, RIGHT, WRONG, NOT_ANSWERED, NOT_HANDED_IN, ERRORED, OUT_OF,
-                         "inventory pre", "inventory post", INVENTORY_QUESTIONS, "flags"]]
+                         POINTS, POINTS_OUT_OF, "inventory pre", "inventory post", INVENTORY_QUESTIONS,
+                         "flags"]]
     for learner, row in table.items():
         counts = _counts(row, counted)
+        mark = (scores or {}).get(learner) or Score(counts[RIGHT], len(counted), counts[RIGHT], len(counted))
         quiz = (marks or {}).get(learner, {})
         answered = quiz.get(inventory.PRE) is not None or quiz.get(inventory.POST) is not None
         rows.append([learner, *(row.get(key, Verdict(NOT_ANSWERED)).status for key in exercises),
                      counts[RIGHT], counts[WRONG], counts[NOT_ANSWERED], counts[NOT_HANDED_IN],
-                     counts[ERRORED], len(counted),
+                     counts[ERRORED], len(counted), _number(mark.earned), _number(mark.possible),
                      inventory_score(quiz.get(inventory.PRE)), inventory_score(quiz.get(inventory.POST)),
                      len(inventory.QUESTIONS) if answered else "", " | ".join(flags[learner])])
     _csv(path, rows)
@@ -142,11 +155,16 @@ def _list(items: list[str]) -> str:
 
 
 def _write_learner(path: Path, learner: str, row: dict, exercises: list[str], flags: list[str],
-                   out_of: str = "", beyond: dict[str, Verdict] | None = None) -> None:
-    """A learner's page: the score, what it is out of, the flags, then one row per exercise asked
-    (``exercises``: the counted ones), a notebook not handed in as one row, and the exercises handed in
+                   out_of: str = "", beyond: dict[str, Verdict] | None = None, mark: Score | None = None,
+                   worth: dict[str, float] | None = None) -> None:
+    """A learner's page: the score (and the points, when the assignment gives each exercise its points,
+    ``worth``), what it is out of, the flags, then one row per exercise asked (``exercises``: the
+    counted ones, each with its points), a notebook not handed in as one row, and the exercises handed in
     beyond the assignment in one line (graded, not counted)."""
-    parts = [f"<p>{_counts(row, exercises)[RIGHT]} of {len(exercises)} exercises right. {_h(out_of)}</p>"]
+    points = (f": {_number(mark.earned)} of {_number(mark.possible)} points" if worth and mark is not None
+              else "")
+    parts = [f"<p>{_counts(row, exercises)[RIGHT]} of {len(exercises)} exercises right{points}. "
+             f"{_h(out_of)}</p>"]
     if flags:
         parts.append("<h2>About the notebooks</h2>" + _list([_h(flag) for flag in flags]))
     parts.append("<table><tr><th>exercise</th><th>result</th><th>the checker's feedback</th></tr>")
@@ -156,8 +174,9 @@ def _write_learner(path: Path, learner: str, row: dict, exercises: list[str], fl
         if verdict.status == NOT_HANDED_IN:
             missing.setdefault(key.split(".")[0], []).append(key)
             continue
-        parts.append(f"<tr><td>{_h(key)}</td><td class='{_h(verdict.status.split()[0])}'>{_h(verdict.status)}"
-                     f"</td><td><pre>{_h(verdict.message)}</pre></td></tr>")
+        shown = f"{key} ({_number(worth[key])} pt)" if worth and key in worth else key
+        parts.append(f"<tr><td>{_h(shown)}</td><td class='{_h(verdict.status.split()[0])}'>"
+                     f"{_h(verdict.status)}</td><td><pre>{_h(verdict.message)}</pre></td></tr>")
     for number, keys in missing.items():
         parts.append(f"<tr><td>{_h(', '.join(keys))}</td><td class='not'>{NOT_HANDED_IN}</td><td><pre>"
                      f"notebook {_h(number)} was not handed in</pre></td></tr>")
@@ -246,8 +265,8 @@ def _handed(table: dict, key: str, handed: dict[str, set[str]] | None) -> list[s
 def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
                    look_at: dict[str, list[str]] | None = None, notes: list[str] | None = None,
                    marks: dict[str, dict] | None = None, handed: dict[str, set[str]] | None = None, *,
-                   counted: list[str] | None = None, out_of: str = "", shared: list[str] | None = None
-                   ) -> dict:
+                   counted: list[str] | None = None, out_of: str = "", shared: list[str] | None = None,
+                   worth: dict[str, float] | None = None) -> dict:
     """``summary.csv`` and ``summary.html``: what the grade is out of (``out_of``) and the exercises
     graded beyond it (not ``counted``), each exercise's success rate (among the learners who handed its
     notebook in) and slips, the class's slips by their catalogue names, the concept inventory's gains,
@@ -266,12 +285,13 @@ def _write_summary(out: Path, table: dict, exercises: list[str], flags: dict,
                      "slips": _slips(table, key), "counted": key in counted})
     lines: list[list] = [["exercise", "learners who handed it in", RIGHT, WRONG, NOT_ANSWERED, ERRORED,
                           "success rate (%)", "most frequent misconception", "learners with it", "who",
-                          "example feedback", "counted"]]
+                          "example feedback", "counted", POINTS]]
     for row in rows:
         top = row["slips"][0] if row["slips"] else {"slip": "", "learners": [], "example": ""}
         lines.append([row["exercise"], row["learners"], row[RIGHT], row[WRONG], row[NOT_ANSWERED],
                       row[ERRORED], round(100 * row["success rate"], 1), top["slip"], len(top["learners"]),
-                      ", ".join(top["learners"]), top["example"], "yes" if row["counted"] else "no"])
+                      ", ".join(top["learners"]), top["example"], "yes" if row["counted"] else "no",
+                      _number((worth or {}).get(row["exercise"], 1.0 if row["counted"] else 0.0))])
     _csv(out / "summary.csv", lines)
 
     parts = [f"<p>{len(table)} learners, {len(exercises)} exercises graded. {_h(out_of)}</p>"]
