@@ -25,8 +25,8 @@ STEPS_AND_EXAMPLES: dict[str, tuple[str, str]] = {
         "write one letter per question, in the order of the questions, 12 in all: a, b, c or d, or ? where "
         "you have no idea; capitals or not and spaces do not matter. A dict {question number: letter} works "
         "too.",
-        "for a quiz of 4 questions where you think b, then a, then have no idea, then d: \"BA?D\", or "
-        "{1: \"b\", 2: \"a\", 3: \"?\", 4: \"d\"}."),
+        "for a quiz of 4 questions where you think b, then c, then have no idea, then a: \"BC?A\", or "
+        "{1: \"b\", 2: \"c\", 3: \"?\", 4: \"a\"}."),
     "00.1": (
         "take the frame's first byte (the two characters before the first space) and turn it from "
         "hexadecimal into a number: the first digit times 16 plus the second, or int(\"..\", 16) in Python.",
@@ -92,8 +92,9 @@ STEPS_AND_EXAMPLES: dict[str, tuple[str, str]] = {
     "05.3": (
         "list what follows the length field in the response: the unit (1 byte), the function code (1), the "
         "byte count (1), and 2 bytes per register read; add them.",
-        "a response with 4 registers: 1 + 1 + 1 + 8 = 11, so its MBAP header is 00 01 00 00 00 0B 01 "
-        "(mb.TcpFrame(transaction_id=1, unit=1, pdu=mb.ReadHoldingRegistersResponse(registers=[0] * 4)))."),
+        "a response with 4 registers: 1 + 1 + 1 + 8 = 11 = 0x0B, so the frame is 00 01 00 00 00 0B 01 03 08 "
+        "00 00 00 00 00 00 00 00 (mb.TcpFrame(transaction_id=1, unit=1, "
+        "pdu=mb.ReadHoldingRegistersResponse(registers=[0] * 4)).encode())."),
     "06.1": (
         "count characters: a read request is 8 bytes, an FC3 response 5 + 2 per register; add 3.5 characters "
         "of silence after each; a character is 10 bits at 8N1 and a bit lasts 1/9600 s; x 1000 for "
