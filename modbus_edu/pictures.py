@@ -12,8 +12,8 @@ site, Binder, a local install); where it does not, every cell that draws is run 
   bound) is skipped, and the rest of the cell runs, so the names it defines exist for the cells below;
 * the pictures the build drew from that same cell are shown, each with its words (the text equivalent
   :func:`modbus_edu.plotstyle.show` gave it: the image's ``alt`` and the line under it, as on CPython),
-  then one line saying that changing them needs the published site or Binder.  A cell the learner has edited has no stored picture: the line
-  says so.
+  then one line saying that changing them needs the published site or Binder.  A cell the learner has
+  edited has no stored picture: the line says so.
 
 Any other error is raised as usual.  Nothing here draws: the pictures are the ones matplotlib drew.
 """

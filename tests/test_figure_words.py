@@ -33,7 +33,7 @@ def test_every_picture_has_its_words_as_alt_and_under_it(path):
             alt = output.get("metadata", {}).get("image/png", {}).get("alt", "")
             assert len(alt) >= 40, f"{path.name} cell {number}: a picture without its words ({source[:60]!r})"
             assert FIGURE_IN_WORDS + alt in printed, f"{path.name} cell {number}: the words are not under it"
-            assert "{" not in alt and "}" not in alt, f"{path.name} cell {number}: a placeholder left in {alt!r}"
+            assert "{" not in alt and "}" not in alt, f"{path.name} cell {number}: a placeholder in {alt!r}"
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda path: path.stem[:2])
@@ -41,7 +41,7 @@ def test_every_cell_that_draws_shows_its_figure_with_words(path):
     """A figure goes out through plotstyle.show, never pyplot's show, which has no place for words."""
     for number, source, _ in _cells(path):
         if draws(source):
-            assert not re.search(r"\bplt\.show\(", source), f"{path.name} cell {number}: plt.show() has no words"
+            assert not re.search(r"\bplt\.show\(", source), f"{path.name} cell {number}: plt.show(), no words"
 
 
 def test_the_figures_words_are_read_off_the_data_they_draw():

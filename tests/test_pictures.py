@@ -110,7 +110,8 @@ def test_the_build_s_picture_is_shown_with_its_words(no_matplotlib, monkeypatch)
     monkeypatch.setattr(IPython.display, "display", lambda *items, **kw: shown.append((items, kw)))
     pictures.run_drawing(CELL)
     (image,), options = shown[1]
-    assert image.data == base64.b64decode(PNG) and options == {"metadata": {"image/png": {"alt": "a line up"}}}
+    assert image.data == base64.b64decode(PNG)
+    assert options == {"metadata": {"image/png": {"alt": "a line up"}}}
     assert printed[0] == "The figure in words: a line up" == pictures.FIGURE_IN_WORDS + "a line up"
     assert "drawn from this cell when the course was built" in printed[1]
 
@@ -155,5 +156,5 @@ def test_the_build_ships_every_drawing_cell_s_pictures_as_a_wheel(tmp_path):
     assert drew >= 10  # 01, 03, 06, 08, 09, 10 and 16 draw
     assert all(base64.b64decode(picture["png"]).startswith(b"\x89PNG") for pictures_ in stored.values()
                for picture in pictures_)
-    assert all(picture["alt"] for pictures_ in stored.values() for picture in pictures_)  # each with its words
+    assert all(picture["alt"] for pictures_ in stored.values() for picture in pictures_)  # each has its words
     assert "modbus_edu_pictures/pictures.json,sha256=" in record

@@ -123,7 +123,8 @@ STEPS_AND_EXAMPLES: dict[str, tuple[str, str]] = {
     "07.4": (
         "return two bytes, bytes([...]): the function code with its top bit set (| 0x80, or + 128), then the "
         "code as it is; no slave address and no CRC: those belong to the frame, not the PDU.",
-        "function 16 refused with code 4: 0x10 | 0x80 = 0x90, so 90 04 (mb.ExceptionResponse(16, 4).encode())."),
+        "function 16 refused with code 4: 0x10 | 0x80 = 0x90, so 90 04 "
+        "(mb.ExceptionResponse(16, 4).encode())."),
     "08.3": (
         "compare each pause with the limit of 1.5 character times: up to it the frame stays whole, above it "
         "the frame is broken; or try each on a loopback wire with link.faults.insert_gap(at_byte=4, "
@@ -234,8 +235,8 @@ EXAMPLES: dict[str, str] = {
 
 EXAMPLES_REPLACED: dict[str, str] = {
     "00.3": "another request in the same envelope: slave 9, write the value 500 into holding register 5 "
-            "(function 6): the unit 09, then the PDU 06 00 05 01 F4, then the CRC of those six bytes, 0x9498, "
-            "low byte first: 09 06 00 05 01 F4 98 94 (mb.RtuFrame(unit=9, "
+            "(function 6): the unit 09, then the PDU 06 00 05 01 F4, then the CRC of those six bytes, "
+            "0x9498, low byte first: 09 06 00 05 01 F4 98 94 (mb.RtuFrame(unit=9, "
             "pdu=mb.WriteSingleRegisterRequest(address=5, value=500)).encode()).",
 }
 """Exercise key -> a worked example that replaces its checker's own."""
