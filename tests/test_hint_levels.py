@@ -140,9 +140,10 @@ def _solution_lines(key: str) -> set[str]:
     """A build exercise's answer is code: its worked solution's lines long enough to give it away."""
     path = ROOT / "notebooks" / EXERCISES[key].solution
     lines = path.read_text(encoding="utf-8").splitlines() if path.exists() else []
-    return {_flat(line.split("#")[0]) for line in lines
-            if len(line.split("#")[0].strip()) >= 25 and not line.lstrip().startswith(("def ", "import ",
-                                                                                       "from ", "check("))}
+    code = [re.sub(r"^(return|answer\s*=)\s*", "", line.split("#")[0].strip()) for line in lines]
+    return {_flat(line) for line in code
+            if len(line) >= 12 and re.search(r"[(\[=+*/-]", line)
+            and not line.startswith(("def ", "import ", "from ", "check("))}
 
 
 NAMES_AMONG_OTHERS = {"05.4": "the step says what each of the four MBAP fields must hold, the wrong one too"}

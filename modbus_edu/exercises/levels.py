@@ -102,7 +102,8 @@ STEPS_AND_EXAMPLES: dict[str, tuple[str, str]] = {
         "2 registers at 19200 baud 8N1: 8 + 3.5 + 9 + 3.5 = 24 characters = 240 bits; 240 / 19200 = "
         "0.0125 s = 12.50 ms (mb.SerialTiming(baudrate=19200).transaction_time(8, 9))."),
     "06.5": (
-        "start from function = pdu[0]. For 3: address and count are int.from_bytes of pdu[1:3] and pdu[3:5] "
+        "start from the function code, the PDU's first byte. For 3: address and count are int.from_bytes "
+        "of the next two pairs of bytes "
         "(\"big\"); check the count (1..125), then that address + count stays inside the list; answer the "
         "function, the byte count (2 per register), then each register as 2 bytes, high first. For 6: store "
         "the value at the address (if it exists) and answer with the request.",
@@ -205,8 +206,8 @@ STEPS_AND_EXAMPLES: dict[str, tuple[str, str]] = {
         "a meter whose adapter's TX LED stays dark at every request: nothing has left the computer, so the "
         "first box, the port, is not ruled out: check the port's name and the dialout group."),
     "16.4": (
-        "two cases: the first len(sent) bytes of received are exactly sent, and the answer is the rest "
-        "(received[len(sent):]); otherwise raise an error, such as a mb.ModbusError subclass.",
+        "two cases: the first len(sent) bytes of received are exactly sent, and the answer is the rest of "
+        "received (a slice); otherwise raise an error, such as a mb.ModbusError subclass.",
         "sent 01 03 00 00 00 01 84 0A, received 01 03 00 00 00 01 84 0A 01 03 02 00 2A 39 9B: the first 8 "
         "bytes are the echo and 01 03 02 00 2A 39 9B is the answer; received 01 03 02 00 2A 39 9B alone (no "
         "echo) raises."),
