@@ -167,10 +167,12 @@ STEPS_AND_EXAMPLES: dict[str, tuple[str, str]] = {
         "2-byte fields; join them with +. A read request's length is the same whatever its numbers.",
         "transaction 300, unit 7, 5 registers from address 1000: 01 2C 00 00 00 06 07 03 03 E8 00 05."),
     "13.1": (
-        "poll each wire, then print what its slave made of the request: link.slaves[0].counters and "
-        "link.slaves[0].log (a wire with no slave has none); match each wire to the count that grew.",
-        "a slave whose counters show other_unit 3 heard three whole requests, all for another address; one "
-        "whose checksum_errors grew heard bytes it could not assemble into the request that was sent."),
+        "read the poll's output wire by wire: a wire that prints no \"slave counters\" line has no slave "
+        "listening; for the two others, see which count is 3 (other_unit or checksum_errors) and whether "
+        "\"slave received\" shows the bytes of the monitor or others.",
+        "after two polls, a slave whose counters show other_unit 2 and whose log holds the monitor's bytes "
+        "heard two whole requests, both for another address; one with checksum_errors 2 and other bytes in "
+        "its log assembled something else than was sent."),
     "13.2": (
         "take the two registers read and decode them twice, mb.decode_value(registers, \"uint32\", \"ABCD\") "
         "and with \"CDAB\"; divide each by 1000 (mA to A) and keep the one a current sensor could measure.",
