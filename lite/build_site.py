@@ -115,19 +115,21 @@ def stage_contents(dest: Path, offline: bool) -> None:
     shutil.copytree(NOTEBOOKS / "solutions", dest / "solutions")
 
 
-def drawn_pictures(notebooks: list[Path]) -> dict[str, list[str]]:
-    """Each drawing cell's key (:func:`modbus_edu.pictures.cell_key`) -> the PNGs it drew (base64), from
+def drawn_pictures(notebooks: list[Path]) -> dict[str, list[dict[str, str]]]:
+    """Each drawing cell's key (:func:`modbus_edu.pictures.cell_key`) -> the pictures it drew, each as
+    ``{"png": base64, "alt": its words}`` (the ``alt`` :func:`modbus_edu.plotstyle.show` stored with it), from
     the executed notebooks; a drawing cell that drew nothing (its imports) maps to an empty list."""
     sys.path.insert(0, str(ROOT))
     from modbus_edu.pictures import cell_key, draws
 
-    found: dict[str, list[str]] = {}
+    found: dict[str, list[dict[str, str]]] = {}
     for path in notebooks:
         for cell in json.loads(path.read_text(encoding="utf-8"))["cells"]:
             source = _source(cell)
             if cell["cell_type"] == "code" and draws(source):
                 found[cell_key(source)] = [
-                    "".join(output["data"]["image/png"]).replace("\n", "")
+                    {"png": "".join(output["data"]["image/png"]).replace("\n", ""),
+                     "alt": output.get("metadata", {}).get("image/png", {}).get("alt", "")}
                     for output in cell.get("outputs", []) if "image/png" in output.get("data", {})]
     return found
 

@@ -10,9 +10,10 @@ site, Binder, a local install); where it does not, every cell that draws is run 
 * each top-level statement runs in turn; a statement that fails because matplotlib is missing (its
   import, a figure, a name such as ``plt`` or ``fig`` that an earlier skipped statement would have
   bound) is skipped, and the rest of the cell runs, so the names it defines exist for the cells below;
-* the pictures the build drew from that same cell are shown, with one line saying that changing them
-  needs the published site or Binder.  A cell the learner has edited has no stored picture: the line
-  says so.
+* the pictures the build drew from that same cell are shown, each with its words (the text equivalent
+  :func:`modbus_edu.plotstyle.show` gave it: the image's ``alt`` and the line under it, as on CPython),
+  then one line saying that changing them needs the published site or Binder.  A cell the learner has
+  edited has no stored picture: the line says so.
 
 Any other error is raised as usual.  Nothing here draws: the pictures are the ones matplotlib drew.
 """
@@ -40,6 +41,9 @@ PUBLISHED = "https://modbus-edu.github.io/modbus_edu/"
 """The published site, which loads matplotlib from Pyodide's CDN."""
 DRAWS = ("matplotlib", "plotstyle")
 """Words in a cell's source that make it a cell that draws."""
+FIGURE_IN_WORDS = "The figure in words: "
+"""What starts the line under a figure that :func:`modbus_edu.plotstyle.show` writes (and :func:`run_drawing`
+where the figure was drawn by the build)."""
 
 
 def cell_key(source: str) -> str:
@@ -56,8 +60,9 @@ def has_matplotlib() -> bool:
     return True
 
 
-def stored_pictures() -> dict[str, list[str]]:
-    """The build's pictures (cell key -> PNGs in base64), or an empty dict where the package is absent."""
+def stored_pictures() -> dict[str, list[dict[str, str]]]:
+    """The build's pictures (cell key -> ``{"png": PNG in base64, "alt": its words}`` in the order the
+    cell drew them), or an empty dict where the package is absent."""
     try:
         return json.loads(files(PACKAGE).joinpath("pictures.json").read_text(encoding="utf-8"))
     except (ImportError, OSError, ValueError):
@@ -146,7 +151,13 @@ def run_drawing(source: str) -> None:
     if not skipped or pictures == []:  # it drew nothing here, or the build drew nothing from it either
         return
     for picture in pictures or []:
-        display.display(display.Image(data=base64.b64decode(picture), format="png"))
+        png, alt = (picture, "") if isinstance(picture, str) else (picture["png"], picture.get("alt", ""))
+        image = display.Image(data=base64.b64decode(png), format="png")
+        if alt:
+            display.display(image, metadata={"image/png": {"alt": alt}})
+            print(FIGURE_IN_WORDS + alt)
+        else:
+            display.display(image)
     if pictures:
         print(f"(This picture was drawn from this cell when the course was built: this copy of the course "
               f"runs without matplotlib. To change it, use the published site ({PUBLISHED}) or Binder "

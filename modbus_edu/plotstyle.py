@@ -19,12 +19,13 @@ import sys
 from typing import Any
 
 from .errors import require
-from .pictures import _display, _shell  # IPython's pieces, from the kernel this runs in (if any)
+from .pictures import FIGURE_IN_WORDS, _display, _shell  # the words' line; IPython's pieces (if any)
 
 mpl = require("matplotlib", "modbus_edu.plotstyle")
 from matplotlib.figure import Figure  # noqa: E402  (a figure of no pyplot state, for a panel's picture)
 
-__all__ = ["HEIGHT", "STYLE", "WIDTH", "Figure", "figure", "legend_outside", "legend_below", "show", "mpl"]
+__all__ = ["FIGURE_IN_WORDS", "HEIGHT", "STYLE", "WIDTH", "Figure", "figure", "legend_outside",
+           "legend_below", "show", "mpl"]
 
 WIDTH = 9.0
 """Inches: at the notebook's 100 dpi, about 900 px, inside the 968 px output area of a 1400 px screen."""
@@ -76,10 +77,6 @@ def legend_below(ax, ncols: int = 3, **legend: Any):
                "frameon": False, "fontsize": STYLE["legend.fontsize"]}
     options.update(legend)
     return ax.legend(**options)
-
-
-FIGURE_IN_WORDS = "The figure in words: "
-"""What starts the line under a figure that :func:`show` writes."""
 
 
 def show(fig, text: str) -> None:

@@ -35,6 +35,8 @@ from pathlib import Path
 
 import pytest
 
+from modbus_edu.pictures import FIGURE_IN_WORDS
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
@@ -265,7 +267,7 @@ def test_every_notebook_runs_to_its_last_cell(site, figures, path):
 
 def _pictures_shown(page, path: Path) -> None:
     """Offline, each cell that drew a picture when the course was built shows that picture (a PNG the
-    size the build drew it), with the one line that says where to change it."""
+    size the build drew it), with its words and the one line that says where to change it."""
     drawn = [cell for cell in json.loads(path.read_text())["cells"] if cell["cell_type"] == "code"
              and any("image/png" in output.get("data", {}) for output in cell.get("outputs", []))]
     images = page.locator('.jp-OutputArea-output img[src^="data:image/png"]')
@@ -273,6 +275,8 @@ def _pictures_shown(page, path: Path) -> None:
     line = "drawn from this cell when the course was built"
     lines = page.locator(".jp-OutputArea-output").filter(has_text=line)
     assert lines.count() == len(drawn)
+    words = page.locator(".jp-OutputArea-output").filter(has_text=FIGURE_IN_WORDS)  # each with its words
+    assert words.count() >= len(drawn), (words.count(), len(drawn))
     assert all(box["width"] > 300 for box in (image.bounding_box() for image in images.all()))
 
 

@@ -102,6 +102,20 @@ def test_the_build_s_picture_is_shown_with_one_line(no_matplotlib, monkeypatch):
     assert "Binder" in printed[0] and "published site" in printed[0]
 
 
+def test_the_build_s_picture_is_shown_with_its_words(no_matplotlib, monkeypatch):
+    shown = []
+    images, printed = _displayed(monkeypatch, {pictures.cell_key(CELL): [{"png": PNG, "alt": "a line up"}]})
+    import IPython.display
+
+    monkeypatch.setattr(IPython.display, "display", lambda *items, **kw: shown.append((items, kw)))
+    pictures.run_drawing(CELL)
+    (image,), options = shown[1]
+    assert image.data == base64.b64decode(PNG)
+    assert options == {"metadata": {"image/png": {"alt": "a line up"}}}
+    assert printed[0] == "The figure in words: a line up" == pictures.FIGURE_IN_WORDS + "a line up"
+    assert "drawn from this cell when the course was built" in printed[1]
+
+
 def test_an_edited_cell_says_it_has_no_picture_and_a_cell_that_drew_nothing_says_nothing(no_matplotlib,
                                                                                           monkeypatch):
     images, printed = _displayed(monkeypatch, {pictures.cell_key(CELL): [PNG],
@@ -140,5 +154,7 @@ def test_the_build_ships_every_drawing_cell_s_pictures_as_a_wheel(tmp_path):
                 assert len(stored[pictures.cell_key(source)]) == len(pngs), (path.name, source[:60])
                 drew += bool(pngs)
     assert drew >= 10  # 01, 03, 06, 08, 09, 10 and 16 draw
-    assert all(base64.b64decode(png).startswith(b"\x89PNG") for pngs in stored.values() for png in pngs)
+    assert all(base64.b64decode(picture["png"]).startswith(b"\x89PNG") for pictures_ in stored.values()
+               for picture in pictures_)
+    assert all(picture["alt"] for pictures_ in stored.values() for picture in pictures_)  # each has its words
     assert "modbus_edu_pictures/pictures.json,sha256=" in record

@@ -21,10 +21,12 @@ bottom; a hint appears only after a wrong answer.  Worked solutions live in ``no
 Layout: :mod:`.core` holds the registry, ``evaluate`` (``verdict``, ``judge``) and the helpers checkers share;
 :mod:`.build` the build-exercise runner (a trace of the learner's function, then a judgement of it).
 :mod:`.checkers` holds the per-notebook checkers (``checkers/nbNN.py``: the exercises of notebook NN, found
-and imported automatically). :mod:`.diagnosis` names a wrong answer: one procedure per concept (the CRC,
-the LRC, the MBAP header, a frame's fields, a timing, an address, a value, a count), each able to give its
-answer with one named step changed (:mod:`.diagnosis.procedure`), and the catalogue of misconceptions those
-steps point to (:mod:`.diagnosis.misconceptions`), so that one mistake reads the same in every notebook.
+and imported automatically); :mod:`.levels` gives the hints after the idea (the step, then a worked example
+on other numbers) to the exercises whose checkers do not. :mod:`.diagnosis` names a wrong answer: one
+procedure per concept (the CRC, the LRC, the MBAP header, a frame's fields, a timing, an address, a value,
+a count), each able to give its answer with one named step changed (:mod:`.diagnosis.procedure`), and the
+catalogue of misconceptions those steps point to (:mod:`.diagnosis.misconceptions`), so that one mistake
+reads the same in every notebook.
 What runs in the learner's kernel: :mod:`.submit` (``check`` itself, which under ``modbus-edu grade`` only
 submits), :mod:`.plain` (answers as plain data) and :mod:`.calls` (calling a learner's function within a
 time limit; the grader's clean room keeps only these two). :mod:`.inventory` is the concept inventory that
@@ -39,7 +41,8 @@ misconception.  The slips a newcomer makes (test data) live in ``tests/slips.py`
 
 from __future__ import annotations
 
-from . import checkers, inventory  # the notebooks' exercises, and the concept inventory (00.0 and 17.0)
+# the notebooks' exercises, the concept inventory (00.0 and 17.0), then every exercise's hints after the idea
+from . import checkers, inventory, levels  # noqa: F401  (levels: registered by importing it)
 from .build import build_exercise
 from .checkers.nb13 import lab  # the troubleshooting lab's puzzles, used by notebook 13
 from .core import EXERCISES, PLACEHOLDER, AnswerError, Exercise, Result, evaluate, exercise, judge, verdict
