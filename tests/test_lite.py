@@ -6,6 +6,7 @@ chromium (playwright) with every request that would leave 127.0.0.1 blocked and 
   ``modbus_edu.links.in_page``; a cell that draws shows the picture the build drew);
 * a build exercise's right answer is accepted, a wrong one refused with its misconception named;
 * the frame builder panel follows typing;
+* 16's Web Serial panel renders as controls (anywidget and its extension are in the site);
 * 0 requests blocked, per notebook;
 * a cell that stops is scrolled into view with its message, and the toolbar's busy indicator turns idle
   with the status bar (``lite/page.js``);
@@ -40,7 +41,7 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(ROOT / "lite"))
 import build_site  # noqa: E402
-from browser import lab_driver  # noqa: E402
+from browser import lab_driver, lite_probe  # noqa: E402
 from test_browser import _in_ci, _require_browser  # noqa: E402
 
 SITE = ROOT / "_site"
@@ -258,6 +259,8 @@ def test_every_notebook_runs_to_its_last_cell(site, figures, path):
             _pictures_shown(page, path)
         if path.name == "02_function_codes.ipynb":
             _exercise_and_panel(page)
+        if path.name == "16_first_real_device.ipynb":
+            _web_serial_panel(page)
     finally:
         page.context.close()
     assert blocked == [], f"{len(blocked)} requests tried to leave the site: {blocked[:5]}"
@@ -298,6 +301,16 @@ def _exercise_and_panel(page) -> None:
     page.wait_for_function(
         "(el) => el.querySelector('.mbe-frame-hex').innerText.includes('00 6B')",
         arg=fb.element_handle(), timeout=30_000)
+
+
+def _web_serial_panel(page) -> None:
+    """16's "From the browser" cell shows the Web Serial panel as the page's widget, from the site's own
+    anywidget (its wheel for the kernel, its extension for the page), not as the still picture of a
+    button: Chromium has ``navigator.serial``, so the enabled *choose serial port* button and its line."""
+    page.locator(".jp-OutputArea-output .mbe-webserial").first.wait_for(state="attached", timeout=30_000)
+    web = page.evaluate(f"({lite_probe.web_serial('document')})")
+    assert web["navigator_serial"], web
+    assert lite_probe.web_serial_shown(web), web
 
 
 def test_a_cell_that_stops_is_shown_and_the_busy_indicator_follows_the_kernel(site, figures):

@@ -10,8 +10,10 @@ engine), each the Debian package, none downloaded.
 In each, one short notebook (:data:`~browser.lite_probe.NOTEBOOK`) is opened and run, and the same
 questions are asked of the page (:mod:`browser.lite_probe`): the kernel starts (Pyodide 314.0.6, which
 runs without JSPI, as Firefox and WebKit need), its first cell's ``%pip install`` works, an exercise's
-``check`` gives its message, a panel renders as controls, and a drawing cell shows its picture.  The
-table (browser, version, the five answers, seconds) is printed and written to
+``check`` gives its message, a panel renders as controls, a drawing cell shows its picture, and the Web
+Serial panel (``mb.browser_serial``, an anywidget) renders from the site's own anywidget: in Chromium its
+*choose serial port* button, in Firefox and WebKit (no ``navigator.serial``) the one line that names
+Chrome or Edge.  The table (browser, version, the six answers, seconds) is printed and written to
 tests/artifacts/lite_browsers.json.
 
 A browser or driver that is missing skips its test with the reason; with ``CI`` set it is a failure.
@@ -59,9 +61,10 @@ def table():
     yield rows
     ARTIFACTS.mkdir(exist_ok=True)
     (ARTIFACTS / "lite_browsers.json").write_text(json.dumps(rows, indent=1) + "\n")
-    print("\nbrowser        version                 kernel pip  check panel picture  seconds")
+    print("\nbrowser        version                 kernel pip  check panel picture serial  seconds")
     for row in rows:
-        marks = "  ".join("yes" if row[k] else "NO " for k in ("kernel", "pip", "check", "panel", "picture"))
+        marks = "  ".join("yes" if row[k] else "NO " for k in ("kernel", "pip", "check", "panel", "picture",
+                                                               "web serial"))
         print(f"{row['browser']:14} {row['version'][:22]:22}  {marks}    {row['seconds']:6.1f}")
 
 
