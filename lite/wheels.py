@@ -21,7 +21,7 @@ PINS = ROOT / "binder" / "requirements-test.txt"
 PYODIDE_PYTHON = "3.14"  # the Python of Pyodide 314
 
 # What `import modbus_edu`, its panels and its captures need in a browser (scapy: pure Python), and the
-# Web Serial panel (mb.browser_serial): anywidget and what it imports (psygnal's pure wheel, typing-extensions).
+# Web Serial panel (mb.browser_serial): anywidget and what it imports (psygnal, typing-extensions).
 # cryptography is left out: compiled, and the library needs it only to speak TLS, which a browser cannot.
 COURSE = ["pymodbus", "pyserial", "tqdm", "ipywidgets", "comm", "traitlets", "widgetsnbextension",
           "jupyterlab-widgets", "scapy", "anywidget", "psygnal", "typing-extensions"]

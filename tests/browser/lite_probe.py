@@ -24,7 +24,7 @@ READY = f"""(() => {{
 }})()"""
 """True once the notebook is open and its kernel has started (Pyodide loaded, idle)."""
 
-WEB_SERIAL_CELL = 'import modbus_edu as mb\nmb.browser_serial(baudrate=9600, parity="E")  # the Web Serial panel'
+WEB_SERIAL_CELL = 'import modbus_edu as mb\nmb.browser_serial(baudrate=9600, parity="E")  # Web Serial'
 """The cell the probe adds at the notebook's end before Run All: the Web Serial panel, shown."""
 
 RUN_ALL = f"""(() => {{
@@ -64,7 +64,8 @@ def web_serial(root: str) -> str:
     found = f"(s) => [...{root}.querySelectorAll('.jp-OutputArea-output ' + s)]"
     return f"""{{
       navigator_serial: "serial" in navigator,
-      choose: ({found})(".mbe-webserial-choose").map((b) => ({{text: b.innerText.trim(), enabled: !b.disabled}})),
+      choose: ({found})(".mbe-webserial-choose")
+        .map((b) => ({{text: b.innerText.trim(), enabled: !b.disabled}})),
       status: ({found})(".mbe-webserial-status").map((e) => e.innerText.trim()),
       unavailable: ({found})(".mbe-webserial-unavailable").map((e) => e.innerText.trim()),
       picture: ({found})(".mbe-webserial-picture").length > 0,
