@@ -103,8 +103,9 @@ RESULT = f"""(() => {{
 
 def web_serial_shown(web: dict) -> bool:
     """The Web Serial panel rendered as the page's widget (not the still picture a page without anywidget's
-    extension shows): with ``navigator.serial`` (Chromium), its enabled *choose serial port* button and
-    its status line; without it (Firefox, WebKit), no button and the one line naming Chrome or Edge."""
+    extension shows): with ``navigator.serial`` (Chromium; Firefox ESR 153 has it too), its enabled
+    *choose serial port* button and its status line; without it (WebKitGTK), no button and the one line
+    naming Chrome or Edge."""
     if web["picture"]:
         return False
     if web["navigator_serial"]:
