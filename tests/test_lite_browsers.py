@@ -13,8 +13,8 @@ runs without JSPI, as Firefox and WebKit need), its first cell's ``%pip install`
 ``check`` gives its message, a panel renders as controls, a drawing cell shows its picture, and the Web
 Serial panel (``mb.browser_serial``, an anywidget) renders from the site's own anywidget: where the
 browser has ``navigator.serial`` (Chromium; Firefox ESR 153 too) its *choose serial port* button, where
-it has not (WebKitGTK) the one line that names Chrome or Edge.  The table (browser, version, the six answers, seconds) is printed and written to
-tests/artifacts/lite_browsers.json.
+it has not (WebKitGTK) the one line that names Chrome or Edge.  The table (browser, version, the six
+answers, seconds) is printed and written to tests/artifacts/lite_browsers.json.
 
 A browser or driver that is missing skips its test with the reason; with ``CI`` set it is a failure.
 The offline site is built (`make lite OFFLINE=1`) unless _site already is one.
