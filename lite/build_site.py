@@ -49,8 +49,14 @@ BINDER = "https://mybinder.org/v2/gh/modbus-edu/modbus_edu/main"
 # What the kernel loads from Pyodide's lock before the first cell runs (with their dependencies).
 KERNEL_PACKAGES = ["micropip", "packaging", "ipython", "jedi", "traitlets", "matplotlib-inline"]
 # What the first cell installs with piplite, without dependencies: scapy writes and reads captures (pure
-# Python); cryptography, compiled, is left out: it makes certificates for TLS, which a web page cannot speak.
-COURSE_WHEELS = ["modbus_edu", "pymodbus", "pyserial", "tqdm", "ipywidgets", "jupyterlab_widgets", "scapy"]
+# Python); anywidget, psygnal and typing_extensions carry the Web Serial panel (mb.browser_serial);
+# cryptography, compiled, is left out: it makes certificates for TLS, which a web page cannot speak.
+COURSE_WHEELS = ["modbus_edu", "pymodbus", "pyserial", "tqdm", "ipywidgets", "jupyterlab_widgets", "scapy",
+                 "anywidget", "psygnal", "typing_extensions"]
+LAB_EXTENSION_WHEELS = ["anywidget"]
+"""The wheels whose JupyterLab extension (share/jupyter/labextensions inside the wheel) the site carries,
+taken from the very wheel piplite installs, so the page's side and the kernel's side are one version
+(jupyterlab_widgets' extension comes from the build's environment, lite/requirements.txt)."""
 SOCKETS_TAG = "needs-sockets"
 SKIPPED = {SOCKETS_TAG: "this cell opens sockets",
            "needs-cryptography": "this cell makes certificates with the cryptography package, which a "
@@ -225,8 +231,21 @@ def write_config(lite_dir: Path, wheels: list[Path], offline: bool) -> None:
     (lite_dir / "overrides.json").write_text(json.dumps({
         "@jupyterlab/notebook-extension:tracker": {"windowingMode": "none"}}, indent=1))
     (lite_dir / "jupyter_lite_config.json").write_text(json.dumps({
+        "LiteBuildConfig": {"federated_extensions": [str(w) for w in lab_extension_wheels(wheels)]},
         "PipliteAddon": {"piplite_urls": [str(w) for w in wheels]},
     }, indent=1))
+
+
+def lab_extension_wheels(wheels: list[Path]) -> list[Path]:
+    """The wheels of :data:`LAB_EXTENSION_WHEELS` among ``wheels``, each checked to hold its extension."""
+    found = [w for w in wheels if _norm(w.name.split("-")[0]) in {_norm(n) for n in LAB_EXTENSION_WHEELS}]
+    for wheel in found:
+        with zipfile.ZipFile(wheel) as archive:
+            if not any("/share/jupyter/labextensions/" in name and name.endswith("/package.json")
+                       for name in archive.namelist()):
+                raise SystemExit(f"{wheel.name} holds no JupyterLab extension: the page could not draw its "
+                                 "widget")
+    return found
 
 
 def build(wheels_dir: Path, out: Path, offline: bool, work: Path) -> None:

@@ -20,10 +20,11 @@ ROOT = Path(__file__).resolve().parents[1]
 PINS = ROOT / "binder" / "requirements-test.txt"
 PYODIDE_PYTHON = "3.14"  # the Python of Pyodide 314
 
-# What `import modbus_edu`, its panels and its captures need in a browser (scapy: pure Python).
+# What `import modbus_edu`, its panels and its captures need in a browser (scapy: pure Python), and the
+# Web Serial panel (mb.browser_serial): anywidget and what it imports (psygnal, typing-extensions).
 # cryptography is left out: compiled, and the library needs it only to speak TLS, which a browser cannot.
 COURSE = ["pymodbus", "pyserial", "tqdm", "ipywidgets", "comm", "traitlets", "widgetsnbextension",
-          "jupyterlab-widgets", "scapy"]
+          "jupyterlab-widgets", "scapy", "anywidget", "psygnal", "typing-extensions"]
 # What the library's own tests need under Pyodide: pytest and hypothesis, and IPython, which ipywidgets
 # imports (a JupyterLite kernel carries it; under Node it is installed with the rest).
 TESTS = ["pytest", "pluggy", "iniconfig", "packaging", "pygments", "hypothesis", "attrs", "sortedcontainers",

@@ -377,3 +377,23 @@ def test_an_older_ipykernel_is_named_when_nothing_reached_the_kernel(monkeypatch
     monkeypatch.setitem(sys.modules, "ipykernel", types.SimpleNamespace(__version__="7.4.0"))
     with pytest.raises(ModbusTimeoutError, match="nothing came back at all: check the unit id"):
         asyncio.run(master.aread_holding_registers(unit=1, address=0, count=1))
+
+
+def test_in_jupyterlite_the_message_says_the_page_s_bytes_arrive_between_cells(monkeypatch) -> None:
+    """JupyterLite's Pyodide kernel, like an old ipykernel, hands the page's messages to the kernel only
+    between cells: an awaited call times out there, and its message names the kernel and what works
+    (a task started in one cell, read in the next), not the wiring."""
+    from modbus_edu import platform
+
+    class Silent(StandInPage):
+        def write(self, data: bytes) -> None:
+            self.written.append(data)
+
+    monkeypatch.setattr(platform, "IN_BROWSER", True)
+    master = mb.Master(_link(Silent(_slave())), timeout=0.1)
+    with pytest.raises(ModbusTimeoutError) as caught:
+        asyncio.run(master.aread_holding_registers(unit=1, address=0, count=1))
+    message = str(caught.value)
+    assert "JupyterLite's Pyodide kernel handles the page's messages only between cells" in message
+    assert "asyncio.ensure_future" in message and "task.result() in the next" in message
+    assert "wiring" not in message and "ipykernel 7.4" not in message

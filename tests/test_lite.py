@@ -6,6 +6,8 @@ chromium (playwright) with every request that would leave 127.0.0.1 blocked and 
   ``modbus_edu.links.in_page``; a cell that draws shows the picture the build drew);
 * a build exercise's right answer is accepted, a wrong one refused with its misconception named;
 * the frame builder panel follows typing;
+* 16's Web Serial panel renders as controls (anywidget and its extension are in the site), and one
+  awaited read goes through it to pymodbus's RTU server (a stand-in ``navigator.serial``);
 * 0 requests blocked, per notebook;
 * a cell that stops is scrolled into view with its message, and the toolbar's busy indicator turns idle
   with the status bar (``lite/page.js``);
@@ -42,13 +44,15 @@ ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(ROOT / "lite"))
 import build_site  # noqa: E402
-from browser import lab_driver  # noqa: E402
+from browser import lab_driver, lite_probe  # noqa: E402
 from test_browser import _in_ci, _require_browser  # noqa: E402
+from test_browser_serial_page import STAND_IN, bridge  # noqa: E402,F401  (bridge: a fixture, for 16)
 
 SITE = ROOT / "_site"
 ARTIFACTS = HERE / "artifacts"
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
 RUN_TIMEOUT_S = 600  # one notebook in Pyodide on two shared cores: generous but absolute
+WEB_SERIAL_NOTEBOOK = "16_first_real_device.ipynb"  # its Web Serial panel, driven through a stand-in port
 CDN_MESSAGE_BOUND_S = 30  # the published site, its CDN blocked: the page says so within this
 pytestmark = pytest.mark.slow
 
@@ -125,8 +129,11 @@ def _errors(page) -> list[str]:
     return [t.strip() for t in texts.all_inner_texts() if t.strip()]
 
 
-def _open(fresh_context, origin: str, name: str):
-    page = fresh_context().new_page()
+def _open(fresh_context, origin: str, name: str, init_script: str | None = None):
+    context = fresh_context()
+    if init_script:
+        context.add_init_script(init_script)
+    page = context.new_page()
     page.set_default_timeout(60_000)
     page.goto(f"{origin}lab/index.html?path={name}", wait_until="domcontentloaded", timeout=120_000)
     page.wait_for_selector(".jp-NotebookPanel .jp-Cell", timeout=120_000)
@@ -236,11 +243,13 @@ def test_published_site_with_its_cdn_blocked_says_what_failed(published, figures
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
-def test_every_notebook_runs_to_its_last_cell(site, figures, path):
+def test_every_notebook_runs_to_its_last_cell(site, figures, path, request):
     fresh_context, origin, blocked = site
     blocked_before = len(blocked)
     start = time.monotonic()
-    page = _open(fresh_context, origin, path.name)
+    serial = request.getfixturevalue("bridge") if path.name == WEB_SERIAL_NOTEBOOK else None
+    stand_in = STAND_IN.replace("__BRIDGE_URL__", serial[0]) if serial else None
+    page = _open(fresh_context, origin, path.name, stand_in)
     try:
         prompts, first = _run_all(page)
         errors = _errors(page)
@@ -260,6 +269,8 @@ def test_every_notebook_runs_to_its_last_cell(site, figures, path):
             _pictures_shown(page, path)
         if path.name == "02_function_codes.ipynb":
             _exercise_and_panel(page)
+        if serial:
+            _web_serial_panel(page, serial[1], figures)
     finally:
         page.context.close()
     assert blocked == [], f"{len(blocked)} requests tried to leave the site: {blocked[:5]}"
@@ -302,6 +313,41 @@ def _exercise_and_panel(page) -> None:
     page.wait_for_function(
         "(el) => el.querySelector('.mbe-frame-hex').innerText.includes('00 6B')",
         arg=fb.element_handle(), timeout=30_000)
+
+
+def _web_serial_panel(page, transcript: Path, figures: dict) -> None:
+    """16's "From the browser" cell shows the Web Serial panel as the page's widget, from the site's own
+    anywidget (its wheel for the kernel, its extension for the page), not as the still picture of a
+    button: the enabled *choose serial port* button and its line.  Then requests through it: the page's
+    ``navigator.serial`` is the tests' stand-in (tests/browser/serial_stand_in.js), its port a WebSocket
+    to pymodbus's RTU server behind a pty (tests/browser/serial_bridge.py).  JupyterLite's kernel hands
+    the page's messages to Python only between cells: a read awaited in one cell times out and says so
+    (not "check the wiring"); a read started as a task in one cell has its answer in the next."""
+    page.locator(".jp-OutputArea-output .mbe-webserial").first.wait_for(state="attached", timeout=30_000)
+    web = page.evaluate(f"({lite_probe.web_serial('document')})")
+    assert web["navigator_serial"], web
+    assert lite_probe.web_serial_shown(web), web
+    panel = page.locator(".jp-OutputArea-output .mbe-webserial").first
+    panel.locator(".mbe-webserial-choose").click()
+    page.wait_for_function("(el) => el.innerText.includes('port open')", arg=panel.element_handle(),
+                           timeout=30_000)
+    awaited = _run_cell(page, "import asyncio; lite_master = mb.Master(port, timeout=1.0); "
+                              "print(*await asyncio.gather(lite_master.aread_holding_registers("
+                              "unit=1, address=0, count=2), return_exceptions=True))")
+    start = time.monotonic()
+    _run_cell(page, "lite_task = asyncio.ensure_future("
+                    "lite_master.aread_holding_registers(unit=1, address=2, count=2))")
+    deadline = start + 30
+    answer = "waiting"
+    while "waiting" in answer and time.monotonic() < deadline:  # each cell lets the page's bytes in
+        answer = _run_cell(page, "print('read:', lite_task.result() if lite_task.done() else 'waiting')")
+    figures["web_serial_task_read_s"] = round(time.monotonic() - start, 2)
+    bridge_log = [json.loads(line) for line in transcript.read_text().splitlines()]
+    figures["web_serial_transcript"] = bridge_log
+    assert "only between cells" in awaited and "task.result() in the next" in awaited, awaited
+    assert "read: [102, 103]" in answer, answer
+    assert [e["hex"] for e in bridge_log if e["dir"] == "page->slave"] == [
+        "01 03 00 00 00 02 c4 0b", "01 03 00 02 00 02 65 cb"]
 
 
 def test_a_cell_that_stops_is_shown_and_the_busy_indicator_follows_the_kernel(site, figures):

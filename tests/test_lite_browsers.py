@@ -10,8 +10,11 @@ engine), each the Debian package, none downloaded.
 In each, one short notebook (:data:`~browser.lite_probe.NOTEBOOK`) is opened and run, and the same
 questions are asked of the page (:mod:`browser.lite_probe`): the kernel starts (Pyodide 314.0.6, which
 runs without JSPI, as Firefox and WebKit need), its first cell's ``%pip install`` works, an exercise's
-``check`` gives its message, a panel renders as controls, and a drawing cell shows its picture.  The
-table (browser, version, the five answers, seconds) is printed and written to
+``check`` gives its message, a panel renders as controls, a drawing cell shows its picture, and the Web
+Serial panel (``mb.browser_serial``, an anywidget) renders from the site's own anywidget: where the
+browser has ``navigator.serial`` (Firefox ESR 153) its *choose serial port* button, where it has not
+(WebKitGTK; Chromium here, its ``navigator.serial`` removed) the one line that names Chrome or Edge.
+The table (browser, version, the six answers, seconds) is printed and written to
 tests/artifacts/lite_browsers.json.
 
 A browser or driver that is missing skips its test with the reason; with ``CI`` set it is a failure.
@@ -60,9 +63,10 @@ def table():
     yield rows
     ARTIFACTS.mkdir(exist_ok=True)
     (ARTIFACTS / "lite_browsers.json").write_text(json.dumps(rows, indent=1) + "\n")
-    print("\nbrowser        version                 kernel pip  check panel picture  seconds")
+    print("\nbrowser        version                 kernel pip  check panel picture serial  seconds")
     for row in rows:
-        marks = "  ".join("yes" if row[k] else "NO " for k in ("kernel", "pip", "check", "panel", "picture"))
+        marks = "  ".join("yes" if row[k] else "NO " for k in ("kernel", "pip", "check", "panel", "picture",
+                                                               "web serial"))
         print(f"{row['browser']:14} {row['version'][:22]:22}  {marks}    {row['seconds']:6.1f}")
 
 
@@ -89,11 +93,15 @@ def _assert_all(answers: dict, result: dict) -> None:
 
 
 def test_chromium(notebook_url, table):
+    """Chromium, here with its ``navigator.serial`` taken away before the page loads (as in a browser
+    without Web Serial): the panel must say so in its one line (tests/test_lite.py sees Chromium's own
+    Web Serial in notebook 16, its button and a read through it)."""
     sync_playwright = _require_browser()
     start = time.monotonic()
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=lab_driver.CHROMIUM, args=lab_driver.BROWSER_ARGS)
         page = browser.new_page(viewport={"width": 1400, "height": 900})
+        page.add_init_script("delete Navigator.prototype.serial;")
         page.goto(notebook_url, wait_until="domcontentloaded", timeout=120_000)
         page.wait_for_function(lite_probe.READY, timeout=START_TIMEOUT_S * 1000, polling=500)
         page.evaluate(lite_probe.RUN_ALL)
@@ -101,7 +109,9 @@ def test_chromium(notebook_url, table):
         result = page.evaluate(lite_probe.RESULT)
         version = browser.version
         browser.close()
-    _assert_all(_record(table, "Chromium", version, result, time.monotonic() - start), result)
+    _assert_all(_record(table, "Chromium", f"{version} (no navigator.serial)", result,
+                        time.monotonic() - start), result)
+    assert not result["web_serial"]["navigator_serial"], result["web_serial"]
 
 
 def test_firefox_esr(notebook_url, table):

@@ -55,6 +55,7 @@ import time
 from collections import deque
 from typing import Any
 
+from .. import platform
 from ..clock import RealClock
 from ..errors import ConfigError, LinkError, guard_numbers, shown
 from .serial import _CutLink, _FrameCutter, _timing
@@ -291,8 +292,9 @@ class BrowserSerialLink(_CutLink):
         if self.state == "open" and self.bytes_in == 0 and self.bytes_out:
             old = _kernel_without_comms_while_awaiting()
             if old:
+                instead = (LITE_INSTEAD if old == PYODIDE_KERNEL else "use ipykernel 7.4 or later")
                 return (f"nothing reached this kernel while the cell waited: {old} handles the page's "
-                        "messages only between cells; poll from the test tool, or use ipykernel 7.4 or later")
+                        f"messages only between cells; poll from the test tool, or {instead}")
             return ("nothing came back at all: check the unit id, the wiring (A/B, ground), the "
                     "adapter's direction control, and that the device is powered")
         return ""
@@ -335,9 +337,18 @@ class BrowserSerialLink(_CutLink):
         return bundle
 
 
+PYODIDE_KERNEL = "JupyterLite's Pyodide kernel"
+LITE_INSTEAD = ("start the call as a task in one cell (task = asyncio.ensure_future(master.aread_...)) "
+                "and read task.result() in the next")
+"""What works in JupyterLite instead of a call awaited in one cell: the page's bytes arrive between cells."""
+
+
 def _kernel_without_comms_while_awaiting() -> str:
     """'ipykernel X' when this runs in an ipykernel older than 7.4, which dispatches comm messages only
-    between cells (not while a cell awaits); '' otherwise (7.4 and later, another kernel, a script)."""
+    between cells (not while a cell awaits); :data:`PYODIDE_KERNEL` in a browser (JupyterLite's kernel
+    does the same: tests/test_lite.py sees it); '' otherwise (7.4 and later, another kernel, a script)."""
+    if platform.IN_BROWSER:
+        return PYODIDE_KERNEL
     kernel = sys.modules.get("ipykernel")
     version = str(getattr(kernel, "__version__", ""))
     parts = version.split(".")
