@@ -143,13 +143,16 @@ class Procedure:
 
     def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
         """The changes that give the learner's answer on every ``(args, got)`` of ``cases``: on the first
-        (the failing input, where the change must apply), then on every other where it applies."""
+        (the failing input, where the change must apply), then on every other where it applies.  Where one
+        change alone explains the answer, the changes of two steps that also do are left out."""
         cases = list(cases)
         if not cases:
             return []
         (first_args, first_got), rest = cases[0], cases[1:]
-        return [item for item in self.candidates() if self.fits(item, first_args, first_got)
-                and all(self.fits(item, args, got, applicable=False) for args, got in rest)]
+        found = [item for item in self.candidates() if self.fits(item, first_args, first_got)
+                 and all(self.fits(item, args, got, applicable=False) for args, got in rest)]
+        single = [item for item in found if "+" not in item.key]
+        return single or found  # one change that explains the answer before two
 
     def explain(self, cases: Iterable[tuple[Sequence, Any]]) -> str | None:
         """The verdict's words for the learner's answers ``cases`` (``(args, got)`` pairs, the failing one
