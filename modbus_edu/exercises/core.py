@@ -623,7 +623,8 @@ def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU", unit: int |
     """Like :func:`compare_bytes` for a PDU, naming the slips of giving the unit in front of it or a whole
     frame instead, and a field written wrong (:func:`~.frameslip.frame_slip`)."""
     got = as_bytes(answer)
-    return (frame_verdict(got, expected, "pdu") or pdu_envelope_diagnosis(got, expected, unit) or request_field_diagnosis(got, expected, 0)
+    return (frame_verdict(got, expected, "pdu") or pdu_envelope_diagnosis(got, expected, unit)
+            or request_field_diagnosis(got, expected, 0)
             or frame_slip(got, expected) or compare_bytes(got, expected, what))
 
 

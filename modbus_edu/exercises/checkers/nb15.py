@@ -25,6 +25,7 @@ from ...pdu import (
 from ..build import build_exercise
 from ..core import Raised, exercise, number_answer, real_answer, show, tcp_frame_diagnosis
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.timing import TRANSACTION_MS
 
 
 # --- 15.1: one transaction at 19200 baud 8E1 -------------------------------------------------------------
@@ -51,7 +52,8 @@ def _check_15_1(answer: Any) -> str | None:
     if isinstance(got, str):
         return got
     expected = _transaction_ms()
-    named = (diagnose("parity-bit-forgotten", got, 24 * 10 / 19200 * 1000)
+    named = (TRANSACTION_MS.explain([((19200, "E", 1, 8, 9), got)])
+             or diagnose("parity-bit-forgotten", got, 24 * 10 / 19200 * 1000)
              or diagnose("silences-forgotten", got, 17 * 11 / 19200 * 1000))
     if named:
         return named

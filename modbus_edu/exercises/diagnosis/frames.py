@@ -102,8 +102,10 @@ def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> 
 def _fields(change: tuple, expected: bytes) -> dict:
     """The numbers the catalogue's sentence of a field change names (500 is 01 F4, and F4 01 reads as ...)."""
     _key, _step, misconception, offset, size, new = change
-    found = detect(misconception, int.from_bytes(new, "big"), int.from_bytes(expected[offset:offset + size],
-                                                                              "big")) if misconception else None
+    if misconception is None:
+        return {}
+    found = detect(misconception, int.from_bytes(new, "big"),
+                   int.from_bytes(expected[offset:offset + size], "big"))
     return found if isinstance(found, dict) else {}
 
 

@@ -144,15 +144,22 @@ class Procedure:
     def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
         """The changes that give the learner's answer on every ``(args, got)`` of ``cases``: on the first
         (the failing input, where the change must apply), then on every other where it applies.  Where one
-        change alone explains the answer, the changes of two steps that also do are left out."""
+        change alone explains the answer, the changes of two steps that also do are left out, and so are
+        the changes that show two misconceptions where one showing one does."""
         cases = list(cases)
         if not cases:
             return []
         (first_args, first_got), rest = cases[0], cases[1:]
+        try:
+            right = self.right(*copy.deepcopy(first_args))
+        except Exception:  # no right answer to compare: every change may be one
+            right = NOT_APPLICABLE
+        if right is not NOT_APPLICABLE and self.same(right, first_got):
+            return []  # the right answer (to the procedure's precision) is no slip
         found = [item for item in self.candidates() if self.fits(item, first_args, first_got)
                  and all(self.fits(item, args, got, applicable=False) for args, got in rest)]
-        single = [item for item in found if "+" not in item.key]
-        return single or found  # one change that explains the answer before two
+        found = [item for item in found if "+" not in item.key] or found
+        return [item for item in found if item.also is None] or found  # one slip before two
 
     def explain(self, cases: Iterable[tuple[Sequence, Any]]) -> str | None:
         """The verdict's words for the learner's answers ``cases`` (``(args, got)`` pairs, the failing one

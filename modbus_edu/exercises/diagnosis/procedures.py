@@ -356,6 +356,12 @@ TRANSACTION_TIME = Procedure(
             lambda b, p, s, q, r: _t35_chars(3)(b, p, s, q, r) if b <= 19200 else None,
         ),
         Perturbation(
+            "parity-added",
+            "11 bits a character (a parity bit where the line has none)",
+            None,
+            lambda b, p, s, q, r: _time(b, p, s, q, r, bits=11) if p == "N" and s == 1 else None,
+        ),
+        Perturbation(
             "eight-bits",
             "8 bits a character (no start and stop bits)",
             "start-stop-forgotten",
