@@ -7,7 +7,9 @@ and makes, for any frame of any exercise, the frames one step changed gives:
   or its hex digits read as decimal; an address counted from 1, less 1 twice, or given as its reference
   number; the unit's or a byte's digits mixed up the same way; an exception's function code without its
   top bit;
-* the **envelope** changed: for an RTU frame the CRC's bytes swapped, left out, over the PDU alone or one
+* the **envelope** changed: for an ASCII frame the LRC a plain sum, its one's complement, over the
+  characters or the PDU alone, a CRC in its place or none, CR LF or ':' left out, LF alone, spaces between
+  the bytes; for an RTU frame the CRC's bytes swapped, left out, over the PDU alone or one
   byte of it, the slave address left out, the PDU alone, a Modbus/TCP or an ASCII frame, CR LF at the end;
   for a Modbus/TCP frame a CRC after it, the MBAP header or the unit left out, the length missing or
   counting the wrong bytes, an RTU frame; for a PDU the unit in front of it, a checksum after it, a whole
@@ -31,7 +33,7 @@ from ...explain import explain, explain_pdu
 from .catalogue import detect
 from .procedure import Choices, Perturbation, Procedure
 
-MODES = ("rtu", "tcp", "pdu")
+MODES = ("rtu", "tcp", "pdu", "ascii")
 
 
 def _rows(expected: bytes, mode: str) -> list | None:
@@ -144,6 +146,35 @@ def _envelopes(mode: str, expected: bytes) -> list[Envelope]:
              lambda body, right: _ascii(body)),
             ("crlf", "CR LF after the CRC", "crlf-for-frame-end", lambda body, right: _rtu(body) + b"\r\n"),
         ]
+    if mode == "ascii":
+        def lrc_as(value: Callable[[bytes], int]) -> Callable[[bytes, bytes], bytes]:
+            return lambda body, right: b":" + (body + bytes([value(body) & 0xFF])).hex().upper().encode() + \
+                b"\r\n"
+        return [
+            ("lrc-plain-sum", "the plain sum for the LRC", "lrc-plain-sum", lrc_as(sum)),
+            ("lrc-ones", "the one's complement of the sum for the LRC", "lrc-ones-complement",
+             lrc_as(lambda body: ~sum(body))),
+            ("lrc-characters", "the LRC over the hex characters", "lrc-of-characters",
+             lrc_as(lambda body: lrc(body.hex().upper().encode("ascii")))),
+            ("lrc-over-pdu", "an LRC over the PDU alone", "checksum-without-address",
+             lrc_as(lambda body: lrc(body[1:]))),
+            ("crc-for-lrc", "a 2-byte CRC where the LRC goes", "crc-in-ascii",
+             lambda body, right: b":" + (body + crc16(body).to_bytes(2, "little")).hex().upper().encode()
+             + b"\r\n"),
+            ("lrc-left-out", "the LRC left out", None,
+             lambda body, right: b":" + body.hex().upper().encode() + b"\r\n"),
+            ("crlf-left-out", "CR LF left out", "ascii-without-crlf", lambda body, right: _ascii(body)[:-2]),
+            ("lf-only", "LF alone at the end, without the CR before it", None,
+             lambda body, right: _ascii(body)[:-2] + b"\n"),
+            ("colon-left-out", "the ':' left out", "ascii-colon-forgotten",
+             lambda body, right: _ascii(body)[1:]),
+            ("spaces", "spaces between the bytes' characters", None,
+             lambda body, right: b":" + (body + bytes([lrc(body)])).hex(" ").upper().encode() + b"\r\n"),
+            ("unit-left-out", "the slave address left out", "unit-missing",
+             lambda body, right: _ascii(body[1:])),
+            ("rtu-frame", "the RTU frame's bytes (with a CRC), where an ASCII frame's characters are asked",
+             None, lambda body, right: _rtu(body)),
+        ]
     if mode == "tcp":
         return [
             ("crc-added", "a CRC after the PDU", "crc-on-tcp",
@@ -194,6 +225,9 @@ def _with_field(expected: bytes, mode: str, change: tuple) -> Choices:
 
 
 def _body(expected: bytes, mode: str) -> bytes:
+    """What the envelope wraps: an RTU frame without its CRC, an ASCII frame's bytes without the LRC."""
+    if mode == "ascii":
+        return bytes.fromhex(expected[1:-2].decode("ascii"))[:-1]
     return expected[:-2] if mode == "rtu" else expected
 
 
@@ -202,16 +236,22 @@ def _wrap(mode: str, body: bytes, right_body: bytes) -> Choices:
     right frame's (copied)."""
     if mode == "rtu":
         return Choices([_rtu(body), body + _rtu(right_body)[-2:]])
+    if mode == "ascii":
+        return Choices([_ascii(body), _ascii(body)[:-4] + _ascii(right_body)[-4:]])
     return Choices([body])
 
 
 def frame_procedure(expected: Any, mode: str) -> Procedure | None:
-    """The procedure that builds the frame ``expected`` (bytes: an RTU frame, a Modbus/TCP frame or a PDU,
-    as ``mode`` says) and its perturbations; None when the frame's fields cannot be read."""
+    """The procedure that builds the frame ``expected`` (bytes: an RTU frame, a Modbus/TCP frame, a PDU or
+    an ASCII frame's characters, as ``mode`` says) and its perturbations; None when the frame's fields
+    cannot be read."""
     if mode not in MODES or not isinstance(expected, (bytes, bytearray)) or not expected:
         return None
     expected = bytes(expected)
-    rows = _rows(expected, mode)
+    try:
+        rows = _rows(_rtu(_body(expected, mode)), "rtu") if mode == "ascii" else _rows(expected, mode)
+    except (ValueError, UnicodeDecodeError):  # not an ASCII frame of hex characters
+        return None
     if rows is None:
         return None
     right_body = _body(expected, mode)
@@ -224,7 +264,7 @@ def frame_procedure(expected: Any, mode: str) -> Procedure | None:
             key, step, misconception,
             lambda change=change: Choices(frame for body in _with_field(expected, mode, change)
                                           for frame in _wrap(mode, body, right_body)),
-            fields=_fields(change, expected)))
+            fields=_fields(change, right_body)))
     for key, step, misconception, make in _envelopes(mode, expected):
         steps.append(Perturbation(key, step, misconception,
                                   lambda make=make: make(right_body, right_body)))

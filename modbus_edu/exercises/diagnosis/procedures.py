@@ -351,7 +351,7 @@ TRANSACTION_TIME = Procedure(
         ),
         Perturbation(
             "three-characters",
-            "3 characters for t3.5",
+            "silences of 3 characters, not 3.5",
             "three-characters-for-t35",
             lambda b, p, s, q, r: _t35_chars(3)(b, p, s, q, r) if b <= 19200 else None,
         ),

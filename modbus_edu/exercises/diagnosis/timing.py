@@ -26,8 +26,9 @@ def near(mine: Any, got: Any, rel: float = 2e-3) -> bool:
 
 def derived(procedure: Procedure, concept: str, transform: Callable[[float], float],
             forms: tuple[Perturbation, ...] = ()) -> Procedure:
-    """``procedure`` with ``transform`` applied to its answer and to every perturbation's, compared to
-    0.2 % (a learner rounds), with the slips of form ``forms``."""
+    """``procedure`` (a transaction's time) with ``transform`` applied to its answer and to every
+    perturbation's, compared to 0.2 % (a learner rounds), with the slips of form ``forms``; and a frame
+    counted one byte short, which gives what 3 characters for t3.5 gives (a verdict then names both)."""
 
     def through(compute: Callable[..., Any]) -> Callable[..., Any]:
         def changed(*args: Any) -> Any:
@@ -35,10 +36,15 @@ def derived(procedure: Procedure, concept: str, transform: Callable[[float], flo
             return None if value is None or value is NOT_APPLICABLE else transform(value)
         return changed
 
+    counted = (  # a frame of the question counted one byte short: the same total as 3 characters for t3.5
+        Perturbation("response-one-short", "a response one byte short (a byte of it left out of the count)",
+                     None, lambda b, p, s, q, r: procedure.right(b, p, s, q, r - 1)),
+        Perturbation("request-one-short", "a request one byte short (a byte of it left out of the count)",
+                     None, lambda b, p, s, q, r: procedure.right(b, p, s, q - 1, r)))
     return Procedure(
         concept, through(procedure.right),
         tuple(Perturbation(item.key, item.step, item.misconception, through(item.compute), item.fields,
-                           item.also) for item in procedure.perturbations),
+                           item.also) for item in (*procedure.perturbations, *counted)),
         same=near, forms=forms)
 
 
