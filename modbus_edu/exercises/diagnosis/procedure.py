@@ -67,6 +67,9 @@ class Perturbation:
             return f"{entry.label}: your answer is what {self.step} gives."
 
 
+REFUSED = "raises an error (refuses the input)"
+"""A build exercise's answer where the function raises, for a procedure that models refusals."""
+
 NOT_APPLICABLE = object()
 """What a perturbation gives where its change does not apply (never equal to any answer)."""
 
@@ -105,6 +108,9 @@ class Procedure:
     """Slips of the answer's form (milliseconds for seconds, a percentage for a share): each ``compute``
     takes the answer.  They are tried on the right answer and on every perturbation's, so that a learner
     who made one slip of the procedure and one of the form is named for both."""
+    refusals: bool = False
+    """Whether the procedure's answer may be :data:`REFUSED` (the input refused): a build checker then
+    counts the inputs the learner's function raised on as evidence too."""
 
     def answer(self, *args: Any, perturbation: str | None = None) -> Any:
         """The right answer for ``args``, or the answer with the step ``perturbation`` (a key) changed."""
