@@ -41,6 +41,7 @@ from .calls import safe_str
 from .diagnosis.frames import frame_verdict
 from .diagnosis.frameslip import frame_slip
 from .diagnosis.misconceptions import CATALOGUE, diagnose
+from .diagnosis.procedures import ADDRESS
 from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...
@@ -629,9 +630,12 @@ def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU", unit: int |
 
 
 def address_diagnosis(got: int, expected: int) -> str | None:
-    """Name the address slips from the catalogue: counting from 1, giving a reference number, or
-    subtracting the 1 twice."""
-    return diagnose(("one-based-address", "reference-number", "address-one-too-low"), got, expected)
+    """Name the address slips: the address procedure (:data:`~.diagnosis.procedures.ADDRESS`) of the
+    register numbered ``expected + 1``, with one step changed (counted from 1, 1 subtracted twice, the
+    reference number given)."""
+    if not isinstance(got, int) or isinstance(got, bool) or not isinstance(expected, int):
+        return None
+    return ADDRESS.explain([((expected + 1,), got)])
 
 
 def crc_diagnosis(data: bytes, got: Any) -> str | None:

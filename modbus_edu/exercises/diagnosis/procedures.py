@@ -389,7 +389,14 @@ ADDRESS = Procedure(
             "from-1", "the register number itself (counted from 1)", "one-based-address", lambda n: n
         ),
         Perturbation("minus-two", "1 subtracted twice", "address-one-too-low", lambda n: n - 2),
-        Perturbation("reference", "the reference number", "reference-number", lambda n: 40000 + n),
+    )
+    + tuple(
+        Perturbation(f"reference-{table}{'-6' if digits == 6 else ''}{'-less-1' if less else ''}",
+                     f"the {digits}-digit reference number {table}{'x' * (digits - 1)}"
+                     + (" less 1" if less else ""),
+                     "reference-number",
+                     lambda n, base=table * 10 ** (digits - 1), less=less: base + n - less)
+        for table in (4, 3) for digits in (5, 6) for less in (0, 1)
     ),
 )
 """The address on the wire of the n-th register (n counted from 1, as a register number is)."""
