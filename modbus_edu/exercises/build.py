@@ -28,7 +28,7 @@ from .calls import call_all, follow_plan, is_unwritten
 from .core import EXERCISES, Exercise, Raised, kind, register, show
 from .diagnosis.misconceptions import CATALOGUE
 from .diagnosis.misconceptions import name as misconception
-from .diagnosis.procedure import Procedure
+from .diagnosis.procedure import REFUSED, Procedure
 from .plain import revive
 
 TIME_LIMIT = 2.0
@@ -194,7 +194,8 @@ class BuildChecker:
                 return (f"your function did not finish within {self.time_limit:g} s (it was still working on "
                         f"{self._call(name, args)}, input {index + 1} of {len(cases)}). "
                         "Look for a loop that never ends.")
-            verdict = self._one(name, args, expected, calls[index], (cases, calls))
+            verdict = self._one(name, args, expected, calls[index],
+                                (cases, calls, self.procedure is not None and self.procedure.refusals))
             if verdict is not None:
                 return verdict
         return None
@@ -210,7 +211,8 @@ class BuildChecker:
         where none does, the exercise's own detectors (only for misconceptions the procedure does not
         model), then the change that fits this input alone and the boundary the input falls on."""
         if self.procedure is not None and evidence is not None:
-            words = self.procedure.explain([(args, got), *_answers(*evidence, skip=args)])
+            words = self.procedure.explain([(args, got), *_answers(*evidence[:2], skip=args,
+                                                                   refusals=evidence[2:] == (True,))])
             if words:
                 return _sentence(words)
             legacy = self._diagnosed(args, expected, got)
@@ -247,11 +249,15 @@ class BuildChecker:
             if isinstance(expected, _Refused):
                 return None
             raised = Raised(str(entry["raised"]), str(entry.get("message", "")))
+            modelled = self.procedure is not None and self.procedure.refusals
             return (f"{call} raised {entry['raised']}: {show(str(entry.get('message', '')))}. "
-                    f"The library gives {self.show_expected(expected)}." + self._note(args, expected, raised))
+                    f"The library gives {self.show_expected(expected)}."
+                    + ((self._note(args, expected, REFUSED, evidence) if modelled else "")
+                       or self._note(args, expected, raised)))
         got = revive(entry.get("out"))
         if isinstance(expected, _Refused):
-            note = self._note(args, expected, got)
+            note = self._note(args, expected, got, evidence if self.procedure is not None
+                              and self.procedure.refusals else None)
             detail = "" if note else f" ({expected.error})"
             words = misconception("invalid-input-accepted")
             return (f"{call} returned {show(got)}, but that input is not valid{detail}: your function should "
@@ -309,11 +315,14 @@ def _labels(words: str) -> set[str]:
     return {key for key, entry in CATALOGUE.items() if entry.label.lower() in lowered}
 
 
-def _answers(cases: list, calls: list, skip: tuple) -> list[tuple[tuple, Any]]:
-    """Every (arguments, what the learner's function returned) of a trace, but the call with ``skip``."""
+def _answers(cases: list, calls: list, skip: tuple, refusals: bool = False) -> list[tuple[tuple, Any]]:
+    """Every (arguments, what the learner's function returned) of a trace, but the call with ``skip``;
+    with ``refusals``, a call that raised counts too, as :data:`~.diagnosis.procedure.REFUSED`."""
     found = []
     for (args, _expected), entry in zip(cases, calls):
-        if args is not skip and isinstance(entry, dict) and "out" in entry:
+        if refusals and args is not skip and isinstance(entry, dict) and "raised" in entry:
+            found.append((args, REFUSED))
+        elif args is not skip and isinstance(entry, dict) and "out" in entry:
             try:
                 found.append((args, revive(entry["out"])))
             except Exception:  # an answer the checker cannot read is no evidence either way

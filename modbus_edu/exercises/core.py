@@ -38,8 +38,10 @@ from ..errors import ModbusError
 from ..explain import explain, explain_pdu
 from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
+from .diagnosis.frames import frame_verdict
 from .diagnosis.frameslip import frame_slip
 from .diagnosis.misconceptions import CATALOGUE, diagnose
+from .diagnosis.procedures import ADDRESS
 from .plain import PlainError, plain, revive
 
 PLACEHOLDER = ...
@@ -476,6 +478,10 @@ def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = No
     got = as_bytes(answer)
     if got == expected:
         return None
+    named = next(filter(None, (frame_verdict(got, expected, kind) for kind in ((mode,) if mode else
+                                                                              ("rtu", "tcp", "pdu")))), None)
+    if named:
+        return named
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
             return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have "
@@ -516,7 +522,7 @@ def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | No
     wrong way round (``swapped``, when given, is added to that verdict), no CRC, a CRC over the PDU alone,
     and a field written wrong (:func:`~.frameslip.frame_slip`)."""
     got = as_bytes(answer)
-    named = diagnose("crc-swapped", got, expected)
+    named = frame_verdict(got, expected, "rtu") or diagnose("crc-swapped", got, expected)
     if named:
         return f"{named} {swapped}" if swapped else named
     return rtu_frame_diagnosis(got, expected) or compare_bytes(got, expected, what)
@@ -563,8 +569,8 @@ def tcp_frame_diagnosis(got: Any, expected: bytes) -> str | None:
     if not isinstance(got, (bytes, bytearray)) or got == expected:
         return None
     got = bytes(got)
-    named = diagnose(("mbap-little-endian", "crc-on-tcp", "mbap-length-missing", "unit-missing"), got,
-                     expected)
+    named = frame_verdict(got, expected, "tcp") or diagnose(
+        ("mbap-little-endian", "crc-on-tcp", "mbap-length-missing", "unit-missing"), got, expected)
     if named:
         return named
     if len(got) == len(expected) >= 7 and got[:4] == expected[:4] and got[6:] == expected[6:]:
@@ -618,14 +624,18 @@ def compare_pdu(answer: Any, expected: bytes, what: str = "the PDU", unit: int |
     """Like :func:`compare_bytes` for a PDU, naming the slips of giving the unit in front of it or a whole
     frame instead, and a field written wrong (:func:`~.frameslip.frame_slip`)."""
     got = as_bytes(answer)
-    return (pdu_envelope_diagnosis(got, expected, unit) or request_field_diagnosis(got, expected, 0)
+    return (frame_verdict(got, expected, "pdu") or pdu_envelope_diagnosis(got, expected, unit)
+            or request_field_diagnosis(got, expected, 0)
             or frame_slip(got, expected) or compare_bytes(got, expected, what))
 
 
 def address_diagnosis(got: int, expected: int) -> str | None:
-    """Name the address slips from the catalogue: counting from 1, giving a reference number, or
-    subtracting the 1 twice."""
-    return diagnose(("one-based-address", "reference-number", "address-one-too-low"), got, expected)
+    """Name the address slips: the address procedure (:data:`~.diagnosis.procedures.ADDRESS`) of the
+    register numbered ``expected + 1``, with one step changed (counted from 1, 1 subtracted twice, the
+    reference number given)."""
+    if not isinstance(got, int) or isinstance(got, bool) or not isinstance(expected, int):
+        return None
+    return ADDRESS.explain([((expected + 1,), got)])
 
 
 def crc_diagnosis(data: bytes, got: Any) -> str | None:

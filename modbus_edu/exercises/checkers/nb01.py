@@ -140,7 +140,9 @@ def _diagnose_reference(args, expected, got) -> str | None:
 build_exercise(
     "01.5", "read a reference number yourself",
     reference=_parse_reference, inputs=_reference_inputs,
-    edge_cases=[("40001",), ("40108",), ("00308",), ("30001",), ("19999",), ("40000",), ("20001",)],
+    edge_cases=[("40001",), ("40108",), ("00308",), ("30001",), ("19999",), ("40000",), ("20001",),
+                # both ends of every table's range
+                ("00001",), ("09999",), ("10001",), ("39999",), ("49999",), ("30000",)],
     hint="the first digit is the table (0 coils, 1 discrete inputs, 3 input registers, 4 holding registers); "
          "the other four digits are a number counted from 1, so the address is that number minus 1. A "
          "number 0000 does not exist: raise an exception for it.",

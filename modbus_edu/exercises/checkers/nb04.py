@@ -7,6 +7,8 @@ from typing import Any
 from ...crc import lrc
 from ...crc import lrc as _library_lrc
 from ...datamodel import parse_reference
+from ...errors import ModbusError
+from ...explain import explain
 from ...framing import AsciiFrame, RtuFrame, parse_hex
 from ...pdu import ReadHoldingRegistersRequest, ReadHoldingRegistersResponse
 from ..build import build_exercise
@@ -21,6 +23,7 @@ from ..core import (
     request_field_diagnosis,
     right_value_in_another_form,
 )
+from ..diagnosis.frames import frame_verdict
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import diagnose, name
 from ..diagnosis.procedures import LRC
@@ -77,7 +80,8 @@ def _check_04_2(answer: Any) -> str | None:
     if got.upper() == expected:
         return right_value_in_another_form("upper-case hex digits: the specification writes an ASCII frame's "
                                            "hex characters as '0'-'9' and 'A'-'F' only")
-    return ascii_frame_diagnosis(got.upper(), expected) or compare_characters(got, expected, "your frame")
+    return (frame_verdict(got.upper(), expected, "ascii") or ascii_frame_diagnosis(got.upper(), expected)
+            or compare_characters(got, expected, "your frame"))
 
 
 def _ascii_bytes(frame: bytes) -> bytes | None:
@@ -111,15 +115,36 @@ def compare_characters(got: bytes, expected: bytes, what: str) -> str | None:
     shown as a character (the learner writes characters, not their codes)."""
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
-            return (f"{what} differs at character {index}: you have {chr(mine)!r}, it should be "
-                    f"{chr(theirs)!r} ({len(got)} characters given, {len(expected)} expected).")
+            return (f"{what} differs at character {index}{_character_field(expected, index)}: you have "
+                    f"{chr(mine)!r}, it should be {chr(theirs)!r} ({len(got)} characters given, "
+                    f"{len(expected)} expected).")
+    if len(got) < len(expected):
+        return (f"{what} has {len(got)} characters, it should have {len(expected)}; what is missing starts "
+                f"with{_character_field(expected, len(got), lead='')}.")
     return f"{what} has {len(got)} characters, it should have {len(expected)}." if got != expected else None
+
+
+def _character_field(expected: bytes, index: int, lead: str = ", in") -> str:
+    """The field of the ASCII frame ``expected`` that character ``index`` belongs to, and what it should
+    hold: ", in the function code (characters 3-4), which should hold '03'", or ''."""
+    try:
+        rows = explain(expected, mode="ascii").rows
+    except ModbusError:
+        return ""
+    for row in rows:
+        if row.offset <= index < row.offset + len(row.raw):
+            last = row.offset + len(row.raw) - 1
+            span = f"character {row.offset}" if last == row.offset else f"characters {row.offset}-{last}"
+            return f"{lead} the {row.field} ({span}), which should hold {row.raw.decode('ascii')!r}"
+    return ""
 
 
 def ascii_frame_answer(answer: Any) -> bytes:
     """An ASCII frame exactly as the learner wrote it: text starting with ':' is taken character for
-    character (a typed backslash-r backslash-n counts as CR LF), so a missing CR LF stays missing."""
-    if isinstance(answer, str) and answer.lstrip().startswith(":"):
+    character (a typed backslash-r backslash-n counts as CR LF), so a missing CR LF stays missing; so is
+    text that ends with CR LF or LF (a frame whose ':' is missing)."""
+    if isinstance(answer, str) and (answer.lstrip().startswith(":")
+                                    or answer.rstrip(" \t").endswith(("\r\n", "\\r\\n", "\n", "\\n"))):
         text = answer.strip(" \t").replace("\\r", "\r").replace("\\n", "\n")
         if len(text) > 600 or not text.isascii():
             raise AnswerError("an ASCII frame is a short text of ':', hex digits and CR LF.")

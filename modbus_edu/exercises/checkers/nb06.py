@@ -15,6 +15,7 @@ from ..build import build_exercise
 from ..core import exercise, int_answer, number_answer, real_answer, right_value_in_another_form
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.timing import RATE, TRANSACTION_MS
 
 
 def _one_read_time(baudrate: int, count: int) -> float:
@@ -36,7 +37,8 @@ def _check_06_1(answer: Any) -> str | None:
     got = real_answer(answer, "a time in milliseconds")
     if isinstance(got, str):
         return got
-    named = (diagnose("one-register-response", got, _one_read_time(9600, 1) * 1000)
+    named = (TRANSACTION_MS.explain([((9600, "N", 1, 8, 5 + 2 * 10), got)])
+             or diagnose("one-register-response", got, _one_read_time(9600, 1) * 1000)
              or diagnose("silences-forgotten", got, (8 + 25) * 10 / 9600 * 1000))
     if named:
         return named
@@ -91,7 +93,8 @@ def _check_06_3(answer: Any) -> str | None:
     got = real_answer(answer, "a rate")
     if isinstance(got, str):
         return got
-    named = (diagnose("another-baud-rate", got, 1 / _one_read_time(9600, 1))
+    named = (RATE.explain([((19200, "N", 1, 8, 7), got)])
+             or diagnose("another-baud-rate", got, 1 / _one_read_time(9600, 1))
              or diagnose("time-for-rate", got, expected)
              or diagnose("silences-forgotten", got, 19200 / 10 / (8 + 7)))
     if named:

@@ -177,7 +177,9 @@ def _exception_inputs(rng) -> tuple:
 build_exercise(
     "07.4", "write an exception response",
     reference=_exception_pdu, inputs=_exception_inputs,
-    edge_cases=[(3, 2), (16, 1), (1, 4), (127, 11)],
+    edge_cases=[(3, 2), (16, 1), (1, 4), (127, 11),
+                # both ends: the lowest function and code, the gateway codes, a function whose top bit shows
+                (1, 1), (6, 3), (4, 10), (43, 11), (64, 2)],
     hint="two bytes: the function code with its top bit set (function | 0x80, or function + 128) and the "
          "exception code.",
     refuses=[(lambda function, code: bytes([function, code]), "exception-bit-missing"),

@@ -13,6 +13,7 @@ from ..build import build_exercise
 from ..core import Written, exercise, number_answer, real_answer
 from ..diagnosis.misconceptions import diagnose
 from ..diagnosis.procedures import TRANSACTION_TIME
+from ..diagnosis.timing import RATE, T35
 
 
 @exercise("08.1", "the silence that ends a frame at 4800 baud 8E1",
@@ -30,7 +31,8 @@ def _check_08_1(answer: Any) -> str | None:
     got = real_answer(answer, "a silence in seconds")
     if isinstance(got, str):
         return got
-    named = (diagnose("parity-bit-forgotten", got, 3.5 * SerialTiming(baudrate=4800).char_time)
+    named = (T35.explain([((4800, "E", 1), got)])
+             or diagnose("parity-bit-forgotten", got, 3.5 * SerialTiming(baudrate=4800).char_time)
              or diagnose("one-character-for-t35", got, timing.char_time))
     if named:
         return named
@@ -53,7 +55,8 @@ def _check_08_2(answer: Any) -> str | None:
     got = real_answer(answer, "a number of transactions per second")
     if isinstance(got, str):
         return got
-    named = diagnose("silences-forgotten", got, 1 / timing.frame_time(8 + 25)) or diagnose("time-for-rate",
+    named = RATE.explain([((19200, "N", 1, 8, 5 + 2 * 10), got)]) or diagnose(
+        "silences-forgotten", got, 1 / timing.frame_time(8 + 25)) or diagnose("time-for-rate",
                                                                                            got,
                                                                                             expected)
     if named:

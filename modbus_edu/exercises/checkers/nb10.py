@@ -136,7 +136,10 @@ build_exercise(
     reference=_float32, inputs=_float_inputs,
     edge_cases=[(_registers(0x43C9, 0xCCCD), "ABCD"), (_registers(0xCCCD, 0x43C9), "CDAB"),
                 (_registers(0xC943, 0xCDCC), "BADC"), (_registers(0xCDCC, 0xC943), "DCBA"),
-                (_registers(0, 0), "ABCD")],
+                (_registers(0, 0), "ABCD"),
+                # a negative value (the sign bit in the first byte A) in the orders that move A
+                (_registers(0xC2F6, 0x8000), "ABCD"), (_registers(0x8000, 0xC2F6), "CDAB"),
+                (_registers(0xF6C2, 0x0080), "BADC"), (_registers(0x0080, 0xF6C2), "DCBA")],
     hint="put the four bytes in the order A B C D that the order names (register 0 holds the first two "
          "letters), then struct.unpack('>f', ...)[0]. CDAB swaps the registers; BADC swaps the bytes inside "
          "each register; DCBA does both.",

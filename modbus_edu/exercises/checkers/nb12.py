@@ -164,7 +164,9 @@ def _with_crc(frame: bytes) -> bytes:
 build_exercise(
     "12.4", "your own master's read request",
     reference=_read_request, inputs=_request_inputs,
-    edge_cases=[(280, 1, 0, 1), (1, 1, 0, 10), (65535, 255, 65535, 1)],
+    edge_cases=[(280, 1, 0, 1), (1, 1, 0, 10), (65535, 255, 65535, 1),
+                # both ends of every field: tid 0, unit 0, the largest count, an address whose bytes differ
+                (0, 0, 0, 125), (256, 247, 0x1234, 125)],
     hint="MBAP header (tid, 0, length 6, unit), then the PDU 03, address, count: every 2-byte field high "
          "byte first.",
     refuses=[(lambda tid, unit, address, count: tid.to_bytes(2, "little") + bytes([0, 0, 0, 6, unit, 3])

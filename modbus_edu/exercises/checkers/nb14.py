@@ -46,7 +46,9 @@ build_exercise(
     "14.2", "write FC 22's arithmetic",
     reference=mask_write,
     inputs=lambda rng: (rng.randrange(0x10000), rng.randrange(0x10000), rng.randrange(0x10000)),
-    edge_cases=[(0x12, 0xF2, 0x25), (0, 0, 0xFFFF), (0xFFFF, 0xFFFF, 0), (0xFFFF, 0, 0)],
+    edge_cases=[(0x12, 0xF2, 0x25), (0, 0, 0xFFFF), (0xFFFF, 0xFFFF, 0), (0xFFFF, 0, 0),
+                # masks that separate each slip: alternate bits, and an OR mask with bits the AND mask keeps
+                (0x5555, 0xAAAA, 0xFFFF), (0x0F0F, 0xFF00, 0x00FF)],
     hint="bit by bit: where the AND mask has a 1 the register keeps its bit; where it has a 0 the bit comes "
          "from the OR mask. The result stays a 16-bit value.",
     refuses=[(lambda current, and_mask, or_mask: (current & and_mask) | or_mask, "mask-write-or"),

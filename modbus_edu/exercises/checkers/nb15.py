@@ -24,7 +24,9 @@ from ...pdu import (
 )
 from ..build import build_exercise
 from ..core import Raised, exercise, number_answer, real_answer, show, tcp_frame_diagnosis
-from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.gateway import GATEWAY, separating_frames
+from ..diagnosis.misconceptions import diagnose
+from ..diagnosis.timing import TRANSACTION_MS
 
 
 # --- 15.1: one transaction at 19200 baud 8E1 -------------------------------------------------------------
@@ -51,12 +53,14 @@ def _check_15_1(answer: Any) -> str | None:
     if isinstance(got, str):
         return got
     expected = _transaction_ms()
-    named = (diagnose("parity-bit-forgotten", got, 24 * 10 / 19200 * 1000)
+    named = (TRANSACTION_MS.explain([((19200, "E", 1, 8, 9), got)])
+             or diagnose("parity-bit-forgotten", got, 24 * 10 / 19200 * 1000)
              or diagnose("silences-forgotten", got, 17 * 11 / 19200 * 1000))
+    if round(got, 2) == round(23 * 11 / 19200 * 1000, 2):  # 23 characters: which of the candidates, check
+        return f"{named + ' ' if named else ''}The response to two registers is 9 bytes: unit, function, " \
+            "byte count, 4 data bytes, 2 CRC; the silences are 3.5 characters each."
     if named:
         return named
-    if round(got, 2) == round(23 * 11 / 19200 * 1000, 2):
-        return "the response to two registers is 9 bytes: unit, function, byte count, 4 data bytes, 2 CRC."
     return number_answer(answer, expected, decimals=2, unit="ms", what="the time in milliseconds")
 
 
@@ -98,16 +102,16 @@ def _diagnose_15_2(args: Any, expected: Any, got: Any) -> str | None:
 
 
 def _crc_read_big_endian(frame: bytes, raised: Raised) -> str | None:
-    """A gateway that refuses a frame whose CRC is right: the CRC read high byte first, when the learner's
-    error speaks of the CRC."""
+    """A gateway that refuses a frame whose CRC is right: what the frame carries, and what its CRC is (which
+    CRC slip makes the learner's check refuse it is the procedure's to say, :data:`GATEWAY`, from every
+    frame the function refused or forwarded)."""
     carried = frame[-2:].hex(" ").upper()
     if crc16(frame[:-2]) != int.from_bytes(frame[-2:], "little"):
         return None
-    note = (f"your function refuses a frame whose CRC is right: it carries {carried}, the CRC "
-            f"0x{crc16(frame[:-2]):04X} sent low byte first.")
-    if re.search(r"crc|checksum", f"{raised.name} {raised.message}", re.IGNORECASE):
-        return f"{note} {name('crc-swapped')}"
-    return note
+    about = "; your error speaks of it" if re.search(r"crc|checksum", f"{raised.name} {raised.message}",
+                                                     re.IGNORECASE) else ""
+    return (f"your function refuses a frame whose CRC is right: it carries {carried}, the CRC "
+            f"0x{crc16(frame[:-2]):04X} sent low byte first{about}.")
 
 
 def _crc_kept(frame: bytes, tid: int) -> bytes:
@@ -135,12 +139,15 @@ build_exercise(
     edge_cases=[(_EXAMPLE, 1), (_EXAMPLE, 0x1234), (_EXAMPLE, 0), (_EXAMPLE[:-1] + b"\x0A", 1),
                 (bytes.fromhex("11 06 00 01 00 03 9A 9B"), 0xFFFF),
                 # the shortest request (unit, function 7, CRC), and a unit and its CRC with no function
-                (bytes.fromhex("01 07 41 E2"), 7), (bytes.fromhex("01 7E 80"), 7)],
+                (bytes.fromhex("01 07 41 E2"), 7), (bytes.fromhex("01 7E 80"), 7),
+                # frames that only a wrong CRC check forwards: one for each slip of the CRC's procedure
+                *((frame, 5) for frame in separating_frames(_EXAMPLE[:-2]))],
     diagnose=_diagnose_15_2,
     hint="check the CRC over all bytes but the last two (raise if it is wrong), then build transaction id "
          "(2 bytes), 00 00, length = 1 + len(PDU) (2 bytes), the unit, the PDU: all big-endian.",
     refuses=[(_crc_kept, "crc-on-tcp"), (_tid_little_endian, "mbap-little-endian"),
-             (_length_without_unit, "mbap-length")])
+             (_length_without_unit, "mbap-length")],
+    procedure=GATEWAY)
 
 
 # --- 15.3: what the client sees ----------------------------------------------------------------------

@@ -67,6 +67,9 @@ class Perturbation:
             return f"{entry.label}: your answer is what {self.step} gives."
 
 
+REFUSED = "raises an error (refuses the input)"
+"""A build exercise's answer where the function raises, for a procedure that models refusals."""
+
 NOT_APPLICABLE = object()
 """What a perturbation gives where its change does not apply (never equal to any answer)."""
 
@@ -105,6 +108,9 @@ class Procedure:
     """Slips of the answer's form (milliseconds for seconds, a percentage for a share): each ``compute``
     takes the answer.  They are tried on the right answer and on every perturbation's, so that a learner
     who made one slip of the procedure and one of the form is named for both."""
+    refusals: bool = False
+    """Whether the procedure's answer may be :data:`REFUSED` (the input refused): a build checker then
+    counts the inputs the learner's function raised on as evidence too."""
 
     def answer(self, *args: Any, perturbation: str | None = None) -> Any:
         """The right answer for ``args``, or the answer with the step ``perturbation`` (a key) changed."""
@@ -143,13 +149,23 @@ class Procedure:
 
     def reproducing(self, cases: Iterable[tuple[Sequence, Any]]) -> list[Perturbation]:
         """The changes that give the learner's answer on every ``(args, got)`` of ``cases``: on the first
-        (the failing input, where the change must apply), then on every other where it applies."""
+        (the failing input, where the change must apply), then on every other where it applies.  Where one
+        change alone explains the answer, the changes of two steps that also do are left out, and so are
+        the changes that show two misconceptions where one showing one does."""
         cases = list(cases)
         if not cases:
             return []
         (first_args, first_got), rest = cases[0], cases[1:]
-        return [item for item in self.candidates() if self.fits(item, first_args, first_got)
-                and all(self.fits(item, args, got, applicable=False) for args, got in rest)]
+        try:
+            right = self.right(*copy.deepcopy(first_args))
+        except Exception:  # no right answer to compare: every change may be one
+            right = NOT_APPLICABLE
+        if right is not NOT_APPLICABLE and self.same(right, first_got):
+            return []  # the right answer (to the procedure's precision) is no slip
+        found = [item for item in self.candidates() if self.fits(item, first_args, first_got)
+                 and all(self.fits(item, args, got, applicable=False) for args, got in rest)]
+        found = [item for item in found if "+" not in item.key] or found
+        return [item for item in found if item.also is None] or found  # one slip before two
 
     def explain(self, cases: Iterable[tuple[Sequence, Any]]) -> str | None:
         """The verdict's words for the learner's answers ``cases`` (``(args, got)`` pairs, the failing one

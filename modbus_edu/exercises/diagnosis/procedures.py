@@ -11,15 +11,15 @@ the same CRC slip.
 
 from __future__ import annotations
 
-import dataclasses
 import struct
 from typing import Any
 
 from ...crc import crc16, lrc
 from ...devices.arduino import expected_answered_fraction
-from ...framing import AsciiFrame, RtuFrame, TcpFrame
+from ...framing import RtuFrame
 from ...links.wire import SerialTiming
 from ...values import ORDERS, decode_value
+from .frames import frame_procedure
 from .misconceptions import crc16_reflected, crc16_unreflected
 from .procedure import Choices, Perturbation, Procedure
 
@@ -259,90 +259,16 @@ MBAP = Procedure(
 # --- an RTU frame from a unit and a request ------------------------------------------------------------
 
 
-def _replace(pdu: Any, **changes: Any) -> Any:
-    return dataclasses.replace(pdu, **changes)
-
-
 def rtu_frame_procedure(unit: int, pdu: Any) -> Procedure:
-    """The RTU frame of ``unit`` and the request ``pdu``, and the frames its slips give: another mode's
-    frame, the CRC swapped, left out or over the PDU alone, the unit left out, the address counted from 1
-    or given as a reference number."""
-
-    def rtu(unit: int = unit, pdu: Any = pdu) -> bytes:
-        return RtuFrame(unit=unit, pdu=pdu).encode()
-
-    def body() -> bytes:
-        return bytes([unit]) + pdu.encode()
-
-    steps = [
-        Perturbation(
-            "tcp-frame",
-            "a Modbus/TCP frame (MBAP header, no CRC) where an RTU frame is asked",
-            "tcp-frame-for-rtu",
-            lambda: None,
-            returns_none=True,
-        ),
-        Perturbation(
-            "ascii-frame",
-            "an ASCII frame where an RTU frame is asked",
-            "ascii-frame-for-rtu",
-            lambda: AsciiFrame(unit=unit, pdu=pdu).encode(),
-        ),
-        Perturbation(
-            "crc-high-first", "the CRC's bytes swapped", "crc-swapped", lambda: rtu()[:-2] + rtu()[-2:][::-1]
-        ),
-        Perturbation("crc-left-out", "the CRC left out", "crc-forgotten", body),
-        Perturbation(
-            "crc-over-pdu",
-            "a CRC over the PDU alone",
-            "checksum-without-address",
-            lambda: body() + crc16(pdu.encode()).to_bytes(2, "little"),
-        ),
-        Perturbation(
-            "unit-left-out",
-            "the slave address left out",
-            "unit-missing",
-            lambda: pdu.encode() + crc16(pdu.encode()).to_bytes(2, "little"),
-        ),
-        Perturbation("pdu-only", "the PDU alone", "frame-for-pdu", lambda: pdu.encode()),
-    ]
-    if hasattr(pdu, "address"):
-        steps += [
-            Perturbation(
-                "address-from-1",
-                "the address counted from 1",
-                "one-based-address",
-                lambda: rtu(pdu=_replace(pdu, address=pdu.address + 1)),
-            )
-        ]
-        steps += [
-            Perturbation(
-                f"reference-{offset}",
-                f"the reference number {offset + pdu.address} for the address",
-                "reference-number",
-                lambda offset=offset: rtu(pdu=_replace(pdu, address=offset + pdu.address)),
-            )
-            for offset in (40001, 30001)
-            if offset + pdu.address <= 0xFFFF
-        ]
-
-    def tcp_frame(got: Any) -> bool:
-        """Any Modbus/TCP frame of this unit and PDU, whatever its transaction id."""
-        try:
-            frame = TcpFrame.decode(bytes(got), role="request")
-        except Exception:
-            return False
-        return frame.unit == unit and frame.pdu.encode() == pdu.encode()
-
-    return Procedure(
-        "an RTU frame", rtu, tuple(steps), same=lambda mine, got: _frame_same(mine, got, tcp_frame)
-    )
-
-
-def _frame_same(mine: Any, got: Any, tcp_frame: Any) -> bool:
-    if mine is None:  # the TCP perturbation: any transaction id
-        return tcp_frame(got)
-    return isinstance(got, (bytes, bytearray)) and bytes(got) == bytes(mine)
+    """The RTU frame of ``unit`` and the request ``pdu``, and the frames its slips give: the shared frame
+    procedure (:func:`.frames.frame_procedure`): another mode's frame, the CRC swapped, left out, over the
+    PDU alone or one byte of it, the unit left out, a field written wrong (the address counted from 1 or
+    given as a reference number, a field low byte first or in one byte ...), and a field and the
+    envelope both."""
+    procedure = frame_procedure(RtuFrame(unit=unit, pdu=pdu).encode(), "rtu")
+    if procedure is None:  # every request the library encodes has fields explain reads
+        raise ValueError(f"no fields read in the RTU frame of unit {unit} and {pdu!r}")
+    return procedure
 
 
 # --- a transaction's time on a serial line -------------------------------------------------------------
@@ -425,9 +351,15 @@ TRANSACTION_TIME = Procedure(
         ),
         Perturbation(
             "three-characters",
-            "3 characters for t3.5",
+            "silences of 3 characters, not 3.5",
             "three-characters-for-t35",
             lambda b, p, s, q, r: _t35_chars(3)(b, p, s, q, r) if b <= 19200 else None,
+        ),
+        Perturbation(
+            "parity-added",
+            "11 bits a character (a parity bit where the line has none)",
+            None,
+            lambda b, p, s, q, r: _time(b, p, s, q, r, bits=11) if p == "N" and s == 1 else None,
         ),
         Perturbation(
             "eight-bits",
@@ -457,7 +389,14 @@ ADDRESS = Procedure(
             "from-1", "the register number itself (counted from 1)", "one-based-address", lambda n: n
         ),
         Perturbation("minus-two", "1 subtracted twice", "address-one-too-low", lambda n: n - 2),
-        Perturbation("reference", "the reference number", "reference-number", lambda n: 40000 + n),
+    )
+    + tuple(
+        Perturbation(f"reference-{table}{'-6' if digits == 6 else ''}{'-less-1' if less else ''}",
+                     f"the {digits}-digit reference number {table}{'x' * (digits - 1)}"
+                     + (" less 1" if less else ""),
+                     "reference-number",
+                     lambda n, base=table * 10 ** (digits - 1), less=less: base + n - less)
+        for table in (4, 3) for digits in (5, 6) for less in (0, 1)
     ),
 )
 """The address on the wire of the n-th register (n counted from 1, as a register number is)."""
