@@ -49,10 +49,11 @@ def _rows(out: Path) -> dict:
 @pytest.mark.skipif(SANDBOX.level != "sealed", reason=f"no sealed level here: {SANDBOX.note}")
 def test_a_link_swapped_over_a_kernels_socket_is_never_followed(tmp_path):
     host = Path(tempfile.mkdtemp(prefix="modbus-edu-host-", dir="/var/tmp"))  # a host service's folder
-    service = host / "service.sock"
+    host.chmod(0o755)
+    service = host / "service.sock"  # a socket any user may connect to (as dbus's is, under /run)
     listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     listener.bind(str(service))
-    os.chmod(service, 0o600)
+    os.chmod(service, 0o666)
     listener.listen(8)
     listener.settimeout(0.2)
     heard: list[bytes] = []

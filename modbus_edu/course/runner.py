@@ -542,7 +542,8 @@ def backstop(timeout: float) -> float:
 
 
 def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path, *,
-                 builds: list[Builds] | None = None, user: int | None = None) -> list[NotebookRun]:
+                 builds: list[Builds] | None = None, user: int | None = None,
+                 worker: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
     """:func:`run_notebook` for each of one learner's notebooks, in order, in a worker process; the runs,
     judged here.
 
@@ -552,16 +553,20 @@ def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv:
     reported, and a fresh worker takes the rest.  ``folder`` is the grader's own (no kernel reaches it):
     the worker writes its results there.  ``builds[N](run)``, once notebook N's kernel is done, gives the
     traces of its build exercises, each run in its clean room (:func:`.cleanroom.trace_built`), while
-    the worker goes on with the next notebook."""
+    the worker goes on with the next notebook.  The worker runs as ``user`` when one is given: by the
+    command line ``worker`` makes of its own (:meth:`.sandbox.Seal.worker_argv`), else by switching user
+    as it starts."""
     runs: list[NotebookRun] = []
     while len(runs) < len(paths):
         rest = (builds or [None] * len(paths))[len(runs):]
-        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest, user))
+        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest, user,
+                                worker))
     return runs
 
 
 def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
-                builds: list[Builds | None], user: int | None = None) -> list[NotebookRun]:
+                builds: list[Builds | None], user: int | None = None,
+                worker_argv: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
     """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
     worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
     results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
@@ -572,17 +577,19 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
             os.fchown(handle, user, user)
         finally:
             os.close(handle)
-        dropped = {"user": user, "group": user, "extra_groups": [],
-                   "env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
+        dropped = {"env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
+        if worker_argv is None:
+            dropped.update(user=user, group=user, extra_groups=[])
+    argv = [sys.executable, "-m", "modbus_edu.course.runner", str(results), str(timeout), str(memory_mb),
+            json.dumps(kernel_argv), *map(str, paths)]
+    if user is not None and worker_argv is not None:
+        argv = worker_argv(argv)
     errors = results / "worker.err"
     runs: list[NotebookRun] = []
     try:
         with errors.open("wb") as stream:
-            worker = subprocess.Popen([sys.executable, "-m", "modbus_edu.course.runner", str(results),
-                                       str(timeout), str(memory_mb), json.dumps(kernel_argv),
-                                       *map(str, paths)],
-                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
-                                      **dropped)
+            worker = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                      stderr=stream, **dropped)
         try:
             for number, path in enumerate(paths):
                 run = _await(worker, results / f"{number}.json", backstop(timeout), errors)
