@@ -15,6 +15,7 @@ import csv
 import os
 import shutil
 import socket
+import sys
 import tempfile
 import threading
 from pathlib import Path
@@ -23,7 +24,8 @@ import pytest
 from test_grade import SETUP, right, write
 
 from modbus_edu.cli import main
-from modbus_edu.course.sandbox import detect
+from modbus_edu.course import grade as grading
+from modbus_edu.course.sandbox import UID_BASE, detect, processes_marked
 
 SANDBOX = detect()
 
@@ -93,3 +95,52 @@ def test_a_link_swapped_over_a_kernels_socket_is_never_followed(tmp_path):
     assert [rows["ada"][key] for key in ("03.1", "03.5")] == ["right", "right"], rows["ada"]
     assert rows["mallory"]["03.1"] == "right", rows["mallory"]  # its own answer, graded all the same
     assert "replaced its kernel's socket" in rows["mallory"]["flags"], rows["mallory"]["flags"]
+
+
+def _uids(pid: int) -> list[int]:
+    """A process's real, effective, saved and file-system user ids (empty when it is gone)."""
+    try:
+        lines = Path(f"/proc/{pid}/status").read_text().splitlines()
+    except OSError:
+        return []
+    return [int(value) for line in lines if line.startswith("Uid:") for value in line.split()[1:]]
+
+
+@pytest.mark.skipif(not (SANDBOX.level == "sealed" and os.geteuid() == 0), reason=(
+    f"grading as root only (here: uid {os.geteuid()}, {SANDBOX.note})"))
+def test_as_root_nothing_of_a_learners_runs_as_root(tmp_path):
+    """Graded as root, every process of a learner's (the worker that drives its kernels, as seen from the
+    host, and each process of its kernels) runs under a user id of the learner's own, never root."""
+    write(tmp_path / "class" / "ada", "01_data_model", [SETUP, "import time\ntime.sleep(2)"])
+    scratch = Path(tempfile.mkdtemp(prefix="modbus-edu-grade-"))
+    token = f"{os.getpid()}-uid"
+    seen: dict[int, tuple[str, list[int]]] = {}
+    done = threading.Event()
+
+    def watch() -> None:
+        while not done.is_set():
+            for pid in processes_marked(f"{token}-"):
+                seen.setdefault(pid, ("kernel", _uids(pid)))
+            for entry in Path("/proc").iterdir():
+                try:
+                    line = (entry / "cmdline").read_bytes() if entry.name.isdigit() else b""
+                except OSError:
+                    continue
+                if line.startswith(f"{sys.executable}\0-m\0modbus_edu.course.runner\0{scratch}".encode()):
+                    seen.setdefault(int(entry.name), ("worker", _uids(int(entry.name))))
+            done.wait(0.05)
+
+    thread = threading.Thread(target=watch, daemon=True)
+    thread.start()
+    try:
+        runs = grading._grade_learner(SANDBOX, 0, [tmp_path / "class" / "ada" / "01_data_model.ipynb"],
+                                      scratch, [], 60, 1024, token)
+    finally:
+        done.set()
+        thread.join(5)
+        shutil.rmtree(scratch, ignore_errors=True)
+    assert not runs[0].problems, runs[0].problems
+    kinds = {kind for kind, uids in seen.values() if uids}
+    assert kinds == {"kernel", "worker"}, seen
+    assert all(min(uids) >= UID_BASE for _, uids in seen.values() if uids), seen
+    assert "a user id of its own" in SANDBOX.note and "no capability, no_new_privs" not in SANDBOX.note

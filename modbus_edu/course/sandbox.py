@@ -175,10 +175,11 @@ def view(tool: str, places: Iterable[str] = ()) -> list[str]:
     return [*argv, "--"]
 
 
-def as_user(sandbox: Sandbox, uid: int, argv: list[str]) -> list[str]:
+def as_user(sandbox: Sandbox, uid: int, argv: list[str], token: str = "") -> list[str]:
     """``argv`` run as ``uid`` (from root): through :attr:`Sandbox.view` where there is one, then this
-    script leaves root (no groups, no capability) and becomes ``argv``."""
-    return [*sandbox.view, sys.executable, "-s", str(SCRIPT), "--user", str(uid), "--", *argv]
+    script leaves root (no groups, no capability), marks itself with ``token`` (:data:`MARKER`, so that
+    :meth:`Seal.close` finds it), asks to die with its parent, and becomes ``argv``."""
+    return [*sandbox.view, sys.executable, "-s", str(SCRIPT), "--user", str(uid), token, "--", *argv]
 
 
 def _probe(tool: str, uid: int | None, shown: list[str] = ()) -> str:
@@ -370,7 +371,7 @@ class Seal:
     def worker_argv(self, argv: list[str]) -> list[str]:
         """The command line of the learner's worker (``argv``), run as the learner's user id where the
         grader is root (:func:`as_user`), else as it is."""
-        return as_user(self.sandbox, self.uid, argv) if self.user is not None else argv
+        return as_user(self.sandbox, self.uid, argv, self.token) if self.user is not None else argv
 
     def kernel_argv(self, timeout: float) -> list[str]:
         """The kernel's command line (``{connection_file}`` where jupyter puts the connection file, which
@@ -626,17 +627,25 @@ def _owner(entry: Path) -> int:
         return -1
 
 
-def _become(uid: int, argv: list[str]) -> None:
-    """Leave root for ``uid`` (no groups, no capability left), then become ``argv``."""
+def _become(uid: int, token: str, argv: list[str]) -> None:
+    """Leave root for ``uid`` (no groups, no capability left), marked with ``token``, dying with the
+    parent (a change of user clears that wish, so it is made again), then become ``argv``."""
+    parent = os.getppid()
     os.setgroups([])
     os.setgid(uid)
     os.setuid(uid)
+    if token:
+        os.environ[MARKER] = token
+    import ctypes  # the launcher imports no more than it needs to start fast
+    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    if os.getppid() != parent:  # the parent ended already
+        os._exit(1)
     os.execvp(argv[0], argv)
 
 
 if __name__ == "__main__":
     if sys.argv[1] == "--user":
-        _become(int(sys.argv[2]), sys.argv[4:])
+        _become(int(sys.argv[2]), sys.argv[3], sys.argv[5:])
     settings, mode, cpu, *rest = sys.argv[1:]
     with open(settings, encoding="utf-8") as stream:
         launch = json.load(stream)
