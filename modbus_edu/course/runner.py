@@ -319,13 +319,14 @@ def connect_in(manager, runtime: Path, number: int = 1):
             held = manager.kernel_sockets = KernelSockets(folder, manager)
             manager._make_url = functools.partial(held.url, manager)
             manager.cleanup_ipc_files = held.close
-            make_client = manager.client
+            make_client = getattr(manager, "client", None)
 
             def client(**kwargs):
                 made = make_client(**kwargs)
                 made._make_url = functools.partial(held.url, made)
                 return made
-            manager.client = client
+            if make_client is not None:
+                manager.client = client
     return manager
 
 
@@ -598,11 +599,34 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
                     break
                 runs.append(judged(run, _traces(run, builds[number])))
         finally:
-            worker.kill()
-            worker.wait()
+            _end(worker, finished=len(runs) == len(paths) and isinstance(runs[-1], NotebookRun))
     finally:
         shutil.rmtree(results, ignore_errors=True)
     return runs
+
+
+def _end(worker: subprocess.Popen, finished: bool) -> None:
+    """The worker ended: one that finished its notebooks is given a few seconds to exit by itself; then
+    its children are killed before it (a worker run through a view is the child of the bubblewrap that
+    shows it Python: killed first, it is reaped by that parent, never left to the system's init), then
+    it is killed and reaped."""
+    if finished:
+        try:
+            worker.wait(10)
+            return
+        except subprocess.TimeoutExpired:
+            pass
+    try:
+        children = Path(f"/proc/{worker.pid}/task/{worker.pid}/children").read_text().split()
+    except OSError:
+        children = []
+    for child in children:
+        try:
+            os.kill(int(child), 9)
+        except OSError:
+            pass
+    worker.kill()
+    worker.wait()
 
 
 def _traces(run: NotebookRun, builds: Builds | None) -> dict[str, tuple[dict, list]] | None:

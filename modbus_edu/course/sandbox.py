@@ -148,14 +148,17 @@ def _blocked(path: str) -> str:
     return ""
 
 
-def view(tool: str, places: Iterable[str] = ()) -> list[str]:
+def view(tool: str, places: Iterable[str] = (), writable: Iterable[str] = ()) -> list[str]:
     """As root, where Python (or the environment, or the library) lies in a folder no other user may enter
     (``/root/.pyenv``): the command line that shows them to a learner's user id.  bubblewrap, run by
     root, gives the command a mount namespace of its own, the host's file system as it is but each such
     folder an empty tmpfs (0755) holding only those places, bound read-only; nothing else changes (the
-    same users, PIDs and network), and the command then leaves root itself (:func:`as_user`).  Empty
-    where every place is reachable already."""
+    same users, PIDs and network), and the command then leaves root itself (:func:`as_user`).  The
+    ``writable`` places (a seal's scratch folder, below a folder no other user may enter) are bound
+    writable.  Empty where every place is reachable already."""
     places = [os.path.realpath(place) for place in (places or (python_home(), sys.prefix, str(LIBRARY)))]
+    writable = [os.path.realpath(place) for place in writable]
+    places += writable
     blocked = sorted({folder for folder in map(_blocked, places) if folder})
     if not blocked:
         return []
@@ -171,7 +174,7 @@ def view(tool: str, places: Iterable[str] = ()) -> list[str]:
             if str(parent).startswith(top + "/") and str(parent) not in made:
                 made.add(str(parent))
                 argv += ["--perms", "0755", "--dir", str(parent)]
-        argv += ["--ro-bind", place, place]
+        argv += ["--bind" if place in writable else "--ro-bind", place, place]
     return [*argv, "--"]
 
 
@@ -272,6 +275,7 @@ class Seal:
     token: str
     uid: int = 0
     cgroups: list[Path] = field(default_factory=list)
+    view: list[str] = field(default_factory=list)  # as root: :func:`view`, with the grader's scratch folder
 
     @classmethod
     def open(cls, sandbox: Sandbox, index: int, scratch: Path, notebooks: list[Path],
@@ -301,6 +305,8 @@ class Seal:
         self.folder.parent.mkdir(parents=True, exist_ok=True)
         if self.user is not None:  # the learner's worker may walk through the scratch folder
             self.folder.parent.chmod(0o711)
+            if self.sandbox.view or _blocked(str(self.folder.parent)):
+                self.view = view(self.sandbox.tool, writable=[str(self.folder.parent)])
         self.folder.mkdir(mode=0o711)
         (self.folder / "work").mkdir(mode=0o755)
         for position, source in enumerate(notebooks):
@@ -371,7 +377,9 @@ class Seal:
     def worker_argv(self, argv: list[str]) -> list[str]:
         """The command line of the learner's worker (``argv``), run as the learner's user id where the
         grader is root (:func:`as_user`), else as it is."""
-        return as_user(self.sandbox, self.uid, argv, self.token) if self.user is not None else argv
+        if self.user is None:
+            return argv
+        return as_user(Sandbox("sealed", "", view=self.view), self.uid, argv, self.token)
 
     def kernel_argv(self, timeout: float) -> list[str]:
         """The kernel's command line (``{connection_file}`` where jupyter puts the connection file, which
@@ -388,7 +396,7 @@ class Seal:
         library), at its own path.  stdin, stdout and stderr are passed through; the exit status is the
         command's.  Its processes end with it, and with the seal (:meth:`close`)."""
         argv = self._launcher("command", timeout, [str(copy or ""), "--", *map(str, argv)])
-        return [*self.sandbox.view, *argv] if self.user is not None else argv
+        return [*self.view, *argv] if self.user is not None else argv
 
     def inside(self, path: Path | str) -> str:
         """Where one of the learner's notebooks is seen from inside a sealed kernel (``/tmp/work/...``)."""
@@ -443,12 +451,17 @@ class Seal:
         return found.stdout.split()
 
     def _processes(self) -> set[int]:
+        """The learner's processes: its cgroups', those marked with its token, and (as root) every process
+        of its user id, an orphan not yet reaped included."""
         pids = set()
         for group in self.cgroups:
             try:
                 pids.update(int(line) for line in (group / "cgroup.procs").read_text().split())
             except OSError:
                 pass
+        if self.user is not None:
+            pids.update(int(entry.name) for entry in Path("/proc").iterdir()
+                        if entry.name.isdigit() and _owner(entry) == self.uid)
         return pids | processes_marked(self.token)
 
 
