@@ -11,15 +11,19 @@ which limits hold):
   IPC, UTS and cgroup namespaces, no user namespace within, no capability, ``no_new_privs``, a session
   of its own, and it dies with its parent: when a kernel ends, every process it started ends with it.
   The grader reaches a kernel only through the Unix sockets in its ``/tmp/run``, a folder of the
-  grader's made fresh for each kernel.  Who runs it:
+  grader's made fresh for each kernel, which the grader reaches by descriptor only (never by a path a
+  kernel could change: :class:`.runner.KernelSockets`).  Who runs it:
 
-  - *as root, Python reachable by other users*: the learner's worker and sandboxes run under a user id
-    of the learner's own (:data:`UID_BASE` + ...), so nothing of the learner's runs as root anywhere; a
-    cgroup per learner (v2, or v1 where that is what the machine has) bounds its CPU (one core at most,
-    an equal share beside the others), memory and processes;
-  - *as root, Python in a folder no other user may enter* (``/root/.pyenv``): bubblewrap runs as root
-    but maps the learner into a user namespace of its own, with every capability dropped; the cgroups
-    are the same.  The level line says so;
+  - *as root*: the learner's worker, kernels and clean rooms run under a user id of the learner's own
+    (:data:`UID_BASE` + ...) and build their sandboxes rootless from there, so nothing of the learner's
+    runs as root anywhere; where Python (or the environment, or the library) lies in a folder no other
+    user may enter (``/root/.pyenv``), bubblewrap, run by root, first shows it to them read-only in a
+    mount namespace of their own (:func:`view`).  A cgroup per learner (v2, or v1 where that is what the
+    machine has) bounds its CPU (one core at most, an equal share beside the others), memory and
+    processes;
+  - *as root, where no other user may make a user namespace*: bubblewrap runs as root but maps the
+    learner into a user namespace of its own, with every capability dropped; the cgroups are the same,
+    the worker runs as root.  The level line says so, and why;
   - *not root* (rootless, where unprivileged user namespaces are allowed): the grader's user, with
     per-process limits (memory, CPU time, processes) and a lower priority; no CPU share per learner.
 
