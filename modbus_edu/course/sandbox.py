@@ -48,6 +48,7 @@ library and :mod:`.boundary`, so that it starts fast.
 
 from __future__ import annotations
 
+import ctypes
 import importlib.util
 import json
 import os
@@ -653,7 +654,6 @@ def _become(uid: int, token: str, argv: list[str]) -> None:
     os.setuid(uid)
     if token:
         os.environ[MARKER] = token
-    import ctypes  # the launcher imports no more than it needs to start fast
     ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
     if os.getppid() != parent:  # the parent ended already
         os._exit(1)
