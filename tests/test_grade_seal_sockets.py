@@ -119,15 +119,16 @@ def test_as_root_nothing_of_a_learners_runs_as_root(tmp_path):
 
     def watch() -> None:
         while not done.is_set():
-            for pid in processes_marked(f"{token}-"):
-                seen.setdefault(pid, ("kernel", _uids(pid)))
+            marked = processes_marked(f"{token}-")  # the kernels' processes, and the worker (by its line)
             for entry in Path("/proc").iterdir():
                 try:
                     line = (entry / "cmdline").read_bytes() if entry.name.isdigit() else b""
                 except OSError:
                     continue
                 if line.startswith(f"{sys.executable}\0-m\0modbus_edu.course.runner\0{scratch}".encode()):
-                    seen.setdefault(int(entry.name), ("worker", _uids(int(entry.name))))
+                    seen[int(entry.name)] = ("worker", _uids(int(entry.name)))
+                elif entry.name.isdigit() and int(entry.name) in marked:
+                    seen.setdefault(int(entry.name), ("kernel", _uids(int(entry.name))))
             done.wait(0.05)
 
     thread = threading.Thread(target=watch, daemon=True)

@@ -401,7 +401,13 @@ class Seal:
         library), at its own path.  stdin, stdout and stderr are passed through; the exit status is the
         command's.  Its processes end with it, and with the seal (:meth:`close`)."""
         argv = self._launcher("command", timeout, [str(copy or ""), "--", *map(str, argv)])
-        return [*self.view, *argv] if self.user is not None else argv
+        if self.user is None:
+            return argv
+        shown = self.view
+        if copy and _blocked(str(copy)):  # a copy below a folder no other user may enter: shown too
+            shown = view(self.sandbox.tool, [python_home(), sys.prefix, str(LIBRARY), str(copy)],
+                         writable=[str(self.folder.parent)])
+        return [*shown, *argv]
 
     def inside(self, path: Path | str) -> str:
         """Where one of the learner's notebooks is seen from inside a sealed kernel (``/tmp/work/...``)."""
