@@ -189,3 +189,51 @@ def _run_group(command: list[str], stdin: str, env: dict, timeout_s: float) -> s
         out, err = process.communicate()
         pytest.fail(f"{command[-1]} did not end within {timeout_s:.0f} s; it said:\n{err[-3000:]}")
     return subprocess.CompletedProcess(command, process.returncode, out, err)
+
+
+STALLING_DRIVER = '''#!{python}
+"""A WebKitWebDriver that starts a browser (a sleeping child), then never answers a new session."""
+import os, subprocess, sys, time
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+browser = subprocess.Popen(["sleep", "600"])
+with open({pids!r}, "a") as pids:
+    pids.write(f"{{browser.pid}}\\n")
+class Stall(BaseHTTPRequestHandler):
+    def do_GET(self):  # the driver's status: ready
+        body = b'{{"value": {{"ready": true, "message": ""}}}}'
+        self.send_response(200)
+        self.send_header("Content-Type", "application/json")
+        self.send_header("Content-Length", str(len(body)))
+        self.end_headers()
+        self.wfile.write(body)
+        if self.path == "/shutdown":
+            os._exit(0)
+    def do_POST(self):
+        time.sleep(600)
+ThreadingHTTPServer(("127.0.0.1", int(sys.argv[sys.argv.index("-p") + 1])), Stall).serve_forever()
+'''
+
+
+def test_a_webkit_session_that_never_starts_is_tried_again_and_ended(tmp_path):
+    """The driver's session start has a deadline of its own: a driver whose browser never answers is
+    tried again, and each failed try ends the driver and the browser it started (no process is left)."""
+    pids = tmp_path / "browsers"
+    driver = tmp_path / "WebKitWebDriver"
+    driver.write_text(STALLING_DRIVER.format(python=sys.executable, pids=str(pids)))
+    driver.chmod(0o755)
+    script = ("import sys; sys.path.insert(0, 'tests/browser'); import webkit_lite as w; "
+              f"w.DRIVER = {str(driver)!r}; w.SESSION_TIMEOUT_S = 2; w.SESSION_TRIES = 2; w.start_session()")
+    done = _run_group([sys.executable, "-c", script], "", dict(os.environ), 60)
+    assert done.returncode != 0
+    said = done.stderr
+    assert "try 1: no session (ReadTimeoutError" in said and "try 2: no session" in said, said
+    assert "gave no session in 2 tries of 2 s" in done.stderr
+    started = [int(pid) for pid in pids.read_text().split()]
+    assert len(started) == 2
+    for pid in started:
+        try:
+            os.waitpid(pid, os.WNOHANG)
+        except ChildProcessError:
+            pass
+        stat = Path(f"/proc/{pid}/stat")
+        assert not stat.exists() or stat.read_text().split()[2] == "Z", pid  # gone, or dead and unreaped

@@ -9,14 +9,22 @@ line on stdout is ``{"browser": version, "results": [the value of each eval]}``.
 Every call to the driver has a deadline: selenium's HTTP client waits forever by default (its timeout
 is the socket module's default, None), so a page that keeps its main thread busy would hold a call
 forever.
+
+Starting the session has a short deadline of its own and is tried again: WebKitWebDriver picks a free
+port, lets it go, and tells the browser to listen there, then waits for it without end; a browser that
+stalls on its way up (or a port taken in between) would hold the session's start forever. A failed
+try ends the driver and every browser process it started (this process's group), and says what the
+driver and the browser printed.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import signal
 import socket
 import sys
+import tempfile
 import time
 
 from selenium import webdriver
@@ -26,6 +34,11 @@ from selenium.webdriver.webkitgtk.service import Service
 DRIVER = "/usr/bin/WebKitWebDriver"
 CALL_TIMEOUT_S = 300  # one WebDriver command: a loaded machine may keep WebKit's main thread busy for a
 # minute or more while Pyodide starts (a poll is many short commands; the test's deadline bounds them all)
+SESSION_TIMEOUT_S = 90  # a session starts in about a second here; under load, in tens of seconds
+SESSION_TRIES = 3
+# the browser's known stalls on a display with no GPU and no session bus, ruled out
+BROWSER_ENV = {"WEBKIT_DISABLE_DMABUF_RENDERER": "1", "WEBKIT_DISABLE_COMPOSITING_MODE": "1",
+               "NO_AT_BRIDGE": "1"}
 START = time.monotonic()
 
 
@@ -33,12 +46,42 @@ def told(stage: str) -> None:
     print(f"[{time.monotonic() - START:7.1f} s] {stage}", file=sys.stderr, flush=True)
 
 
+def end_the_rest() -> None:
+    """Kill every process of this process's group but this one: a driver and the browser it started."""
+    group = os.getpgid(0)
+    for entry in os.listdir("/proc"):
+        try:
+            if entry.isdigit() and int(entry) != os.getpid() and os.getpgid(int(entry)) == group:
+                os.kill(int(entry), signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+
+
+def start_session() -> webdriver.WebKitGTK:
+    """A session, within ``SESSION_TIMEOUT_S`` a try and ``SESSION_TRIES`` tries; then every call gets
+    ``CALL_TIMEOUT_S``."""
+    for attempt in range(1, SESSION_TRIES + 1):
+        with tempfile.TemporaryFile("w+") as log:
+            socket.setdefaulttimeout(SESSION_TIMEOUT_S)  # read by selenium's client when the driver is made
+            service = Service(executable_path=DRIVER, env={**os.environ, **BROWSER_ENV}, log_output=log)
+            try:
+                driver = webdriver.WebKitGTK(options=Options(), service=service)
+            except Exception as exc:  # noqa: BLE001 - said, and tried again with a new driver and browser
+                end_the_rest()
+                log.seek(0)
+                said = " | ".join(log.read().strip().splitlines()[-8:])[-1500:]
+                told(f"try {attempt}: no session ({type(exc).__name__}: {str(exc)[:200]}); "
+                     f"the driver and browser said: {said or 'nothing'}")
+                continue
+        driver.command_executor._client_config.timeout = CALL_TIMEOUT_S
+        told(f"session started (try {attempt})")
+        return driver
+    raise RuntimeError(f"WebKitWebDriver gave no session in {SESSION_TRIES} tries of {SESSION_TIMEOUT_S} s")
+
+
 def main() -> int:
     spec = json.load(sys.stdin)
-    socket.setdefaulttimeout(CALL_TIMEOUT_S)  # read by selenium's client when the driver is made
-    service = Service(executable_path=DRIVER, env=dict(os.environ))
-    driver = webdriver.WebKitGTK(options=Options(), service=service)
-    told("session started")
+    driver = start_session()
     results = []
     try:
         driver.set_page_load_timeout(CALL_TIMEOUT_S - 30)
