@@ -143,9 +143,15 @@ def display():
                                "tcp"], pass_fds=[write], stderr=subprocess.DEVNULL)
     os.close(write)
     try:
-        number = os.read(read, 16).decode().strip()
+        said = b""
+        while not said.endswith(b"\n"):  # the number and its newline may come in two writes: closing the
+            chunk = os.read(read, 16)      # pipe between them stops Xvfb ("Cannot write display number")
+            if not chunk:
+                break
+            said += chunk
         os.close(read)
-        if not number:
+        number = said.decode().strip()
+        if not number or server.poll() is not None:
             pytest.fail("Xvfb did not start")
         yield f":{number}"
     finally:
@@ -162,7 +168,8 @@ def test_webkitgtk(notebook_url, table, display):
     done = _run_group([sys.executable, str(HERE / "browser" / "webkit_lite.py")], _spec(notebook_url),
                       dict(os.environ, DISPLAY=display), START_TIMEOUT_S + RUN_TIMEOUT_S + 120)
     lines = done.stdout.strip().splitlines()
-    assert done.returncode == 0 and lines, (done.returncode, done.stdout[-2000:], done.stderr[-3000:])
+    told = "\n".join(line[:1600] for line in done.stderr.splitlines() if line.startswith("["))
+    assert done.returncode == 0 and lines, f"exit {done.returncode}; it said:\n{told}\n{done.stderr[-1500:]}"
     out = json.loads(lines[-1])
     result = out["results"][-1]
     _assert_all(_record(table, "WebKitGTK", out["browser"], result, time.monotonic() - start), result)
