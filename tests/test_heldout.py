@@ -19,7 +19,8 @@ its candidates were mapped afterwards from the slips' words and the catalogue's 
 it splits "named" from "wrongly named" as the first does; its named share is reported, not yet asserted.
 A third test, which runs no checker, holds every slip of the second set against the right answer the
 library computes (tests/heldout_right.py): each must be wrong; a fourth, that every candidate of either
-set is an id of the catalogue.
+set is an id of the catalogue. A fifth, which runs no checker either, holds every slip of the third set
+(tests/heldout_slips_3.py, written like the second and not yet measured) against the right answer.
 
     python -m pytest tests/test_heldout.py -s
 """
@@ -32,6 +33,7 @@ from pathlib import Path
 
 import pytest
 
+import modbus_edu as mb
 from modbus_edu.exercises import evaluate
 from modbus_edu.exercises.diagnosis.catalogue import CATALOGUE
 
@@ -39,6 +41,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from heldout_right import ACCEPTS, REFERENCE, RIGHT, RIGHT_MAP_16_1, TOLERANCE  # noqa: E402
 from heldout_slips import HELDOUT  # noqa: E402
 from heldout_slips_2 import HELDOUT_2, board  # noqa: E402
+from heldout_slips_3 import HELDOUT_3  # noqa: E402
 
 COLUMNS = ("named", "wrongly named", "named, no candidate", "generic", "accepted")
 
@@ -181,8 +184,8 @@ def _run(function, args):
         return "raises"
 
 
-def _build_is_wrong(slip: dict) -> bool:
-    reference, probes, how = REFERENCE[slip["key"]]
+def _build_is_wrong(slip: dict, references: dict = REFERENCE) -> bool:
+    reference, probes, how = references[slip["key"]]
     learner = _function_from_source(slip["answer"])
     if how is not None and how != "order":
         learner = how(learner)
@@ -203,6 +206,89 @@ def test_every_second_heldout_slip_is_wrong(quiet_home):
     right = [(s["key"], s["slip"]) for s in HELDOUT_2
              if not (_build_is_wrong(s) if s["kind"] == "build" else _value_is_wrong(s))]
     assert not right, f"{len(right)} slips of the second set are right answers: {right}"
+
+
+# --- every slip of the third set is wrong (no checker involved) ----------------------------------
+def _slave_answer(registers, pdu):
+    """What the library's slave answers to ``pdu``, sent in an RTU frame, and its registers after: a
+    request the PDU decoder refuses (a read of 0 or 126 registers) gets the exception a slave sends."""
+    bank = mb.DataBank(sparse=True)
+    bank.holding_registers.declare(0, len(registers))
+    bank.holding_registers.write(0, list(registers))
+    body = bytes([1]) + bytes(pdu)
+    answer = mb.Slave(unit=1, bank=bank).handle(body + mb.crc_bytes(body))
+    return answer[1:-2], bank.holding_registers.read(0, len(registers))
+
+
+def _stated_17_3(args) -> bool:
+    """A probe on which the exercise's stated rules and the library's role table agree: the library lets
+    a viewer and an operator use more reading functions (43, 23 ...) than the rules' "1-4" and "5, 6,
+    15, 16" say, so a learner who follows the text exactly differs from it there."""
+    pdu, role = args
+    return role not in ("viewer", "operator") or pdu[0] in (1, 2, 3, 4, 5, 6, 15, 16)
+
+
+def _reference_3(key: str, reference=None, keep=lambda args: True) -> tuple:
+    function, probes, how = REFERENCE[key]
+    return (reference or function, [args for args in probes if keep(args)], how)
+
+
+# The third set is held against three of the second set's references changed where a right learner's
+# function would differ from them: 06.5's decodes the PDU first, so it raises for a read of 0 or 126
+# registers, where a slave answers exception 03 (the slave's own answer is used instead); 11.4's
+# decodes an exception response as a request and refuses it, where the task asks to refuse only a
+# protocol id other than 0, a wrong length and a frame too short (that probe is left out); 17.3's
+# probes keep those where the stated rules and the library agree (see _stated_17_3).
+REFERENCE_3 = {**REFERENCE,
+               "06.5": _reference_3("06.5", _slave_answer),
+               "11.4": _reference_3("11.4", keep=lambda args: args[0][7:8] < b"\x80"),
+               "17.3": _reference_3("17.3", keep=_stated_17_3)}
+
+# A right learner's function for each reference changed above: the judge must take it.
+_RIGHT_BUILDS_3 = {
+    "06.5": """def handle(registers, pdu):
+    address, number = int.from_bytes(pdu[1:3], "big"), int.from_bytes(pdu[3:5], "big")
+    if pdu[0] == 3:
+        if not 1 <= number <= 125:
+            return bytes([0x83, 3])
+        if address + number > len(registers):
+            return bytes([0x83, 2])
+        data = b"".join(r.to_bytes(2, "big") for r in registers[address:address + number])
+        return bytes([3, 2 * number]) + data
+    if address >= len(registers):
+        return bytes([0x86, 2])
+    registers[address] = number
+    return pdu
+""",
+    "11.4": """def split_mbap(frame):
+    if len(frame) < 8 or frame[2:4] != bytes(2) or int.from_bytes(frame[4:6], "big") != len(frame) - 6:
+        raise ValueError("not a Modbus/TCP frame")
+    return (int.from_bytes(frame[0:2], "big"), 0, len(frame) - 6, frame[6], frame[7:])
+""",
+    "17.3": """def decide(pdu, role):
+    function = pdu[0]
+    count = int.from_bytes(pdu[3:5], "big") if function in (15, 16) else 1
+    last = int.from_bytes(pdu[1:3], "big") + count - 1
+    if (role == "engineer" or (role in ("viewer", "operator") and 1 <= function <= 4)
+            or (role == "operator" and function in (5, 6, 15, 16) and last <= 99)):
+        return None
+    return bytes([function | 0x80, 0x01])
+""",
+}
+
+
+def test_every_third_heldout_slip_is_wrong(quiet_home):
+    """Each slip of the third set differs from the right answer (a build slip: on some allowed input)."""
+    keys = {s["key"] for s in HELDOUT_3}
+    assert len(HELDOUT_3) >= 450
+    assert len(keys) == 79, "every exercise of every notebook has slips"
+    assert all(len([s for s in HELDOUT_3 if s["key"] == k]) >= 5 for k in keys)
+    assert all(s["candidates"] == () and s["kind"] in ("value", "build") for s in HELDOUT_3)
+    for key, source in _RIGHT_BUILDS_3.items():  # the changed references take a right function
+        assert not _build_is_wrong({"key": key, "answer": source}, REFERENCE_3), key
+    right = [(s["key"], s["slip"]) for s in HELDOUT_3
+             if not (_build_is_wrong(s, REFERENCE_3) if s["kind"] == "build" else _value_is_wrong(s))]
+    assert not right, f"{len(right)} slips of the third set are right answers: {right}"
 
 
 def test_the_judge_of_wrongness_takes_the_right_answers(quiet_home):
