@@ -133,6 +133,19 @@ def test_no_second_heldout_slip_is_accepted(quiet_home):
     assert not accepted, f"{len(accepted)} slips of the second held-out set accepted: {accepted}"
 
 
+# The third set, written from the notebooks alone and mapped to candidates afterwards, measured here
+# for the first time after every checker change of its round had landed: its figures are reported,
+# and none of its accepted slips is marked expected.
+# Its first measurement (the checkers of this set's own round, before the round's procedure changes)
+# accepted 3: 01.2 (a reference number as text), 12.2 (the serial line's master) and 13.7 (an absolute
+# tolerance of 1).
+@pytest.mark.xfail(strict=True, reason="3 slips of the third held-out set are accepted (see above)")
+def test_no_third_heldout_slip_is_accepted(quiet_home):
+    assert len(HELDOUT_3) >= 450
+    accepted = _measure(HELDOUT_3, "third held-out set through the checkers")
+    assert not accepted, f"{len(accepted)} slips of the third held-out set accepted: {accepted}"
+
+
 # --- every slip of the second set is wrong (no checker involved) ---------------------------------
 def _bytes_of(key: str, answer):
     """Hex text as the bytes it names (an ASCII frame's characters as they are); other answers as given."""
