@@ -118,11 +118,9 @@ def test_no_heldout_slip_is_accepted(quiet_home):
 
 
 # The first measurement of the second set (before any checker changed) found 3 slips accepted: 01.2's
-# int 30010 where the string "30010" is asked; 16.4's strip_echo that removes every copy of the request
-# (wrong when the answer repeats the request, as a write single register's echo does); 17.3's decide
-# that refuses an engineer the functions above 24. Strict: once the checkers refuse them, this xfail
-# fails, and the mark comes off.
-@pytest.mark.xfail(strict=True, reason="3 slips of the second held-out set are accepted (see above)")
+# int 30010 where the string "30010" is asked (now "the right value in another form"); 16.4's strip_echo
+# that removes every copy of the request (16.4 now tries a write, whose answer repeats its request); 17.3's
+# decide that refuses an engineer the functions above 24 (17.3 now tries FC 8 and 65 for an engineer).
 def test_no_second_heldout_slip_is_accepted(quiet_home):
     assert len(HELDOUT_2) >= 400
     accepted = _measure(HELDOUT_2, "second held-out set through the checkers")

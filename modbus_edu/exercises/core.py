@@ -40,7 +40,8 @@ from ..framing import RtuFrame, parse_hex
 from .calls import safe_str
 from .diagnosis.frames import frame_verdict
 from .diagnosis.frameslip import frame_slip
-from .diagnosis.misconceptions import CATALOGUE, diagnose
+from .diagnosis.misconceptions import CATALOGUE, detect, diagnose
+from .diagnosis.misconceptions import name as catalogue_words
 from .diagnosis.procedures import ADDRESS
 from .plain import PlainError, plain, revive
 
@@ -482,6 +483,9 @@ def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = No
                                                                               ("rtu", "tcp", "pdu")))), None)
     if named:
         return named
+    part = part_diagnosis(got, expected, mode)
+    if part:
+        return part
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
             return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have "
@@ -494,18 +498,53 @@ def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = No
     return f"{what} has {len(got)} bytes, it should have {len(expected)}: nothing follows the last field."
 
 
-def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in the") -> str:
-    """Where byte ``index`` of the frame ``expected`` lies, in words: ", in the quantity (bytes 4-5), which
-    should hold 00 02 (2: number of registers to read)", or an empty string when no dissection fits."""
-    dissection = None
+def _dissection(expected: bytes, mode: str | None) -> Any:
+    """The fields of the frame ``expected`` (:func:`~modbus_edu.explain.explain`), or None."""
     for kind in (mode,) if mode else ("rtu", "tcp", "pdu"):
         try:
             found = explain_pdu(expected) if kind == "pdu" else explain(expected, mode=kind)
         except ModbusError:
             continue
         if found.error is None and found.rows:
-            dissection = found
-            break
+            return found
+    return None
+
+
+def part_diagnosis(got: Any, expected: bytes, mode: str | None = None) -> str | None:
+    """Name an answer that is one part of the asked bytes (some of its fields, in their place): which
+    fields it holds, and that the whole is asked."""
+    if not detect("part-of-answer", got, expected):
+        return None
+    got = bytes(got)
+    start = bytes(expected).find(got)
+    end = start + len(got) - 1
+    dissection = _dissection(expected, mode)
+    rows = [] if dissection is None else [row for row in dissection.rows
+                                           if row.offset <= end and start < row.offset + len(row.raw)]
+    if rows:
+        names = [("part of " if row.offset < start or row.offset + len(row.raw) - 1 > end else "") + row.field
+                 for row in rows]
+        held = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+        span = f"byte {start}" if start == end else f"bytes {start}-{end}"
+        words = f"the {held} ({span})"
+    else:
+        words = f"bytes {start}-{end} of it"
+    missing = _field_at(expected, len(got), mode, lead="") if start == 0 else ""
+    return catalogue_words("part-of-answer", part=words,
+                           whole=f"all {len(expected)} bytes, {_dissection_span(dissection)}") + (
+        f" What is missing starts with the{missing}." if missing else "")
+
+
+def _dissection_span(dissection: Any) -> str:
+    if dissection is None or not dissection.rows:
+        return "every field in its place"
+    return f"from the {dissection.rows[0].field} to the {dissection.rows[-1].field}"
+
+
+def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in the") -> str:
+    """Where byte ``index`` of the frame ``expected`` lies, in words: ", in the quantity (bytes 4-5), which
+    should hold 00 02 (2: number of registers to read)", or an empty string when no dissection fits."""
+    dissection = _dissection(expected, mode)
     if dissection is None:
         return ""
     for row in dissection.rows:
@@ -524,7 +563,7 @@ def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | No
     got = as_bytes(answer)
     named = frame_verdict(got, expected, "rtu") or diagnose("crc-swapped", got, expected)
     if named:
-        return f"{named} {swapped}" if swapped else named
+        return f"{named} {swapped}" if swapped and detect("crc-swapped", got, expected) else named
     return rtu_frame_diagnosis(got, expected) or compare_bytes(got, expected, what)
 
 
@@ -593,8 +632,8 @@ def field_diagnosis(got: Any, expected: int) -> str | None:
 
 def right_value_in_another_form(form: str) -> str:
     """The verdict for a right value written in another form than the one the exercise asks for (see the
-    module's docstring): said the same way in every exercise."""
-    return f"the value is right; write it as {form}."
+    module's docstring): said the same way in every exercise, as the catalogue's "another-form"."""
+    return catalogue_words("another-form", form=form)
 
 
 def pdu_address_diagnosis(got: Any, expected: bytes) -> str | None:

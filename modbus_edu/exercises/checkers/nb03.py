@@ -31,7 +31,9 @@ from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
                 "order is CD AB.",
                 "for 01 03 00 00 00 01 the register value is 0x0A84, and the frame ends 84 0A."),
           accepts=["B2 98", "b298", b"\xb2\x98", [0xB2, 0x98]],
-          refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None), ("B2", "crc-one-byte")])
+          refuses=[("98 B2", "crc-swapped"), (0x98B2, "another-form"), ("76 87", None),
+                   ("B2", "crc-one-byte"),
+                   ("11 04 00 08 00 01 B2 98", "another-question")])
 def _check_03_1(answer: Any) -> str | None:
     data = parse_hex("11 04 00 08 00 01")
     expected = crc_bytes(data)

@@ -111,7 +111,9 @@ def _check_06_3(answer: Any) -> str | None:
           refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
                    (ChecksumError, "answer-to-damaged-request"), ("timeout", None),
                    (ModbusExceptionError, "answer-to-damaged-request"),
-                   (ModbusTimeoutError("x"), None), (TimeoutError, "builtin-for-library-exception")])
+                   (ModbusTimeoutError("x"), "another-form"),
+                   ("mb.ModbusTimeoutError", "another-form"),
+                   (TimeoutError, "builtin-for-library-exception")])
 def _check_06_4(answer: Any) -> str | None:
     link = loopback_serial(Slave(unit=1))
     link.faults.flip_bits(1, target="request")
@@ -129,6 +131,9 @@ def _check_06_4(answer: Any) -> str | None:
     got = answer
     if got is expected:
         return None
+    if isinstance(got, str) and got.strip().split(".")[-1].lower() == expected.__name__.lower():
+        return right_value_in_another_form(
+            f"the class itself, mb.{expected.__name__}, not its name as text")
     named = diagnose("builtin-for-library-exception", got)
     if named:
         return named

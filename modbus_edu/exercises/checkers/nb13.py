@@ -231,7 +231,8 @@ def _check_13_4(answer: Any) -> str | None:
           accepts=["01 03 00 00 00 01 84 0A", "010300000001840a", bytes.fromhex("01 03 00 00 00 01 84 0A")],
           refuses=[("01 03 00 00 00 01 0A 84", "crc-swapped"), ("01 03 00 01 00 01 D5 CA",
                                                                 "one-based-address"),
-                   ("01 03 00 00 00 01", "crc-forgotten"), ("01 03 00 00 00 02 C4 0B", None)])
+                   ("01 03 00 00 00 01", "crc-forgotten"), ("01 03 00 00 00 02 C4 0B", None),
+                   ("84 0A", "part-of-answer"), ("01 03 00 00 00 01 84 11", "crc-initial-zero")])
 def _check_13_5(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
     return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(

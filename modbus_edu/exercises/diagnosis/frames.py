@@ -31,6 +31,7 @@ from ...crc import crc16, lrc
 from ...errors import ModbusError
 from ...explain import explain, explain_pdu
 from .catalogue import detect
+from .crcsteps import CRC_STEPS, REGISTER_SLIPS
 from .procedure import Choices, Perturbation, Procedure
 
 MODES = ("rtu", "tcp", "pdu", "ascii")
@@ -115,6 +116,13 @@ def _rtu(body: bytes) -> bytes:
     return body + crc16(body).to_bytes(2, "little")
 
 
+def _with_register(body: bytes, register: Any) -> bytes | None:
+    """``body`` and a CRC register's value, low byte first (None: no 16-bit register)."""
+    if not isinstance(register, int) or not 0 <= register <= 0xFFFF:
+        return None
+    return body + register.to_bytes(2, "little")
+
+
 def _ascii(body: bytes) -> bytes:
     return b":" + (body + bytes([lrc(body)])).hex().upper().encode("ascii") + b"\r\n"
 
@@ -132,13 +140,16 @@ def _envelopes(mode: str, expected: bytes) -> list[Envelope]:
             ("crc-high-first", "the CRC's bytes swapped", "crc-swapped",
              lambda body, right: body + crc16(body).to_bytes(2, "big")),
             ("crc-left-out", "the CRC left out", "crc-forgotten", lambda body, right: body),
+            *[(f"crc-{key}", f"a CRC with {step}", misconception,
+               lambda body, right, compute=compute: _with_register(body, compute(body)))
+              for key, step, misconception, compute in CRC_STEPS if key in REGISTER_SLIPS],
             ("crc-over-pdu", "a CRC over the PDU alone", "checksum-without-address",
              lambda body, right: body + crc16(body[1:]).to_bytes(2, "little")),
             ("crc-one-byte", "one byte of the CRC", "crc-one-byte",
              lambda body, right: Choices([_rtu(body)[:-1], body + _rtu(body)[-1:]])),
             ("unit-left-out", "the slave address left out", "unit-missing",
              lambda body, right: Choices([_rtu(body[1:]), body[1:] + _rtu(body)[-2:]])),
-            ("pdu-only", "the PDU alone, without the slave address and the CRC around it", None,
+            ("pdu-only", "the PDU alone, without the slave address and the CRC around it", "part-of-answer",
              lambda body, right: body[1:]),
             ("tcp-frame", "a Modbus/TCP frame (MBAP header, no CRC) where an RTU frame is asked",
              "tcp-frame-for-rtu", lambda body, right: ("tcp", body)),
@@ -173,18 +184,19 @@ def _envelopes(mode: str, expected: bytes) -> list[Envelope]:
             ("unit-left-out", "the slave address left out", "unit-missing",
              lambda body, right: _ascii(body[1:])),
             ("rtu-frame", "the RTU frame's bytes (with a CRC), where an ASCII frame's characters are asked",
-             None, lambda body, right: _rtu(body)),
+             "another-question", lambda body, right: _rtu(body)),
         ]
     if mode == "tcp":
         return [
             ("crc-added", "a CRC after the PDU", "crc-on-tcp",
              lambda body, right: Choices([body + crc16(body[6:]).to_bytes(2, "little"),
                                           _retold(body, 2) + crc16(body[6:]).to_bytes(2, "little")])),
-            ("mbap-left-out", "the unit and the PDU without the MBAP header in front", None,
+            ("mbap-left-out", "the unit and the PDU without the MBAP header in front", "part-of-answer",
              lambda body, right: body[6:]),
-            ("rtu-frame", "an RTU frame (unit, PDU, CRC) where a Modbus/TCP frame is asked", None,
-             lambda body, right: _rtu(body[6:])),
-            ("pdu-only", "the PDU alone, without the MBAP header", None, lambda body, right: body[7:]),
+            ("rtu-frame", "an RTU frame (unit, PDU, CRC) where a Modbus/TCP frame is asked",
+             "another-question", lambda body, right: _rtu(body[6:])),
+            ("pdu-only", "the PDU alone, without the MBAP header", "part-of-answer",
+             lambda body, right: body[7:]),
             ("unit-left-out", "the unit identifier left out", "unit-missing",
              lambda body, right: Choices([body[:6] + body[7:], _retold(body[:6] + body[7:], 0)])),
             ("length-left-out", "the length field left out", "mbap-length-missing",

@@ -1,0 +1,111 @@
+"""Diagnosis from the procedure, round three: what was asked, not how it was computed.
+
+- a right value in another form (an int where the reference number's text is asked, lowercase hex in an
+  ASCII frame, an instance or a name where the class is asked, 6 digits where 5) is "the right value in
+  another form", and the verdict says what the usual form is;
+- a part of the asked bytes is "part of the answer", with the fields it holds; the answer to another
+  question (the whole frame for its CRC, an RTU frame where Modbus/TCP is asked) is named as such;
+- the CRC of a frame built by hand goes through the CRC procedure's steps (:mod:`.diagnosis.crcsteps`), so
+  a frame whose CRC register started at 0 is named so in every frame exercise;
+- build exercises 16.4 and 17.3 are tried on the inputs that separate their last two accepted slips.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+import modbus_edu as mb
+from modbus_edu.exercises import evaluate
+from modbus_edu.exercises.checkers.nb16 import _every_echo
+from modbus_edu.exercises.checkers.nb17 import _common_only, _reference
+from modbus_edu.exercises.core import compare_bytes, part_diagnosis
+from modbus_edu.exercises.diagnosis.crcsteps import CRC_STEPS, REGISTER_SLIPS
+from modbus_edu.exercises.diagnosis.frames import frame_procedure, frame_verdict
+from modbus_edu.exercises.diagnosis.misconceptions import CATALOGUE, crc16_reflected, crc16_unreflected
+
+
+def labels(message: str) -> set[str]:
+    return {key for key, entry in CATALOGUE.items() if entry.label.lower() in message.lower()}
+
+
+@pytest.mark.parametrize("key, answer, usual", [
+    ("01.2", 30010, "'30010'"),
+    ("01.2", 30010.0, "'30010'"),
+    ("01.2", "300010", "5-digit"),
+    ("03.1", 0x98B2, "low byte first"),
+    ("04.2", ":050310000002e6\r\n", "upper-case"),
+    ("06.4", mb.ModbusTimeoutError("no answer"), "the class itself"),
+    ("06.4", "ModbusTimeoutError", "not its name as text"),
+    ("06.4", "mb.ModbusTimeoutError", "not its name as text"),
+    ("12.1", "150", "0x and four hex digits"),
+])
+def test_a_right_value_in_another_form_is_told_so_with_the_usual_form(key, answer, usual):
+    result = evaluate(key, answer)
+    assert result.ok is False and labels(result.message) == {"another-form"}, result.message
+    assert usual in result.message
+
+
+def test_a_wrong_value_in_another_form_is_never_called_right():
+    for key, answer in (("01.2", 30011), ("01.2", "300011"), ("06.4", "ModbusError")):
+        message = evaluate(key, answer).message
+        assert "another-form" not in labels(message) and "value is right" not in message, (key, message)
+
+
+def _frame(data: str, register: int) -> bytes:
+    body = bytes.fromhex(data)
+    return body + register.to_bytes(2, "little")
+
+
+@pytest.mark.parametrize("key, body", [
+    ("00.3", "02 03 00 00 00 02"), ("03.2", "01 06 00 02 12 34"), ("07.2", "11 81 02"),
+    ("13.5", "01 03 00 00 00 01"),
+])
+def test_a_crc_slip_in_a_frame_built_by_hand_is_named_from_the_crc_procedure(key, body):
+    data = bytes.fromhex(body)
+    for compute, misconception in ((lambda d: crc16_reflected(d, initial=0), "crc-initial-zero"),
+                                   (crc16_unreflected, "crc-msb-first")):
+        message = evaluate(key, _frame(body, compute(data))).message
+        assert labels(message) == {misconception}, (key, message)
+        assert "faulty tool" not in message  # 13.5's note belongs to the swapped CRC alone
+    final_xor = evaluate(key, _frame(body, mb.crc16(data) ^ 0xFFFF)).message
+    assert "final XOR with 0xFFFF" in final_xor and "differs at byte" not in final_xor
+
+
+def test_the_frame_procedure_takes_every_register_slip_of_the_crc_procedure():
+    frame = mb.RtuFrame(unit=1, pdu=mb.ReadHoldingRegistersRequest(address=0, count=1)).encode()
+    keys = {item.key for item in frame_procedure(frame, "rtu").perturbations}
+    register_slips = [key for key, *_ in CRC_STEPS if key in REGISTER_SLIPS]
+    assert len(register_slips) == len(REGISTER_SLIPS) >= 4
+    assert {f"crc-{key}" for key in register_slips} <= keys
+
+
+def test_part_of_the_asked_bytes_is_named_with_the_fields_it_holds():
+    message = evaluate("13.5", "84 0A").message
+    assert labels(message) == {"part-of-answer"} and "the CRC (bytes 6-7)" in message and "all 8 bytes" in message
+    prefix = compare_bytes("02 03 00 00", bytes.fromhex("02 03 00 00 00 02 C4 38"), "your frame")
+    assert "part of the answer" in prefix and "what is missing starts with the quantity" in prefix.lower()
+    middle = part_diagnosis(bytes.fromhex("00 6B"), bytes.fromhex("03 00 6B 00 03"), "pdu")
+    assert "starting address (bytes 1-2)" in middle and "missing" not in middle
+    assert part_diagnosis(bytes.fromhex("00 6C"), bytes.fromhex("03 00 6B 00 03")) is None  # not in it
+    assert part_diagnosis(bytes.fromhex("03 00 6B 00 03"), bytes.fromhex("03 00 6B 00 03")) is None
+
+
+def test_the_answer_to_another_question_is_named_as_such():
+    assert labels(evaluate("03.1", "11 04 00 08 00 01 B2 98").message) == {"another-question"}
+    tcp = bytes.fromhex("00 07 00 00 00 06 03 03 00 00 00 03")
+    rtu = mb.RtuFrame(unit=3, pdu=mb.ReadHoldingRegistersRequest(address=0, count=3)).encode()
+    assert labels(frame_verdict(rtu, tcp, "tcp")) == {"another-question"}
+    assert labels(evaluate("11.2", rtu).message) == {"another-question"}
+    assert labels(frame_verdict(tcp[7:], tcp, "tcp")) == {"part-of-answer"}
+
+
+def test_16_4_separates_a_strip_echo_that_takes_every_copy_off():
+    message = evaluate("16.4", _every_echo).message
+    assert message.startswith("Not yet:") and "01 06 00 01 00 03 98 0B" in message
+    assert "every copy of the request" in message
+
+
+def test_17_3_separates_a_decide_that_refuses_an_engineer_the_functions_above_24():
+    assert _reference(bytes.fromhex("41 00 00"), "engineer") is None
+    message = evaluate("17.3", _common_only).message
+    assert message.startswith("Not yet:") and "'engineer'" in message
