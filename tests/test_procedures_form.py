@@ -81,7 +81,8 @@ def test_the_frame_procedure_takes_every_register_slip_of_the_crc_procedure():
 
 def test_part_of_the_asked_bytes_is_named_with_the_fields_it_holds():
     message = evaluate("13.5", "84 0A").message
-    assert labels(message) == {"part-of-answer"} and "the CRC (bytes 6-7)" in message and "all 8 bytes" in message
+    assert labels(message) == {"part-of-answer"}
+    assert "the CRC (bytes 6-7)" in message and "all 8 bytes" in message
     prefix = compare_bytes("02 03 00 00", bytes.fromhex("02 03 00 00 00 02 C4 38"), "your frame")
     assert "part of the answer" in prefix and "what is missing starts with the quantity" in prefix.lower()
     middle = part_diagnosis(bytes.fromhex("00 6B"), bytes.fromhex("03 00 6B 00 03"), "pdu")
