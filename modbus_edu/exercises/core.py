@@ -19,7 +19,7 @@ and leading zeros; an int, a float that is a whole number (``3.0``) or a number 
 the answer.  Where an exercise asks for a form (a 5-digit reference number, an ASCII frame's upper-case hex
 characters, an exception class rather than an instance of it, hex as the test tool's grid shows it,
 milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another form is refused with
-:func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong value is never
+:func:`right_value_in_another_form`: "the right value in another form: the value is right; write it as ...".  A wrong value is never
 accepted for its form.
 """
 
@@ -473,19 +473,28 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
 # --- comparing and diagnosing ------------------------------------------------------------------------
 
 def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = None) -> str | None:
-    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first, the field it belongs
-    to and what that field should hold, from :func:`~modbus_edu.explain.explain`'s dissection of the
-    expected frame (``mode``: "rtu", "tcp" or "pdu"; None: whatever mode dissects it without error)."""
+    """None if ``answer`` is exactly ``expected``; otherwise the slip the frame procedure names
+    (:func:`bytes_diagnosis`), or which byte differs first, the field it belongs to and what that field
+    should hold, from :func:`~modbus_edu.explain.explain`'s dissection of the expected frame (``mode``:
+    "rtu", "tcp" or "pdu"; None: whatever mode dissects it without error)."""
     got = as_bytes(answer)
     if got == expected:
         return None
+    return bytes_diagnosis(got, expected, mode) or first_difference(got, expected, what, mode)
+
+
+def bytes_diagnosis(got: bytes, expected: bytes, mode: str | None = None) -> str | None:
+    """The slip that makes ``got`` of the asked bytes ``expected``: one change of the frame procedure
+    (:func:`~.diagnosis.frames.frame_verdict`, in ``mode`` or whichever mode reads ``expected``), or a part
+    of the asked bytes (:func:`part_diagnosis`); None when neither fits."""
     named = next(filter(None, (frame_verdict(got, expected, kind) for kind in ((mode,) if mode else
                                                                               ("rtu", "tcp", "pdu")))), None)
-    if named:
-        return named
-    part = part_diagnosis(got, expected, mode)
-    if part:
-        return part
+    return named or part_diagnosis(got, expected, mode)
+
+
+def first_difference(got: bytes, expected: bytes, what: str, mode: str | None = None) -> str:
+    """Where ``got`` first differs from ``expected``, the field that byte belongs to and what it should
+    hold (or which field is missing, or that bytes follow the last field)."""
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
             return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have "
@@ -530,9 +539,18 @@ def part_diagnosis(got: Any, expected: bytes, mode: str | None = None) -> str | 
     else:
         words = f"bytes {start}-{end} of it"
     missing = _field_at(expected, len(got), mode, lead="") if start == 0 else ""
+    left_out = [] if dissection is None else [
+        key for row in dissection.rows if row.offset + len(row.raw) - 1 < start or row.offset > end
+        for part, key in LEFT_OUT.items() if part in row.field.lower()]
     return catalogue_words("part-of-answer", part=words,
                            whole=f"all {len(expected)} bytes, {_dissection_span(dissection)}") + (
-        f" What is missing starts with the{missing}." if missing else "")
+        f" What is missing starts with the{missing}." if missing else "") + "".join(
+        f" {CATALOGUE[key].label[:1].upper()}{CATALOGUE[key].label[1:]}." for key in dict.fromkeys(left_out))
+
+
+LEFT_OUT = {"unit": "unit-missing", "crc": "crc-forgotten", "function code": "function-code-missing",
+            "byte count": "byte-count-missing", "length": "mbap-length-missing"}
+"""The fields whose leaving out the catalogue names (a part of a field's name: the misconception)."""
 
 
 def _dissection_span(dissection: Any) -> str:

@@ -149,7 +149,7 @@ def _envelopes(mode: str, expected: bytes) -> list[Envelope]:
              lambda body, right: Choices([_rtu(body)[:-1], body + _rtu(body)[-1:]])),
             ("unit-left-out", "the slave address left out", "unit-missing",
              lambda body, right: Choices([_rtu(body[1:]), body[1:] + _rtu(body)[-2:]])),
-            ("pdu-only", "the PDU alone, without the slave address and the CRC around it", "part-of-answer",
+            ("pdu-only", "the PDU alone, without the slave address and the CRC around it", "unit-missing",
              lambda body, right: body[1:]),
             ("tcp-frame", "a Modbus/TCP frame (MBAP header, no CRC) where an RTU frame is asked",
              "tcp-frame-for-rtu", lambda body, right: ("tcp", body)),
@@ -279,7 +279,8 @@ def frame_procedure(expected: Any, mode: str) -> Procedure | None:
             fields=_fields(change, right_body)))
     for key, step, misconception, make in _envelopes(mode, expected):
         steps.append(Perturbation(key, step, misconception,
-                                  lambda make=make: make(right_body, right_body)))
+                                  lambda make=make: make(right_body, right_body),
+                                  also="crc-forgotten" if (mode, key) == ("rtu", "pdu-only") else None))
         for change in fields:
             field_key, field_step, field_misconception, *_ = change
             steps.append(Perturbation(
