@@ -234,6 +234,9 @@ class BuildChecker:
         named), then the field the first wrong byte belongs to and what it should hold, and the clue."""
         if not isinstance(expected, (bytes, bytearray)) or not isinstance(got, (bytes, bytearray)):
             return ""
+        cut = _slice_note(args, bytes(expected), bytes(got))
+        if cut:
+            return _sentence(cut)
         words = bytes_diagnosis(bytes(got), bytes(expected))
         if words and evidence is not None and not _fits_every_answer(words, args, evidence):
             words = None
@@ -328,6 +331,23 @@ def _labels(words: str) -> set[str]:
     """The catalogue keys whose labels ``words`` contains."""
     lowered = words.lower()
     return {key for key, entry in CATALOGUE.items() if entry.label.lower() in lowered}
+
+
+def _slice_note(args: tuple, expected: bytes, got: bytes) -> str | None:
+    """Where the answer and the function's are both slices of an argument (a function that cuts its input):
+    where each starts and ends, so the slice's off-by-one shows."""
+    for number, arg in enumerate(args, 1):
+        if not isinstance(arg, (bytes, bytearray)) or not got or not expected:
+            continue
+        arg = bytes(arg)
+        mine, right = arg.rfind(got), arg.rfind(expected)
+        if mine < 0 or right < 0 or (mine, len(got)) == (right, len(expected)):
+            continue
+        off = abs(mine - right) or abs(len(got) - len(expected))
+        return (f"your function's answer is bytes {mine}-{mine + len(got) - 1} of argument {number}; the "
+                f"answer is bytes {right}-{right + len(expected) - 1}: the cut is {off} "
+                f"byte{'s' * (off > 1)} off, at its {'start' if mine != right else 'end'}.")
+    return None
 
 
 MOST_BYTES_CHECKED = 12

@@ -19,8 +19,8 @@ and leading zeros; an int, a float that is a whole number (``3.0``) or a number 
 the answer.  Where an exercise asks for a form (a 5-digit reference number, an ASCII frame's upper-case hex
 characters, an exception class rather than an instance of it, hex as the test tool's grid shows it,
 milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another form is refused with
-:func:`right_value_in_another_form`: "the right value in another form: the value is right; write it as ...".  A wrong value is never
-accepted for its form.
+:func:`right_value_in_another_form` (the catalogue's "another-form"): "the right value in another form: the
+value is right; write it as ...".  A wrong value is never accepted for its form.
 """
 
 from __future__ import annotations
@@ -539,9 +539,10 @@ def part_diagnosis(got: Any, expected: bytes, mode: str | None = None) -> str | 
     else:
         words = f"bytes {start}-{end} of it"
     missing = _field_at(expected, len(got), mode, lead="") if start == 0 else ""
-    left_out = [] if dissection is None else [
-        key for row in dissection.rows if row.offset + len(row.raw) - 1 < start or row.offset > end
-        for part, key in LEFT_OUT.items() if part in row.field.lower()]
+    outside = [] if dissection is None else [row.field.lower() for row in dissection.rows
+                                              if row.offset + len(row.raw) - 1 < start or row.offset > end]
+    left_out = [next((key for part, key in LEFT_OUT.items() if part in field), None) for field in outside]
+    left_out = [] if None in left_out else left_out  # named only where every field left out has its name
     return catalogue_words("part-of-answer", part=words,
                            whole=f"all {len(expected)} bytes, {_dissection_span(dissection)}") + (
         f" What is missing starts with the{missing}." if missing else "") + "".join(

@@ -3,10 +3,10 @@
 :func:`frame_procedure` reads the right frame's fields (its dissection by :func:`~modbus_edu.explain.explain`)
 and makes, for any frame of any exercise, the frames one step changed gives:
 
-* a **field** written wrong: a 2-byte field low byte first, in one byte, its decimal digits written as hex
-  or its hex digits read as decimal; an address counted from 1, less 1 twice, or given as its reference
-  number; the unit's or a byte's digits mixed up the same way; an exception's function code without its
-  top bit;
+* a **field** written wrong: a 2-byte field low byte first, in one byte, kept to its low byte, its decimal
+  digits written as hex or its hex digits read as decimal; an address counted from 1, less 1 twice, or
+  given as its reference number; the unit's or a byte's digits mixed up the same way; an exception's
+  function code without its top bit;
 * the **envelope** changed: for an ASCII frame the LRC a plain sum, its one's complement, over the
   characters or the PDU alone, a CRC in its place or none, CR LF or ':' left out, LF alone, spaces between
   the bytes; for an RTU frame the CRC's bytes swapped, left out, over the PDU alone or one
@@ -71,8 +71,10 @@ def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> 
             changes.append(("low-first", f"{where} low byte first",
                             "mbap-little-endian" if mbap else "field-low-byte-first", raw[::-1]))
         if value < 256 and not (mbap and "length" in name):
-            changes.append(("one-byte", f"{where} in one byte",
-                            "mbap-length-missing" if mbap else "field-in-one-byte", raw[1:]))
+            changes.append(("one-byte", f"{where} in one byte", "field-in-one-byte", raw[1:]))
+        if value >= 256:
+            changes.append(("low-byte-kept", f"{where} kept to its low byte", "field-in-one-byte",
+                            bytes([0, raw[1]])))
     if not mbap or "transaction" in name:
         width = size
         for key, step, misconception, number in (

@@ -184,6 +184,18 @@ MBAP = Procedure(
             lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + bytes([len(pdu) + 1, unit]),
         ),
         Perturbation(
+            "protocol-one-byte",
+            "the protocol identifier in one byte",
+            "field-in-one-byte",
+            lambda tid, unit, pdu: _mbap(tid, unit, pdu)[:3] + _mbap(tid, unit, pdu)[4:],
+        ),
+        Perturbation(
+            "tid-low-byte-kept",
+            "the transaction id kept to its low byte",
+            "field-in-one-byte",
+            lambda tid, unit, pdu: _mbap(tid & 0xFF, unit, pdu) if tid > 0xFF else None,
+        ),
+        Perturbation(
             "unit-missing",
             "the unit identifier left out",
             "unit-missing",
