@@ -169,6 +169,14 @@ def _read_it_back(args: tuple, state: tuple) -> tuple | None:
     return state[0], bytes([3]) + pdu[1:3] + (1).to_bytes(2, "big")
 
 
+def _register_count(got: bytes, expected: bytes) -> str | None:
+    """A read's byte count that holds the number of registers: with the data still two bytes a register,
+    the byte count written as the quantity; with one byte a register, a register taken for one byte."""
+    if got[2:] == expected[2:]:
+        return name("byte-count-for-quantity") if got[1] == expected[1] // 2 else None
+    return diagnose("register-one-byte", got[1], expected[1], expected[1] // 2)
+
+
 def _diagnose_handler(args, expected, got) -> str | None:
     registers, pdu = args
     address = int.from_bytes(pdu[1:3], "big")
@@ -177,8 +185,7 @@ def _diagnose_handler(args, expected, got) -> str | None:
         named = (diagnose("exception-bit-missing", got[0], expected[0]) if exception else None) or (
             diagnose(("illegal-function-for-address", "exception-code-confused"), got[1], expected[1])
             if exception and got[0] == expected[0] else None) or (
-            diagnose("register-one-byte", got[1], expected[1], expected[1] // 2) if got[0] == expected[0] == 3
-            else None)
+            _register_count(got, expected) if got[0] == expected[0] == 3 else None)
         if named:
             return named
     if address == 0 and isinstance(got, bytes) and isinstance(expected, bytes):

@@ -9,6 +9,7 @@ from ...security import course_roles
 from ..build import build_exercise
 from ..core import exercise, int_answer, show
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.procedures import field_value_procedure
 
 #: The request of exercise 17.1, as a capture shows it.
 CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
@@ -27,9 +28,9 @@ def _check_17_1(answer: Any) -> str | None:
         return got
     if got == 500:
         return None
-    named = diagnose("field-low-byte-first", got, 500) or diagnose("another-field", got, {
+    named = field_value_procedure(bytes.fromhex("01 F4"), "value", {
         "register address (00 0A)": 10, "function code": 6, "transaction id": 7, "length field": 6,
-        "unit identifier": 1})
+        "unit identifier": 1}).explain([((), got)])
     if named:
         return f"{named} It is not the value: the value is the last two bytes, after the address."
     return f"{show(got)} is not the value: read the last two bytes of the frame, high byte first."

@@ -12,7 +12,7 @@ def _swap16(value: int) -> int:
     return (value & 0xFF) << 8 | value >> 8
 
 
-def _hex_as_decimal(value: int) -> int | None:
+def hex_as_decimal(value: int) -> int | None:
     """``value``'s hex digits read as a decimal number (0x1234 as 1234), where they are all decimal."""
     text = f"{value:X}"
     return int(text) if text.isdecimal() and int(text) != value else None
@@ -46,7 +46,7 @@ CRC_STEPS = (
         "hex-as-decimal",
         "the CRC's hex digits read as decimal",
         "hex-read-as-decimal",
-        lambda data: _hex_as_decimal(crc16(data)),
+        lambda data: hex_as_decimal(crc16(data)),
     ),
     (
         "as-bytes",

@@ -31,7 +31,7 @@ from ...crc import crc16, lrc
 from ...errors import ModbusError
 from ...explain import explain, explain_pdu
 from .catalogue import detect
-from .crcsteps import CRC_STEPS, REGISTER_SLIPS
+from .crcsteps import CRC_STEPS, REGISTER_SLIPS, hex_as_decimal
 from .procedure import Choices, Perturbation, Procedure
 
 MODES = ("rtu", "tcp", "pdu", "ascii")
@@ -48,11 +48,6 @@ def _rows(expected: bytes, mode: str) -> list | None:
         if found.error is None and found.rows and not any("not decoded" in row.field for row in found.rows):
             return [(row.offset, len(row.raw), row.field.lower(), row.raw) for row in found.rows]
     return None
-
-
-def _hex_as_decimal(value: int) -> int | None:
-    text = f"{value:X}"
-    return int(text) if text.isdecimal() and int(text) != value else None
 
 
 def _decimal_as_hex(value: int) -> int | None:
@@ -81,7 +76,7 @@ def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> 
                 ("decimal-as-hex", f"{where}'s decimal digits written as hex", "decimal-written-as-hex",
                  _decimal_as_hex(value)),
                 ("hex-as-decimal", f"{where}'s hex digits read as decimal", "hex-read-as-decimal",
-                 _hex_as_decimal(value))):
+                 hex_as_decimal(value))):
             if number is not None and number < 256 ** width:
                 changes.append((key, step, misconception, number.to_bytes(width, "big")))
     if "address" in name and size == 2 and not mbap:

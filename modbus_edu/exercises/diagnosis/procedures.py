@@ -19,7 +19,7 @@ from ...devices.arduino import expected_answered_fraction
 from ...framing import RtuFrame
 from ...links.wire import SerialTiming
 from ...values import ORDERS, decode_value
-from .crcsteps import CRC_STEPS
+from .crcsteps import CRC_STEPS, hex_as_decimal
 from .frames import frame_procedure
 from .procedure import Choices, Perturbation, Procedure
 
@@ -528,3 +528,28 @@ PROCEDURES = {
     "answered": ANSWERED,
 }
 """The procedures of fixed arguments, by concept (the frame's and the count's are made per exercise)."""
+
+
+# --- one field's value read from a frame ---------------------------------------------------------------
+
+
+def field_value_procedure(raw: bytes, name: str, others: dict[str, int]) -> Procedure:
+    """Reading the 2-byte field ``raw`` (called ``name``) out of a frame, and the values its slips give: the
+    field low byte first, its high or low byte alone, its hex digits read as decimal, or another field of
+    the frame (``others``: each field's name and value).  Where two of them give the same number (a high
+    byte of 01 and a unit of 1), the verdict names both candidates."""
+    value = int.from_bytes(raw, "big")
+    steps = [
+        Perturbation("low-first", f"the {name} low byte first", "field-low-byte-first",
+                     lambda: int.from_bytes(raw[::-1], "big") if raw[0] != raw[1] else None),
+        Perturbation("high-byte", f"the {name}'s high byte alone", "field-in-one-byte",
+                     lambda: raw[0] if value > 0xFF else None),
+        Perturbation("low-byte", f"the {name}'s low byte alone", "field-in-one-byte",
+                     lambda: raw[1] if value > 0xFF else None),
+        Perturbation("hex-as-decimal", f"the {name}'s hex digits read as decimal", "hex-read-as-decimal",
+                     lambda: hex_as_decimal(value)),
+    ]
+    steps += [Perturbation(f"field-{other}", f"the {other} ({number})", "another-field",
+                           lambda number=number: number, fields={"got": number, "field": other})
+              for other, number in others.items() if number != value]
+    return Procedure(f"the {name} read from a frame", lambda: value, tuple(steps))
