@@ -36,7 +36,7 @@ from modbus_edu.values import decode_value, encode_value
 RNG = random.Random(38)
 SAMPLES = {
     "crc": [(RNG.randbytes(n),) for n in (1, 2, 6, 40, 300)],
-    "crc-wire": [(RNG.randbytes(n),) for n in (2, 6, 40)],
+    "crc-wire": [(RNG.randbytes(n),) for n in (2, 6, 40, 300)],
     "lrc": [(RNG.randbytes(n),) for n in (1, 6, 40, 300)] + [(b"\x80\x80",)],
     "mbap": [(280, 1, bytes.fromhex("03 00 00 00 01")), (65535, 255, bytes(30))],
     "transaction-time": [

@@ -16,12 +16,14 @@ import pytest
 
 import modbus_edu as mb
 from modbus_edu.exercises import evaluate
+from modbus_edu.exercises.build import _fits_every_answer
 from modbus_edu.exercises.checkers.nb16 import _every_echo
 from modbus_edu.exercises.checkers.nb17 import _common_only, _reference
-from modbus_edu.exercises.core import compare_bytes, part_diagnosis
+from modbus_edu.exercises.core import bytes_diagnosis, compare_bytes, part_diagnosis
 from modbus_edu.exercises.diagnosis.crcsteps import CRC_STEPS, REGISTER_SLIPS
 from modbus_edu.exercises.diagnosis.frames import frame_procedure, frame_verdict
 from modbus_edu.exercises.diagnosis.misconceptions import CATALOGUE, crc16_reflected, crc16_unreflected
+from modbus_edu.exercises.plain import plain
 
 
 def labels(message: str) -> set[str]:
@@ -110,3 +112,92 @@ def test_17_3_separates_a_decide_that_refuses_an_engineer_the_functions_above_24
     assert _reference(bytes.fromhex("41 00 00"), "engineer") is None
     message = evaluate("17.3", _common_only).message
     assert message.startswith("Not yet:") and "'engineer'" in message
+
+
+# --- the CRC's own loop, a field's value, bytes from a build exercise ----------------------------------
+
+def _crc_source(shifts: int = 8, after: bool = False, limit: str = "") -> object:
+    step = ("r >>= 1\n            r = r ^ 0xA001 if r & 1 else r" if after
+            else "r = (r >> 1) ^ 0xA001 if r & 1 else r >> 1")
+    source = (f"def crc16(data):\n    r = 0xFFFF\n    for b in data{limit}:\n        r ^= b\n"
+              f"        for _ in range({shifts}):\n            {step}\n    return r\n")
+    namespace: dict = {}
+    exec(source, namespace)
+    return namespace["crc16"]
+
+
+@pytest.mark.parametrize("function, misconception", [
+    (_crc_source(shifts=7), "crc-bit-loop"), (_crc_source(after=True), "crc-bit-loop"),
+    (_crc_source(limit="[:255]"), "crc-not-every-byte"), (_crc_source(limit="[:-1]"), "crc-not-every-byte"),
+])
+def test_03_5_names_a_changed_bit_loop_and_bytes_left_out_from_the_crc_procedure(function, misconception):
+    message = evaluate("03.5", function).message
+    assert labels(message) == {misconception}, message
+
+
+def test_a_hand_built_frame_with_a_changed_bit_loop_is_named_so():
+    body = bytes.fromhex("01 06 00 02 12 34")
+    from modbus_edu.exercises.diagnosis.misconceptions import crc_bit_loop
+    message = evaluate("03.2", _frame(body.hex(), crc_bit_loop(body, shifts=7))).message
+    assert labels(message) == {"crc-bit-loop"}, message
+
+
+def test_a_field_value_read_from_a_frame_names_its_slips_and_both_candidates_when_they_agree():
+    assert labels(evaluate("17.1", 0xF401).message) == {"field-low-byte-first"}
+    assert labels(evaluate("17.1", 0xF4).message) == {"register-one-byte"}
+    assert labels(evaluate("17.1", 10).message) == {"another-field"}
+    both = evaluate("17.1", 1).message  # the value's high byte, and the unit identifier: 1 both
+    assert "high byte alone" in both and "unit identifier" in both and "cannot tell" in both
+    assert not labels(both)
+    assert labels(evaluate("11.1", (42, 6, 16, 1)).message) == {"register-one-byte"}
+
+
+def test_06_5_tells_a_byte_count_written_as_the_quantity_from_a_register_of_one_byte():
+    def counts_registers(registers, pdu):
+        address, count = int.from_bytes(pdu[1:3], "big"), int.from_bytes(pdu[3:5], "big")
+        if pdu[0] != 3:
+            return _right_06_5(registers, pdu)
+        if address + count > len(registers):
+            return bytes([0x83, 2])
+        return bytes([3, count]) + b"".join(r.to_bytes(2, "big") for r in registers[address:address + count])
+
+    assert labels(evaluate("06.5", counts_registers).message) == {"byte-count-for-quantity"}
+
+
+def _right_06_5(registers, pdu):
+    from modbus_edu.exercises.checkers.nb06 import _slave_answer
+    return _slave_answer(registers, pdu)
+
+
+def test_a_build_exercise_s_bytes_are_named_by_the_frame_procedure_where_every_wrong_answer_agrees():
+    def low_byte_tid(tid, unit, address, count):
+        return mb.TcpFrame(transaction_id=tid & 0xFF, unit=unit,
+                           pdu=mb.ReadHoldingRegistersRequest(address=address, count=count)).encode()
+
+    assert labels(evaluate("12.4", low_byte_tid).message) == {"field-in-one-byte"}
+
+
+
+def test_a_frame_slip_of_a_build_exercise_is_named_only_where_every_wrong_answer_agrees():
+    request = mb.ReadHoldingRegistersRequest(address=0, count=1)
+    right = [mb.TcpFrame(transaction_id=tid, unit=1, pdu=request).encode() for tid in (280, 300, 400)]
+    low = [b"\x00" + frame[1:] for frame in right]  # the transaction id kept to its low byte
+    table = [frame[:7] + b"\x04" + frame[8:] for frame in right]  # function 4 for 3
+    cases = [((tid,), frame) for tid, frame in zip((280, 300, 400), right)]
+    words = bytes_diagnosis(low[0], right[0])
+    assert labels(words) == {"field-in-one-byte"}
+    assert _fits_every_answer(words, cases[0][0], (cases, [{"out": plain(frame)} for frame in low]))
+    mixed = [{"out": plain(low[0])}, {"out": plain(table[1])}, {"out": plain(right[2])}]
+    assert not _fits_every_answer(words, cases[0][0], (cases, mixed))
+
+
+def test_a_function_that_cuts_its_input_is_told_where_its_slice_starts():
+    def one_too_many(sent, received):
+        if received[:len(sent)] != sent:
+            raise ValueError("no echo")
+        return received[len(sent) + 1:]
+
+    message = evaluate("16.4", one_too_many).message
+    assert "bytes 9-16 of argument 2; the answer is bytes 8-16: the cut is 1 byte off, at its start" \
+        in message
+    assert not labels(message)

@@ -356,8 +356,10 @@ MOST_BYTES_CHECKED = 12
 
 def _fits_every_answer(words: str, args: tuple, evidence: tuple) -> bool:
     """Whether the slip ``words`` names (the frame procedure's, on the input ``args``) is named the same on
-    the other inputs the function got wrong (the first :data:`MOST_BYTES_CHECKED` of them)."""
+    the other inputs the function returned wrong bytes for (the first :data:`MOST_BYTES_CHECKED` of them)."""
     labels, checked = _labels(words), 0
+    if not labels:
+        return True
     for (other, expected), entry in zip(*evidence[:2]):
         if other is args or not isinstance(entry, dict) or "out" not in entry:
             continue

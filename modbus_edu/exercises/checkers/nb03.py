@@ -20,7 +20,7 @@ from ..core import (
     rtu_request_diagnosis,
 )
 from ..diagnosis.frameslip import frame_slip
-from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
+from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, crc_bit_loop, diagnose, name
 from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
 
 
@@ -140,5 +140,7 @@ build_exercise(
     refuses=[(_crc_without_final_step, "crc-initial-zero"), (_crc_swapped, "crc-swapped"),
              (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
                                                     "crc-as-bytes"),
-             (lambda data: crc16(data) & 0xFF, "crc-one-byte")],
+             (lambda data: crc16(data) & 0xFF, "crc-one-byte"),
+             (lambda data: crc_bit_loop(data, test_after=True), "crc-bit-loop"),
+             (lambda data: crc16(data[:256]), "crc-not-every-byte")],
     diagnose=lambda args, expected, got: crc_diagnosis(args[0], got), procedure=CRC)

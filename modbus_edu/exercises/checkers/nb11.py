@@ -61,7 +61,7 @@ def _check_11_1(answer: Any) -> str | None:
     if value != expected[3]:
         named = field_value_procedure(frame.pdu.value.to_bytes(2, "big"), "value", {
             "unit identifier": frame.unit, "function code": expected[1], "address": expected[2],
-            "transaction id": expected[0], "length field": len(frame.pdu.encode()) + 1})
+            "transaction id": expected[0], "length field": len(frame.pdu.encode()) + 1}, register=True)
         said = f"the value is the last two bytes, read high byte first; {value} is not it."
         named = named.explain([((), value)])
         return f"{named} {said[:1].upper()}{said[1:]}" if named else said

@@ -30,7 +30,7 @@ def _check_17_1(answer: Any) -> str | None:
         return None
     named = field_value_procedure(bytes.fromhex("01 F4"), "value", {
         "register address (00 0A)": 10, "function code": 6, "transaction id": 7, "length field": 6,
-        "unit identifier": 1}).explain([((), got)])
+        "unit identifier": 1}, register=True).explain([((), got)])
     if named:
         return f"{named} It is not the value: the value is the last two bytes, after the address."
     return f"{show(got)} is not the value: read the last two bytes of the frame, high byte first."

@@ -5,7 +5,7 @@ CRC of every RTU frame built by hand (:mod:`.frames`), so that one CRC slip read
 from __future__ import annotations
 
 from ...crc import crc16
-from .misconceptions import crc16_reflected, crc16_unreflected
+from .misconceptions import crc16_reflected, crc16_unreflected, crc_bit_loop
 
 
 def _swap16(value: int) -> int:
@@ -34,6 +34,18 @@ CRC_STEPS = (
     ),
     ("high-first", "the register's bytes swapped", "crc-swapped", lambda data: _swap16(crc16(data))),
     ("final-xor", "a final XOR with 0xFFFF", None, lambda data: crc16(data) ^ 0xFFFF),
+    ("seven-shifts", "7 shifts a byte instead of 8", "crc-bit-loop",
+     lambda data: crc_bit_loop(data, shifts=7)),
+    ("nine-shifts", "9 shifts a byte instead of 8", "crc-bit-loop",
+     lambda data: crc_bit_loop(data, shifts=9)),
+    ("test-after-shift", "the bit tested after the shift instead of before", "crc-bit-loop",
+     lambda data: crc_bit_loop(data, test_after=True)),
+    ("last-byte-left-out", "the last byte left out", "crc-not-every-byte",
+     lambda data: crc16(data[:-1]) if data else None),
+    ("first-255", "only the first 255 bytes", "crc-not-every-byte",
+     lambda data: crc16(data[:255]) if len(data) > 255 else None),
+    ("first-256", "only the first 256 bytes", "crc-not-every-byte",
+     lambda data: crc16(data[:256]) if len(data) > 256 else None),
     ("low-byte-only", "only the low byte", "crc-one-byte", lambda data: crc16(data) & 0xFF),
     ("high-byte-only", "only the high byte", "crc-one-byte", lambda data: crc16(data) >> 8),
     (
@@ -64,6 +76,7 @@ CRC_STEPS = (
 """The CRC's perturbations: key, the change in words, its misconception, the changed procedure."""
 
 
-REGISTER_SLIPS = ("initial-zero", "unreflected", "unreflected-right-shift", "final-xor", "hex-as-decimal")
+REGISTER_SLIPS = ("initial-zero", "unreflected", "unreflected-right-shift", "final-xor", "hex-as-decimal",
+                  "seven-shifts", "test-after-shift")
 """The steps that change the register's value itself (not its bytes' order or number): an RTU frame built
 by hand carries any of them in its CRC field."""

@@ -460,3 +460,4 @@ def _part_of_answer(got: Any, expected: Any) -> bool:
         "whole frame or one of its fields) before working it out.")
 def _another_question(got: Any, other: Any) -> bool:
     return got == other and not isinstance(got, bool)
+

@@ -533,18 +533,21 @@ PROCEDURES = {
 # --- one field's value read from a frame ---------------------------------------------------------------
 
 
-def field_value_procedure(raw: bytes, name: str, others: dict[str, int]) -> Procedure:
+def field_value_procedure(raw: bytes, name: str, others: dict[str, int], *,
+                          register: bool = False) -> Procedure:
     """Reading the 2-byte field ``raw`` (called ``name``) out of a frame, and the values its slips give: the
     field low byte first, its high or low byte alone, its hex digits read as decimal, or another field of
     the frame (``others``: each field's name and value).  Where two of them give the same number (a high
-    byte of 01 and a unit of 1), the verdict names both candidates."""
+    byte of 01 and a unit of 1), the verdict names both candidates.  A ``register`` value read as one of its
+    bytes is "a register of one byte"; another 2-byte field, "a 2-byte field in one byte"."""
+    one_byte = "register-one-byte" if register else "field-in-one-byte"
     value = int.from_bytes(raw, "big")
     steps = [
         Perturbation("low-first", f"the {name} low byte first", "field-low-byte-first",
                      lambda: int.from_bytes(raw[::-1], "big") if raw[0] != raw[1] else None),
-        Perturbation("high-byte", f"the {name}'s high byte alone", "field-in-one-byte",
+        Perturbation("high-byte", f"the {name}'s high byte alone", one_byte,
                      lambda: raw[0] if value > 0xFF else None),
-        Perturbation("low-byte", f"the {name}'s low byte alone", "field-in-one-byte",
+        Perturbation("low-byte", f"the {name}'s low byte alone", one_byte,
                      lambda: raw[1] if value > 0xFF else None),
         Perturbation("hex-as-decimal", f"the {name}'s hex digits read as decimal", "hex-read-as-decimal",
                      lambda: hex_as_decimal(value)),
