@@ -201,3 +201,18 @@ def test_a_function_that_cuts_its_input_is_told_where_its_slice_starts():
     assert "bytes 9-16 of argument 2; the answer is bytes 8-16: the cut is 1 byte off, at its start" \
         in message
     assert not labels(message)
+
+
+@pytest.mark.parametrize("key, answer, misconception", [
+    ("03.4", 8, "another-question"), ("03.4", 25, "register-one-byte"), ("03.4", 43, "crc-forgotten"),
+    ("05.3", 6, "another-question"), ("05.3", 13, "register-one-byte"), ("05.3", 29, "mbap-length"),
+])
+def test_a_response_s_length_comes_from_its_procedure(key, answer, misconception):
+    assert labels(evaluate(key, answer).message) == {misconception}
+
+
+def test_a_response_s_length_that_two_slips_give_names_both_candidates():
+    rtu = evaluate("03.4", 44).message  # 45 less one byte: the byte count or the unit
+    assert "byte count" in rtu and "unit left out" in rtu and "cannot tell" in rtu and not labels(rtu)
+    tcp = evaluate("05.3", 25).message  # 23 and 2: a CRC, or the length field counting itself
+    assert "CRC" in tcp and "counts itself" in tcp and not labels(tcp)

@@ -20,8 +20,8 @@ from ..core import (
     rtu_request_diagnosis,
 )
 from ..diagnosis.frameslip import frame_slip
-from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, crc_bit_loop, diagnose, name
-from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
+from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, crc_bit_loop, name
+from ..diagnosis.procedures import CRC, CRC_WIRE, response_length_procedure, rtu_frame_procedure
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -93,7 +93,7 @@ def _check_03_3(answer: Any) -> str | None:
           hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
                "+ 2 bytes per register + CRC (2).",
           accepts=[45], refuses=[(43, "crc-forgotten"), (25, "register-one-byte"), (44, None),
-                                 (40, "data-bytes-only")])
+                                 (40, "data-bytes-only"), (8, "another-question"), (85, None)])
 def _check_03_4(answer: Any) -> str | None:
     expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 20)).encode())
     got = int_answer(answer, "a number of bytes")
@@ -101,8 +101,7 @@ def _check_03_4(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = (diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 20)
-             or diagnose("data-bytes-only", got, 2 * 20))
+    named = response_length_procedure(20, mbap=False).explain([((), got)])
     if named:
         return named
     return f"{got} bytes is not the length of that response."

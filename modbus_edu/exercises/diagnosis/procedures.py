@@ -556,3 +556,44 @@ def field_value_procedure(raw: bytes, name: str, others: dict[str, int], *,
                            lambda number=number: number, fields={"got": number, "field": other})
               for other, number in others.items() if number != value]
     return Procedure(f"the {name} read from a frame", lambda: value, tuple(steps))
+
+
+# --- the length of a read's response: an RTU frame's bytes, or the MBAP length field -------------------
+
+
+def response_length_procedure(count: int, *, mbap: bool) -> Procedure:
+    """The length of the response to a read of ``count`` registers (FC 3 or 4): the RTU frame's bytes, or
+    with ``mbap`` the MBAP length field (the bytes after it: unit, function, byte count, data), and what
+    its slips give: a register of one byte (or four), the byte count, the unit or the CRC left out, a CRC
+    counted on Modbus/TCP, the data alone, and the request's length given for the response's (the MBAP
+    length: also the length counting the PDU alone, the whole frame or itself)."""
+    def length(*, per_register: int = 2, byte_count: int = 1, unit: int = 1, crc: int = 0) -> int:
+        return unit + 1 + byte_count + per_register * count + crc
+
+    tail = 0 if mbap else 2
+    request = 6 if mbap else 8  # the request's length field (unit + 5), or its RTU frame's bytes
+    return Procedure(
+        "the MBAP length of a read's response" if mbap else "the length of a read's RTU response",
+        lambda: length(crc=tail),
+        (
+            Perturbation("one-byte", "one byte a register", "register-one-byte",
+                         lambda: length(per_register=1, crc=tail)),
+            Perturbation("four-bytes", "four bytes a register", None,
+                         lambda: length(per_register=4, crc=tail)),
+            *(() if mbap else (Perturbation("byte-count-left-out", "no byte for the byte count",
+                                            "byte-count-missing", lambda: length(byte_count=0, crc=tail)),
+                               Perturbation("unit-left-out", "the unit left out", "unit-missing",
+                                            lambda: length(unit=0, crc=tail)))),
+            Perturbation("crc", "a CRC counted on Modbus/TCP" if mbap else "the CRC left out",
+                         "crc-on-tcp" if mbap else "crc-forgotten", lambda: length(crc=2 - tail)),
+            Perturbation("data-only", "the data bytes alone", "data-bytes-only", lambda: 2 * count),
+            Perturbation("request", "the request's length, where the response's is asked", "another-question",
+                         lambda: request),
+            *((Perturbation("length-pdu", "a length that counts the PDU alone", "mbap-length",
+                            lambda: length(unit=0)),
+               Perturbation("length-frame", "a length that counts the whole frame", "mbap-length",
+                            lambda: length() + 6),
+               Perturbation("length-itself", "a length that counts itself too", "mbap-length",
+                            lambda: length() + 2)) if mbap else ()),
+        ),
+    )
