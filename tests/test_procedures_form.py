@@ -216,3 +216,12 @@ def test_a_response_s_length_that_two_slips_give_names_both_candidates():
     assert "byte count" in rtu and "unit left out" in rtu and "cannot tell" in rtu and not labels(rtu)
     tcp = evaluate("05.3", 25).message  # 23 and 2: a CRC, or the length field counting itself
     assert "CRC" in tcp and "counts itself" in tcp and not labels(tcp)
+
+
+@pytest.mark.parametrize("key, answer, words", [
+    ("07.1", (17, 2), "17 is the slave address"), ("07.1", (3, 193), "193 is the CRC's first byte"),
+    ("05.1", 17, "17 is the unit identifier"),
+])
+def test_a_one_byte_field_read_from_a_frame_names_the_field_it_took(key, answer, words):
+    message = evaluate(key, answer).message
+    assert labels(message) == {"another-field"} and words in message

@@ -649,6 +649,11 @@ def field_diagnosis(got: Any, expected: int) -> str | None:
     return diagnose("decimal-written-as-hex", got, expected)
 
 
+def named_then(named: str | None, said: str) -> str:
+    """A verdict's sentence ``said``, after the slip ``named`` (if any) as a sentence of its own."""
+    return f"{named} {said[:1].upper()}{said[1:]}" if named else said
+
+
 def right_value_in_another_form(form: str) -> str:
     """The verdict for a right value written in another form than the one the exercise asks for (see the
     module's docstring): said the same way in every exercise, as the catalogue's "another-form"."""

@@ -17,7 +17,7 @@ from ...pdu import (
 from ..build import build_exercise
 from ..core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
 from ..diagnosis.misconceptions import diagnose
-from ..diagnosis.procedures import MBAP, response_length_procedure
+from ..diagnosis.procedures import MBAP, field_value_procedure, response_length_procedure
 
 
 @exercise("05.1", "read a transaction id",
@@ -31,10 +31,12 @@ def _check_05_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mbap-little-endian", got, expected) or diagnose("another-field", got, {
-        "protocol identifier": 0, "length field": int.from_bytes(frame[4:6], "big"),
-        "unit identifier": frame[6], "function code": frame[7],
-        "starting address": int.from_bytes(frame[8:10], "big")})
+    others = {"protocol identifier": 0, "length field": int.from_bytes(frame[4:6], "big"),
+              "unit identifier": frame[6], "function code": frame[7],
+              "starting address": int.from_bytes(frame[8:10], "big"),
+              "quantity": int.from_bytes(frame[10:12], "big")}
+    named = diagnose("mbap-little-endian", got, expected) or field_value_procedure(
+        frame[:2], "transaction id", others).explain([((), got)])
     if named:
         return named
     return f"{got} is not the transaction id of that frame."

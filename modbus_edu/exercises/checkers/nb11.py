@@ -20,6 +20,7 @@ from ..core import (
     as_bytes,
     compare_bytes,
     exercise,
+    named_then,
     pdu_envelope_diagnosis,
     tcp_frame_diagnosis,
 )
@@ -64,7 +65,7 @@ def _check_11_1(answer: Any) -> str | None:
             "transaction id": expected[0], "length field": len(frame.pdu.encode()) + 1}, register=True)
         said = f"the value is the last two bytes, read high byte first; {value} is not it."
         named = named.explain([((), value)])
-        return f"{named} {said[:1].upper()}{said[1:]}" if named else said
+        return named_then(named, said)
     return None
 
 
