@@ -36,7 +36,7 @@ from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
 from ..explain import explain, explain_pdu
-from ..framing import RtuFrame, parse_hex
+from ..framing import parse_hex
 from .calls import safe_str
 from .diagnosis.frames import frame_verdict
 from .diagnosis.frameslip import frame_slip
@@ -665,21 +665,6 @@ def pdu_address_diagnosis(got: Any, expected: bytes) -> str | None:
     got = bytes(got) if isinstance(got, (bytes, bytearray)) else b""
     if len(got) == len(expected) >= 5 and got[:1] == expected[:1] and got[3:] == expected[3:]:
         return address_diagnosis(int.from_bytes(got[1:3], "big"), int.from_bytes(expected[1:3], "big"))
-    return None
-
-
-def rtu_request_diagnosis(answer: Any, expected: bytes) -> str | None:
-    """Name the catalogued slips in an RTU request frame: no CRC, or an address counted from 1 or given as
-    a reference number (in an otherwise right frame with a right CRC)."""
-    got = as_bytes(answer)
-    if got == expected[:-2]:
-        return diagnose("crc-forgotten", len(got), len(expected))
-    if len(got) == len(expected) >= 8 and got[:2] == expected[:2] and got[4:-2] == expected[4:-2]:
-        try:
-            RtuFrame.decode(got)
-        except ModbusError:
-            return None
-        return address_diagnosis(int.from_bytes(got[2:4], "big"), int.from_bytes(expected[2:4], "big"))
     return None
 
 

@@ -13,11 +13,9 @@ from ..core import (
     as_bytes,
     compare_bytes,
     compare_rtu_frame,
-    crc_diagnosis,
     exercise,
     int_answer,
     right_value_in_another_form,
-    rtu_request_diagnosis,
 )
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, crc_bit_loop, name
@@ -67,8 +65,8 @@ def _check_03_2(answer: Any) -> str | None:
     got = as_bytes(answer)
     if got == expected:
         return None
-    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
-            or frame_slip(got, expected, tail=2) or compare_rtu_frame(got, expected, "your frame"))
+    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or frame_slip(got, expected, tail=2)
+            or compare_rtu_frame(got, expected, "your frame"))
 
 
 @exercise("03.3", "will the slave answer?",
@@ -142,4 +140,4 @@ build_exercise(
              (lambda data: crc16(data) & 0xFF, "crc-one-byte"),
              (lambda data: crc_bit_loop(data, test_after=True), "crc-bit-loop"),
              (lambda data: crc16(data[:256]), "crc-not-every-byte")],
-    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got), procedure=CRC)
+    procedure=CRC)
