@@ -15,7 +15,7 @@ from typing import Any
 
 from ...crc import crc16
 from .procedure import REFUSED, Perturbation, Procedure
-from .procedures import CRC_STEPS
+from .crcsteps import CRC_STEPS
 
 
 def _tcp(body: bytes, tid: int, *, tid_order: str = "big", more: int = 0) -> bytes:
