@@ -225,3 +225,12 @@ def test_a_response_s_length_that_two_slips_give_names_both_candidates():
 def test_a_one_byte_field_read_from_a_frame_names_the_field_it_took(key, answer, words):
     message = evaluate(key, answer).message
     assert labels(message) == {"another-field"} and words in message
+
+
+def test_a_read_s_quantity_counted_in_bytes_is_named_in_every_frame_exercise():
+    for key, answer in (("00.3", bytes.fromhex("02 03 00 00 00 04 44 3A")), ("04.2", ":050310000004E4\r\n")):
+        assert labels(evaluate(key, answer).message) == {"bytes-for-registers"}, key
+    one = evaluate("13.5", "01 03 00 00 00 02 C4 0B").message  # 2 for 1: in bytes, or one too many?
+    assert "bytes-for-registers" not in labels(one)
+    coils = mb.ReadCoilsRequest(address=0, count=2).encode()
+    assert "bytes-for-registers" not in labels(frame_verdict(coils[:4] + b"\x04", coils, "pdu") or "")

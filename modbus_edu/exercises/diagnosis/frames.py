@@ -6,7 +6,7 @@ and makes, for any frame of any exercise, the frames one step changed gives:
 * a **field** written wrong: a 2-byte field low byte first, in one byte, kept to its low byte, its decimal
   digits written as hex or its hex digits read as decimal; an address counted from 1, less 1 twice, or
   given as its reference number; the unit's or a byte's digits mixed up the same way; an exception's
-  function code without its top bit;
+  function code without its top bit; a read's quantity counted in bytes;
 * the **envelope** changed: for an ASCII frame the LRC a plain sum, its one's complement, over the
   characters or the PDU alone, a CRC in its place or none, CR LF or ':' left out, LF alone, spaces between
   the bytes; for an RTU frame the CRC's bytes swapped, left out, over the PDU alone or one
@@ -55,8 +55,10 @@ def _decimal_as_hex(value: int) -> int | None:
     return number if number != value else None
 
 
-def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> list[tuple]:
-    """The ways to write one field wrong: (key, step, misconception, new bytes)."""
+def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str,
+                   function: int | None = None) -> list[tuple]:
+    """The ways to write one field wrong: (key, step, misconception, new bytes); ``function`` is the
+    frame's function code."""
     value = int.from_bytes(raw, "big")
     mbap = mode == "tcp" and offset < 7
     where = f"the {name}"
@@ -89,6 +91,9 @@ def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> 
                  30001 + value)):
             if 0 <= number <= 0xFFFF:
                 changes.append((key, step, misconception, number.to_bytes(2, "big")))
+    if name == "quantity" and size == 2 and function in (3, 4) and 2 <= value <= 0x7FFF:  # 2 x 1 is 1 + 1
+        changes.append(("bytes", f"{where} counted in bytes, two a register", "bytes-for-registers",
+                        (2 * value).to_bytes(2, "big")))
     if name == "function code" and value >= 0x80:
         changes.append(("top-bit", "the function code without its top bit", "exception-bit-missing",
                         bytes([value - 0x80])))
@@ -264,8 +269,9 @@ def frame_procedure(expected: Any, mode: str) -> Procedure | None:
     if rows is None:
         return None
     right_body = _body(expected, mode)
+    function = next((raw[0] for _offset, _size, name, raw in rows if name == "function code"), None)
     fields = [change for offset, size, name, raw in rows if name != "crc" and offset + size <= len(right_body)
-              for change in _field_changes(offset, size, name, raw, mode)]
+              for change in _field_changes(offset, size, name, raw, mode, function)]
     steps: list[Perturbation] = []
     for change in fields:
         key, step, misconception, *_ = change
