@@ -16,7 +16,8 @@ A verdict names a misconception when the text before its hint carries that misco
 
 The two sets are measured and printed separately. The second set was written without the catalogue;
 its candidates were mapped afterwards from the slips' words and the catalogue's (see its docstring), so
-it splits "named" from "wrongly named" as the first does; both sets' named and wrongly named counts are held by a ratchet (RATCHET).
+it splits "named" from "wrongly named" as the first does. Both sets' named and wrongly named counts are
+held by a ratchet (RATCHET).
 A third test, which runs no checker, holds every slip of the second set against the right answer the
 library computes (tests/heldout_right.py): each must be wrong; a fourth, that every candidate of either
 set is an id of the catalogue.
