@@ -320,7 +320,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
              "the exception's function code without its top bit"),
         Slip(lambda registers, pdu: _handler(registers, pdu, missing=1), "illegal-function-for-address",
              "exception 01 for an address the bank does not have"),
-        Slip(lambda registers, pdu: _handler(registers, pdu, per_register=1), "register-one-byte",
+        Slip(lambda registers, pdu: _handler(registers, pdu, per_register=1), "byte-count-for-quantity",
              "the byte count as the number of registers"),
         Slip(lambda registers, pdu: _handler(registers, pdu, one_based=True), "slave-subtracts-one",
              "the address counted from 1 on the slave's side"),

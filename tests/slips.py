@@ -126,7 +126,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip("03 6B 00 03 00", "field-low-byte-first", "address and count written low byte first"),
         Slip("03 00 6B 00 03 76 87", "frame-for-pdu", "an RTU frame's CRC added to the PDU"),
         Slip("04 00 6B 00 03", "holding-for-input", "function 4 for function 3"),
-        Slip("03 00 6B 00", None, "cut short: a byte missing, no misconception"),
+        Slip("03 00 6B 00", "part-of-answer", "cut short: a byte missing"),
     ),
     "00.3": (
         Slip(crc_over_pdu("02 03 00 00 00 02"), "checksum-without-address", "the CRC over the PDU alone"),
@@ -445,7 +445,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip("0x008C", "one-based-address", "the cell before: counted from 1"),
         Slip("0x0150", "decimal-written-as-hex", "150 written with hex digits"),
         Slip("0x8c", "one-based-address", "the cell before, lower case"),
-        Slip("150", None, "the unsigned display: the value is right, the form is not"),
+        Slip("150", "another-form", "the unsigned display: the value is right, the form is not"),
         Slip("0x00A0", None, "the cell after"),
     ),
     "12.2": (
@@ -504,7 +504,7 @@ SLIPS: dict[str, tuple[Slip, ...]] = {
         Slip(rtu("01 03 00 00 01 00"), "field-low-byte-first", "the count low byte first"),
         Slip("01 03 00 00 00 01 0A 84", "crc-swapped", "the CRC high byte first"),
         Slip(rtu("01 03 9C 41 00 01"), "reference-number", "the reference number 40001 as address"),
-        Slip("84 0A", None, "the right CRC alone, not the corrected frame"),
+        Slip("84 0A", "part-of-answer", "the right CRC alone, not the corrected frame"),
     ),
     "13.6": (
         Slip(2200, "milliseconds-for-seconds", "milliseconds"),

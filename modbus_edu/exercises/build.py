@@ -25,7 +25,7 @@ import modbus_edu
 
 from ..errors import ModbusError, ReferenceUnavailable
 from .calls import call_all, follow_plan, is_unwritten
-from .core import EXERCISES, Exercise, Raised, kind, register, show
+from .core import EXERCISES, Exercise, Raised, bytes_diagnosis, first_difference, kind, register, show
 from .diagnosis.misconceptions import CATALOGUE
 from .diagnosis.misconceptions import name as misconception
 from .diagnosis.procedure import REFUSED, Procedure
@@ -228,6 +228,23 @@ class BuildChecker:
         near = self.procedure.nearest(args, got, "every input") if self.procedure is not None else None
         return "".join(_sentence(part) for part in (near, self.boundary(args)) if part)
 
+    def _bytes_note(self, args: tuple, expected: Any, got: Any, evidence: tuple | None) -> str:
+        """Where the function returns bytes and no procedure of the exercise names the slip: the frame
+        procedure's change that fits this input and every other the function got wrong (else nothing is
+        named), then the field the first wrong byte belongs to and what it should hold, and the clue."""
+        if not isinstance(expected, (bytes, bytearray)) or not isinstance(got, (bytes, bytearray)):
+            return ""
+        cut = _slice_note(args, bytes(expected), bytes(got))
+        if cut:
+            return _sentence(cut)
+        words = bytes_diagnosis(bytes(got), bytes(expected))
+        if words and evidence is not None and not _fits_every_answer(words, args, evidence):
+            words = None
+        if words:
+            return _sentence(words)
+        return (_sentence(first_difference(bytes(got), bytes(expected), "your function's answer"))
+                + self._clue(args, got, evidence))
+
     def _diagnosed(self, args: tuple, expected: Any, got: Any) -> str:
         """What the exercise's own ``diagnose`` names for this one input, or an empty string."""
         if self.diagnose is None:
@@ -268,6 +285,7 @@ class BuildChecker:
                            f"your function gives {show(got)}.")
                 note = self._note(args, expected, got, evidence)
                 return message + (note or (_type_note(expected, got) if self.compare is same else "")
+                                  or self._bytes_note(args, expected, got, evidence)
                                   or self._clue(args, got, evidence))
         except Exception:
             return f"{call} returned {show(got)}, which cannot be compared with the library's answer."
@@ -313,6 +331,52 @@ def _labels(words: str) -> set[str]:
     """The catalogue keys whose labels ``words`` contains."""
     lowered = words.lower()
     return {key for key, entry in CATALOGUE.items() if entry.label.lower() in lowered}
+
+
+def _slice_note(args: tuple, expected: bytes, got: bytes) -> str | None:
+    """Where the answer and the function's are both slices of an argument (a function that cuts its input):
+    where each starts and ends, so the slice's off-by-one shows."""
+    for number, arg in enumerate(args, 1):
+        if not isinstance(arg, (bytes, bytearray)) or not got or not expected:
+            continue
+        arg = bytes(arg)
+        mine, right = arg.rfind(got), arg.rfind(expected)
+        if mine < 0 or right < 0 or (mine, len(got)) == (right, len(expected)):
+            continue
+        off = abs(mine - right) or abs(len(got) - len(expected))
+        return (f"your function's answer is bytes {mine}-{mine + len(got) - 1} of argument {number}; the "
+                f"answer is bytes {right}-{right + len(expected) - 1}: the cut is {off} "
+                f"byte{'s' * (off > 1)} off, at its {'start' if mine != right else 'end'}.")
+    return None
+
+
+MOST_BYTES_CHECKED = 12
+"""How many other wrong answers of a trace a frame slip is held against before it is named."""
+
+
+def _fits_every_answer(words: str, args: tuple, evidence: tuple) -> bool:
+    """Whether the slip ``words`` names (the frame procedure's, on the input ``args``) is named the same on
+    the other inputs the function returned wrong bytes for (the first :data:`MOST_BYTES_CHECKED` of them)."""
+    labels, checked = _labels(words), 0
+    if not labels:
+        return True
+    for (other, expected), entry in zip(*evidence[:2]):
+        if other is args or not isinstance(entry, dict) or "out" not in entry:
+            continue
+        try:
+            got = revive(entry["out"])
+        except Exception:  # an answer the checker cannot read is no evidence either way
+            continue
+        if not isinstance(expected, (bytes, bytearray)) or not isinstance(got, (bytes, bytearray)) \
+                or bytes(got) == bytes(expected):
+            continue
+        found = bytes_diagnosis(bytes(got), bytes(expected))
+        if not found or _labels(found) != labels:
+            return False
+        checked += 1
+        if checked >= MOST_BYTES_CHECKED:
+            break
+    return True
 
 
 def _answers(cases: list, calls: list, skip: tuple, refusals: bool = False) -> list[tuple[tuple, Any]]:

@@ -19,8 +19,8 @@ and leading zeros; an int, a float that is a whole number (``3.0``) or a number 
 the answer.  Where an exercise asks for a form (a 5-digit reference number, an ASCII frame's upper-case hex
 characters, an exception class rather than an instance of it, hex as the test tool's grid shows it,
 milliseconds, a fraction, a CRC's two bytes in wire order), a right value in another form is refused with
-:func:`right_value_in_another_form`: "the value is right; write it as ...".  A wrong value is never
-accepted for its form.
+:func:`right_value_in_another_form` (the catalogue's "another-form"): "the right value in another form: the
+value is right; write it as ...".  A wrong value is never accepted for its form.
 """
 
 from __future__ import annotations
@@ -36,11 +36,12 @@ from ..codes import _hex
 from ..crc import crc16
 from ..errors import ModbusError
 from ..explain import explain, explain_pdu
-from ..framing import RtuFrame, parse_hex
+from ..framing import parse_hex
 from .calls import safe_str
 from .diagnosis.frames import frame_verdict
 from .diagnosis.frameslip import frame_slip
-from .diagnosis.misconceptions import CATALOGUE, diagnose
+from .diagnosis.misconceptions import CATALOGUE, detect, diagnose
+from .diagnosis.misconceptions import name as catalogue_words
 from .diagnosis.procedures import ADDRESS
 from .plain import PlainError, plain, revive
 
@@ -472,16 +473,28 @@ def number_answer(answer: Any, expected: float, *, decimals: int, unit: str = ""
 # --- comparing and diagnosing ------------------------------------------------------------------------
 
 def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = None) -> str | None:
-    """None if ``answer`` is exactly ``expected``; otherwise which byte differs first, the field it belongs
-    to and what that field should hold, from :func:`~modbus_edu.explain.explain`'s dissection of the
-    expected frame (``mode``: "rtu", "tcp" or "pdu"; None: whatever mode dissects it without error)."""
+    """None if ``answer`` is exactly ``expected``; otherwise the slip the frame procedure names
+    (:func:`bytes_diagnosis`), or which byte differs first, the field it belongs to and what that field
+    should hold, from :func:`~modbus_edu.explain.explain`'s dissection of the expected frame (``mode``:
+    "rtu", "tcp" or "pdu"; None: whatever mode dissects it without error)."""
     got = as_bytes(answer)
     if got == expected:
         return None
+    return bytes_diagnosis(got, expected, mode) or first_difference(got, expected, what, mode)
+
+
+def bytes_diagnosis(got: bytes, expected: bytes, mode: str | None = None) -> str | None:
+    """The slip that makes ``got`` of the asked bytes ``expected``: one change of the frame procedure
+    (:func:`~.diagnosis.frames.frame_verdict`, in ``mode`` or whichever mode reads ``expected``), or a part
+    of the asked bytes (:func:`part_diagnosis`); None when neither fits."""
     named = next(filter(None, (frame_verdict(got, expected, kind) for kind in ((mode,) if mode else
                                                                               ("rtu", "tcp", "pdu")))), None)
-    if named:
-        return named
+    return named or part_diagnosis(got, expected, mode)
+
+
+def first_difference(got: bytes, expected: bytes, what: str, mode: str | None = None) -> str:
+    """Where ``got`` first differs from ``expected``, the field that byte belongs to and what it should
+    hold (or which field is missing, or that bytes follow the last field)."""
     for index, (mine, theirs) in enumerate(zip(got, expected)):
         if mine != theirs:
             return (f"{what} differs at byte {index}{_field_at(expected, index, mode)}: you have "
@@ -494,18 +507,63 @@ def compare_bytes(answer: Any, expected: bytes, what: str, mode: str | None = No
     return f"{what} has {len(got)} bytes, it should have {len(expected)}: nothing follows the last field."
 
 
-def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in the") -> str:
-    """Where byte ``index`` of the frame ``expected`` lies, in words: ", in the quantity (bytes 4-5), which
-    should hold 00 02 (2: number of registers to read)", or an empty string when no dissection fits."""
-    dissection = None
+def _dissection(expected: bytes, mode: str | None) -> Any:
+    """The fields of the frame ``expected`` (:func:`~modbus_edu.explain.explain`), or None."""
     for kind in (mode,) if mode else ("rtu", "tcp", "pdu"):
         try:
             found = explain_pdu(expected) if kind == "pdu" else explain(expected, mode=kind)
         except ModbusError:
             continue
         if found.error is None and found.rows:
-            dissection = found
-            break
+            return found
+    return None
+
+
+def part_diagnosis(got: Any, expected: bytes, mode: str | None = None) -> str | None:
+    """Name an answer that is one part of the asked bytes (some of its fields, in their place): which
+    fields it holds, and that the whole is asked."""
+    if not detect("part-of-answer", got, expected):
+        return None
+    got = bytes(got)
+    start = bytes(expected).find(got)
+    end = start + len(got) - 1
+    dissection = _dissection(expected, mode)
+    rows = [] if dissection is None else [row for row in dissection.rows
+                                           if row.offset <= end and start < row.offset + len(row.raw)]
+    if rows:
+        names = [("part of " if row.offset < start or row.offset + len(row.raw) - 1 > end else "") + row.field
+                 for row in rows]
+        held = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+        span = f"byte {start}" if start == end else f"bytes {start}-{end}"
+        words = f"the {held} ({span})"
+    else:
+        words = f"bytes {start}-{end} of it"
+    missing = _field_at(expected, len(got), mode, lead="") if start == 0 else ""
+    outside = [] if dissection is None else [row.field.lower() for row in dissection.rows
+                                              if row.offset + len(row.raw) - 1 < start or row.offset > end]
+    left_out = [next((key for part, key in LEFT_OUT.items() if part in field), None) for field in outside]
+    left_out = [] if None in left_out else left_out  # named only where every field left out has its name
+    return catalogue_words("part-of-answer", part=words,
+                           whole=f"all {len(expected)} bytes, {_dissection_span(dissection)}") + (
+        f" What is missing starts with the{missing}." if missing else "") + "".join(
+        f" {CATALOGUE[key].label[:1].upper()}{CATALOGUE[key].label[1:]}." for key in dict.fromkeys(left_out))
+
+
+LEFT_OUT = {"unit": "unit-missing", "crc": "crc-forgotten", "function code": "function-code-missing",
+            "byte count": "byte-count-missing", "length": "mbap-length-missing"}
+"""The fields whose leaving out the catalogue names (a part of a field's name: the misconception)."""
+
+
+def _dissection_span(dissection: Any) -> str:
+    if dissection is None or not dissection.rows:
+        return "every field in its place"
+    return f"from the {dissection.rows[0].field} to the {dissection.rows[-1].field}"
+
+
+def _field_at(expected: bytes, index: int, mode: str | None, lead: str = ", in the") -> str:
+    """Where byte ``index`` of the frame ``expected`` lies, in words: ", in the quantity (bytes 4-5), which
+    should hold 00 02 (2: number of registers to read)", or an empty string when no dissection fits."""
+    dissection = _dissection(expected, mode)
     if dissection is None:
         return ""
     for row in dissection.rows:
@@ -524,7 +582,7 @@ def compare_rtu_frame(answer: Any, expected: bytes, what: str, swapped: str | No
     got = as_bytes(answer)
     named = frame_verdict(got, expected, "rtu") or diagnose("crc-swapped", got, expected)
     if named:
-        return f"{named} {swapped}" if swapped else named
+        return f"{named} {swapped}" if swapped and detect("crc-swapped", got, expected) else named
     return rtu_frame_diagnosis(got, expected) or compare_bytes(got, expected, what)
 
 
@@ -591,10 +649,15 @@ def field_diagnosis(got: Any, expected: int) -> str | None:
     return diagnose("decimal-written-as-hex", got, expected)
 
 
+def named_then(named: str | None, said: str) -> str:
+    """A verdict's sentence ``said``, after the slip ``named`` (if any) as a sentence of its own."""
+    return f"{named} {said[:1].upper()}{said[1:]}" if named else said
+
+
 def right_value_in_another_form(form: str) -> str:
     """The verdict for a right value written in another form than the one the exercise asks for (see the
-    module's docstring): said the same way in every exercise."""
-    return f"the value is right; write it as {form}."
+    module's docstring): said the same way in every exercise, as the catalogue's "another-form"."""
+    return catalogue_words("another-form", form=form)
 
 
 def pdu_address_diagnosis(got: Any, expected: bytes) -> str | None:
@@ -602,21 +665,6 @@ def pdu_address_diagnosis(got: Any, expected: bytes) -> str | None:
     got = bytes(got) if isinstance(got, (bytes, bytearray)) else b""
     if len(got) == len(expected) >= 5 and got[:1] == expected[:1] and got[3:] == expected[3:]:
         return address_diagnosis(int.from_bytes(got[1:3], "big"), int.from_bytes(expected[1:3], "big"))
-    return None
-
-
-def rtu_request_diagnosis(answer: Any, expected: bytes) -> str | None:
-    """Name the catalogued slips in an RTU request frame: no CRC, or an address counted from 1 or given as
-    a reference number (in an otherwise right frame with a right CRC)."""
-    got = as_bytes(answer)
-    if got == expected[:-2]:
-        return diagnose("crc-forgotten", len(got), len(expected))
-    if len(got) == len(expected) >= 8 and got[:2] == expected[:2] and got[4:-2] == expected[4:-2]:
-        try:
-            RtuFrame.decode(got)
-        except ModbusError:
-            return None
-        return address_diagnosis(int.from_bytes(got[2:4], "big"), int.from_bytes(expected[2:4], "big"))
     return None
 
 

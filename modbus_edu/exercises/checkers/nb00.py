@@ -6,7 +6,7 @@ from typing import Any
 
 from ...framing import RtuFrame, TcpFrame, parse_hex
 from ...pdu import ReadHoldingRegistersRequest
-from ..core import as_bytes, compare_pdu, compare_rtu_frame, exercise, int_answer, rtu_request_diagnosis
+from ..core import as_bytes, compare_pdu, compare_rtu_frame, exercise, int_answer
 from ..diagnosis.misconceptions import diagnose
 from ..diagnosis.procedures import rtu_frame_procedure
 
@@ -72,6 +72,5 @@ def _check_00_3(answer: Any) -> str | None:
     got = as_bytes(answer)
     if got == expected:
         return None
-    return (rtu_frame_procedure(2, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
-            or compare_rtu_frame(got, expected, "your frame"))
+    return rtu_frame_procedure(2, pdu).explain([((), got)]) or compare_rtu_frame(got, expected, "your frame")
 

@@ -7,7 +7,7 @@ from typing import Any
 from ...datamodel import DataBank, format_reference, parse_reference, table_kind
 from ...errors import ModbusError
 from ..build import build_exercise
-from ..core import address_diagnosis, exercise, field_diagnosis, int_answer, right_value_in_another_form
+from ..core import address_diagnosis, exercise, field_diagnosis, int_answer, kind, right_value_in_another_form
 from ..diagnosis.misconceptions import diagnose
 
 
@@ -30,17 +30,22 @@ def _check_01_1(answer: Any) -> str | None:
 @exercise("01.2", "the reference number of an address",
           hint="input registers have the prefix 3; the number after the prefix is address + 1, written with "
                "four digits.",
-          accepts=["30010", 30010, " 30010"],
+          accepts=["30010", " 30010"],
           refuses=[("30009", "zero-based-number"), ("40010", "holding-for-input"), ("30011", None),
-                   ("300010", None)])
+                   ("300010", "another-form"), (30010, "another-form")])
 def _check_01_2(answer: Any) -> str | None:
     expected = format_reference("input_registers", 9)
-    got = str(answer).strip()
+    whole = isinstance(answer, (int, float)) and not isinstance(answer, bool) and float(answer).is_integer()
+    got = str(int(answer)) if whole and abs(answer) < 10 ** 9 else str(answer).strip()
     try:
         reference = parse_reference(got)
     except ModbusError:
         return f"{got!r} is not a reference number such as 30001."
     if (reference.kind, reference.address) == ("input_registers", 9):
+        if not isinstance(answer, str):
+            return right_value_in_another_form(
+                f"text, {expected!r}: a reference number is written with its table's digit in front, and "
+                f"as {kind(answer)} a coil's 00010 would lose its leading zeros")
         if len(got) != len(expected):
             return right_value_in_another_form(
                 f"the {len(expected)}-digit reference number the exercise asks for, {expected} ({got} is the "

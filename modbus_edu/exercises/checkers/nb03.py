@@ -13,15 +13,13 @@ from ..core import (
     as_bytes,
     compare_bytes,
     compare_rtu_frame,
-    crc_diagnosis,
     exercise,
     int_answer,
     right_value_in_another_form,
-    rtu_request_diagnosis,
 )
 from ..diagnosis.frameslip import frame_slip
-from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, diagnose, name
-from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
+from ..diagnosis.misconceptions import crc16_reflected, crc16_unreflected, crc_bit_loop, name
+from ..diagnosis.procedures import CRC, CRC_WIRE, response_length_procedure, rtu_frame_procedure
 
 
 @exercise("03.1", "a CRC in wire order",
@@ -31,7 +29,9 @@ from ..diagnosis.procedures import CRC, CRC_WIRE, rtu_frame_procedure
                 "order is CD AB.",
                 "for 01 03 00 00 00 01 the register value is 0x0A84, and the frame ends 84 0A."),
           accepts=["B2 98", "b298", b"\xb2\x98", [0xB2, 0x98]],
-          refuses=[("98 B2", "crc-swapped"), (0x98B2, None), ("76 87", None), ("B2", "crc-one-byte")])
+          refuses=[("98 B2", "crc-swapped"), (0x98B2, "another-form"), ("76 87", None),
+                   ("B2", "crc-one-byte"),
+                   ("11 04 00 08 00 01 B2 98", "another-question")])
 def _check_03_1(answer: Any) -> str | None:
     data = parse_hex("11 04 00 08 00 01")
     expected = crc_bytes(data)
@@ -65,8 +65,8 @@ def _check_03_2(answer: Any) -> str | None:
     got = as_bytes(answer)
     if got == expected:
         return None
-    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or rtu_request_diagnosis(got, expected)
-            or frame_slip(got, expected, tail=2) or compare_rtu_frame(got, expected, "your frame"))
+    return (rtu_frame_procedure(1, pdu).explain([((), got)]) or frame_slip(got, expected, tail=2)
+            or compare_rtu_frame(got, expected, "your frame"))
 
 
 @exercise("03.3", "will the slave answer?",
@@ -91,7 +91,7 @@ def _check_03_3(answer: Any) -> str | None:
           hint="an RTU response to read holding registers: address (1) + function (1) + byte count (1) "
                "+ 2 bytes per register + CRC (2).",
           accepts=[45], refuses=[(43, "crc-forgotten"), (25, "register-one-byte"), (44, None),
-                                 (40, "data-bytes-only")])
+                                 (40, "data-bytes-only"), (8, "another-question"), (85, None)])
 def _check_03_4(answer: Any) -> str | None:
     expected = len(RtuFrame(unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 20)).encode())
     got = int_answer(answer, "a number of bytes")
@@ -99,8 +99,7 @@ def _check_03_4(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = (diagnose("crc-forgotten", got, expected) or diagnose("register-one-byte", got, expected, 20)
-             or diagnose("data-bytes-only", got, 2 * 20))
+    named = response_length_procedure(20, mbap=False).explain([((), got)])
     if named:
         return named
     return f"{got} bytes is not the length of that response."
@@ -138,5 +137,7 @@ build_exercise(
     refuses=[(_crc_without_final_step, "crc-initial-zero"), (_crc_swapped, "crc-swapped"),
              (crc16_unreflected, "crc-msb-first"), (lambda data: crc16(data).to_bytes(2, "little"),
                                                     "crc-as-bytes"),
-             (lambda data: crc16(data) & 0xFF, "crc-one-byte")],
-    diagnose=lambda args, expected, got: crc_diagnosis(args[0], got), procedure=CRC)
+             (lambda data: crc16(data) & 0xFF, "crc-one-byte"),
+             (lambda data: crc_bit_loop(data, test_after=True), "crc-bit-loop"),
+             (lambda data: crc16(data[:256]), "crc-not-every-byte")],
+    procedure=CRC)

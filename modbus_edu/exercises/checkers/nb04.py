@@ -64,7 +64,7 @@ def _check_04_1(answer: Any) -> str | None:
                    (":050310010002E5\r\n", "one-based-address"),
                    (":050310000002E5\r\n", "lrc-ones-complement"),
                    (":0503100000021A\r\n", "lrc-plain-sum"),
-                   (":050310000002E7\r\n", None), (":050310000002e6\r\n", None)])
+                   (":050310000002E7\r\n", None), (":050310000002e6\r\n", "another-form")])
 def _check_04_2(answer: Any) -> str | None:
     address = parse_reference("44097").address
     expected = AsciiFrame(unit=5, pdu=ReadHoldingRegistersRequest(address=address, count=2)).encode()

@@ -17,7 +17,7 @@ from ...pdu import (
 from ..build import build_exercise
 from ..core import as_bytes, compare_bytes, exercise, int_answer, pdu_address_diagnosis, tcp_frame_diagnosis
 from ..diagnosis.misconceptions import diagnose
-from ..diagnosis.procedures import MBAP
+from ..diagnosis.procedures import MBAP, field_value_procedure, response_length_procedure
 
 
 @exercise("05.1", "read a transaction id",
@@ -31,10 +31,12 @@ def _check_05_1(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mbap-little-endian", got, expected) or diagnose("another-field", got, {
-        "protocol identifier": 0, "length field": int.from_bytes(frame[4:6], "big"),
-        "unit identifier": frame[6], "function code": frame[7],
-        "starting address": int.from_bytes(frame[8:10], "big")})
+    others = {"protocol identifier": 0, "length field": int.from_bytes(frame[4:6], "big"),
+              "unit identifier": frame[6], "function code": frame[7],
+              "starting address": int.from_bytes(frame[8:10], "big"),
+              "quantity": int.from_bytes(frame[10:12], "big")}
+    named = diagnose("mbap-little-endian", got, expected) or field_value_procedure(
+        frame[:2], "transaction id", others).explain([((), got)])
     if named:
         return named
     return f"{got} is not the transaction id of that frame."
@@ -76,7 +78,8 @@ def _check_05_2(answer: Any) -> str | None:
           hint="the length counts the bytes after the length field: unit identifier (1) + function code (1) "
                "+ byte count (1) + 2 bytes per register.",
           accepts=[23, 0x17], refuses=[(22, "mbap-length"), (29, "mbap-length"), (25, None),
-                                       (20, "data-bytes-only")])
+                                       (20, "data-bytes-only"), (6, "another-question"),
+                                       (13, "register-one-byte")])
 def _check_05_3(answer: Any) -> str | None:
     frame = TcpFrame(transaction_id=1, unit=1, pdu=ReadHoldingRegistersResponse(registers=[0] * 10)).encode()
     expected = int.from_bytes(frame[4:6], "big")
@@ -85,7 +88,8 @@ def _check_05_3(answer: Any) -> str | None:
         return got
     if got == expected:
         return None
-    named = diagnose("mbap-length", got, expected) or diagnose("data-bytes-only", got, 2 * 10)
+    named = response_length_procedure(10, mbap=True).explain([((), got)]) or diagnose("mbap-length", got,
+                                                                                      expected)
     if named:
         return named
     return f"{got} is not the length field of that response."

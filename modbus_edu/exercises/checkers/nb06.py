@@ -111,7 +111,9 @@ def _check_06_3(answer: Any) -> str | None:
           refuses=[(ModbusError, None), (CrcError, "answer-to-damaged-request"),
                    (ChecksumError, "answer-to-damaged-request"), ("timeout", None),
                    (ModbusExceptionError, "answer-to-damaged-request"),
-                   (ModbusTimeoutError("x"), None), (TimeoutError, "builtin-for-library-exception")])
+                   (ModbusTimeoutError("x"), "another-form"),
+                   ("mb.ModbusTimeoutError", "another-form"),
+                   (TimeoutError, "builtin-for-library-exception")])
 def _check_06_4(answer: Any) -> str | None:
     link = loopback_serial(Slave(unit=1))
     link.faults.flip_bits(1, target="request")
@@ -129,6 +131,9 @@ def _check_06_4(answer: Any) -> str | None:
     got = answer
     if got is expected:
         return None
+    if isinstance(got, str) and got.strip().split(".")[-1].lower() == expected.__name__.lower():
+        return right_value_in_another_form(
+            f"the class itself, mb.{expected.__name__}, not its name as text")
     named = diagnose("builtin-for-library-exception", got)
     if named:
         return named
@@ -164,6 +169,14 @@ def _read_it_back(args: tuple, state: tuple) -> tuple | None:
     return state[0], bytes([3]) + pdu[1:3] + (1).to_bytes(2, "big")
 
 
+def _register_count(got: bytes, expected: bytes) -> str | None:
+    """A read's byte count that holds the number of registers: with the data still two bytes a register,
+    the byte count written as the quantity; with one byte a register, a register taken for one byte."""
+    if got[2:] == expected[2:]:
+        return name("byte-count-for-quantity") if got[1] == expected[1] // 2 else None
+    return diagnose("register-one-byte", got[1], expected[1], expected[1] // 2)
+
+
 def _diagnose_handler(args, expected, got) -> str | None:
     registers, pdu = args
     address = int.from_bytes(pdu[1:3], "big")
@@ -172,8 +185,7 @@ def _diagnose_handler(args, expected, got) -> str | None:
         named = (diagnose("exception-bit-missing", got[0], expected[0]) if exception else None) or (
             diagnose(("illegal-function-for-address", "exception-code-confused"), got[1], expected[1])
             if exception and got[0] == expected[0] else None) or (
-            diagnose("register-one-byte", got[1], expected[1], expected[1] // 2) if got[0] == expected[0] == 3
-            else None)
+            _register_count(got, expected) if got[0] == expected[0] == 3 else None)
         if named:
             return named
     if address == 0 and isinstance(got, bytes) and isinstance(expected, bytes):

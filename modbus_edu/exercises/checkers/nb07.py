@@ -12,9 +12,10 @@ from ...master import Master
 from ...pdu import ExceptionCode, ExceptionResponse
 from ...slave import Slave
 from ..build import build_exercise
-from ..core import as_bytes, compare_rtu_frame, exercise, field_diagnosis, pdu_envelope_diagnosis
+from ..core import as_bytes, compare_rtu_frame, exercise, field_diagnosis, named_then, pdu_envelope_diagnosis
 from ..diagnosis.frameslip import frame_slip
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.procedures import field_value_procedure
 
 
 @exercise("07.1", "read an exception response",
@@ -40,14 +41,18 @@ def _check_07_1(answer: Any) -> str | None:
     named = field_diagnosis(function, pdu.function_code) or field_diagnosis(function, expected[0])
     if function != expected[0] and named:
         return named + " An exception response's function byte is the request's function + 0x80."
+    others = {"slave address": 0x11, "CRC's first byte": 0xC1, "CRC's second byte": 0x34}
     if function != expected[0]:
-        return f"the request's function is not {function}."
+        named = field_value_procedure(bytes([pdu.function_code]), "function byte", {
+            **others, "exception code": expected[1]}).explain([((), function)])
+        return named_then(named, f"the request's function is not {function}.")
     if code != expected[1]:
         named = field_diagnosis(code, expected[1]) or diagnose(("top-bit-on-code", "exception-code-confused"),
                                                                code, expected[1])
         if named:
             return named
-        return f"the exception code is the byte after the function code, not {code}."
+        named = field_value_procedure(bytes([expected[1]]), "exception code", others).explain([((), code)])
+        return named_then(named, f"the exception code is the byte after the function code, not {code}.")
     return None
 
 

@@ -20,10 +20,12 @@ from ..core import (
     as_bytes,
     compare_bytes,
     exercise,
+    named_then,
     pdu_envelope_diagnosis,
     tcp_frame_diagnosis,
 )
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.procedures import field_value_procedure
 
 _11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
 
@@ -36,7 +38,7 @@ _11_1_FRAME = "00 2A 00 00 00 06 11 06 00 10 01 F4"
           accepts=[(42, 6, 16, 500), [0x2A, 6, 0x10, 0x01F4]],
           refuses=[((0x2A00, 6, 16, 500), "mbap-little-endian"), ((42, 6, 17, 500), "one-based-address"),
                    ((42, 6, 10, 500), "hex-read-as-decimal"), ((42, 17, 16, 500), "another-field"),
-                   ((42, 6, 16, 0xF401), None)])
+                   ((42, 6, 16, 0xF401), "field-low-byte-first")])
 def _check_11_1(answer: Any) -> str | None:
     frame = TcpFrame.decode(parse_hex(_11_1_FRAME), role="request")
     expected = (frame.transaction_id, frame.pdu.function_code, frame.pdu.address, frame.pdu.value)
@@ -58,7 +60,12 @@ def _check_11_1(answer: Any) -> str | None:
                                                                     f"{expected[2]:X}")
                 or f"the address is the two bytes after the function code; {address} is not it.")
     if value != expected[3]:
-        return f"the value is the last two bytes, read high byte first; {value} is not it."
+        named = field_value_procedure(frame.pdu.value.to_bytes(2, "big"), "value", {
+            "unit identifier": frame.unit, "function code": expected[1], "address": expected[2],
+            "transaction id": expected[0], "length field": len(frame.pdu.encode()) + 1}, register=True)
+        said = f"the value is the last two bytes, read high byte first; {value} is not it."
+        named = named.explain([((), value)])
+        return named_then(named, said)
     return None
 
 

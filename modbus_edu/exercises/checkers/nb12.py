@@ -35,7 +35,7 @@ def _testtool() -> Any:
                 "grid does.",
                 "first value 20, increment 4: address 3 holds 32, shown '0x0020'."),
           accepts=["0x0096", "0X0096", " 0x0096 ", "0x96", "0096"],
-          refuses=[("0x008C", "one-based-address"), ("150", None), ("0x0097", None)])
+          refuses=[("0x008C", "one-based-address"), ("150", "another-form"), ("0x0097", None)])
 def _check_12_1(answer: Any) -> str | None:
     bank = DataBank(sparse=False)
     increment_fill(bank.holding_registers, 0, 10, 100, 10)

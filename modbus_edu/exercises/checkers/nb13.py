@@ -23,7 +23,6 @@ from ..core import (
     field_diagnosis,
     int_answer,
     real_answer,
-    rtu_request_diagnosis,
 )
 from ..diagnosis.misconceptions import ORDER_WORDS, diagnose
 from ..diagnosis.misconceptions import name as misconception
@@ -231,10 +230,11 @@ def _check_13_4(answer: Any) -> str | None:
           accepts=["01 03 00 00 00 01 84 0A", "010300000001840a", bytes.fromhex("01 03 00 00 00 01 84 0A")],
           refuses=[("01 03 00 00 00 01 0A 84", "crc-swapped"), ("01 03 00 01 00 01 D5 CA",
                                                                 "one-based-address"),
-                   ("01 03 00 00 00 01", "crc-forgotten"), ("01 03 00 00 00 02 C4 0B", None)])
+                   ("01 03 00 00 00 01", "crc-forgotten"), ("01 03 00 00 00 02 C4 0B", None),
+                   ("84 0A", "part-of-answer"), ("01 03 00 00 00 01 84 11", "crc-initial-zero")])
 def _check_13_5(answer: Any) -> str | None:
     expected = RtuFrame(unit=1, pdu=ReadHoldingRegistersRequest(address=0, count=1)).encode()
-    return rtu_request_diagnosis(answer, expected) or compare_rtu_frame(
+    return compare_rtu_frame(
         answer, expected, "your corrected frame", "That is the frame as the faulty tool sent it.")
 
 

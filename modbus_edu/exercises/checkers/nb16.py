@@ -283,6 +283,16 @@ def _echo_anywhere(sent: bytes, received: bytes) -> bytes:
 
 _REQUEST = bytes.fromhex("01 04 00 00 00 02 71 CB")
 _ANSWER = bytes.fromhex("01 04 04 99 9A 43 65 04 2C")
+_WRITE = bytes.fromhex("01 06 00 01 00 03 98 0B")
+"""Write single register 3 at address 1, to unit 1: its answer is the same eight bytes."""
+
+
+def _every_echo(sent: bytes, received: bytes) -> bytes:
+    """A plausible wrong answer: every copy of the request taken off, the answer that repeats it too."""
+    if not bytes(received).startswith(bytes(sent)):
+        raise ValueError("no echo")
+    return bytes(received).replace(bytes(sent), b"")
+
 
 build_exercise(
     "16.4", "take an adapter's echo off the bytes read back",
@@ -291,9 +301,28 @@ build_exercise(
     edge_cases=[(_REQUEST, _REQUEST + _ANSWER), (_REQUEST, _REQUEST), (_REQUEST, _ANSWER),
                 (_REQUEST, _REQUEST[:5]), (_REQUEST, b""), (_REQUEST, _REQUEST[:-1] + b"\xCA" + _ANSWER),
                 # a stray byte before the echo: the echo is there, but it does not come first
-                (_REQUEST, b"\x00" + _REQUEST + _ANSWER)],
+                (_REQUEST, b"\x00" + _REQUEST + _ANSWER),
+                # a write's answer repeats its request byte for byte: only the echo at the start comes off
+                (_WRITE, _WRITE + _WRITE)],
     hint="the first len(sent) bytes must be exactly sent (else raise an error: no echo, or a damaged one); "
          "return what follows them.",
     refuses=[(lambda sent, received: received[len(sent):], "echo-unchecked"),
-             (lambda sent, received: received, None), (_echo_anywhere, "echo-unchecked")],
-    diagnose=lambda args, expected, got: diagnose("echo-unchecked", *args, got))
+             (lambda sent, received: received, None), (_echo_anywhere, "echo-unchecked"),
+             (_every_echo, None)],
+    diagnose=lambda args, expected, got: _echo_accepted(*args, got) or _copies_taken(*args, got))
+
+
+def _echo_accepted(sent: bytes, received: bytes, got: Any) -> str | None:
+    """A missing or damaged echo taken off all the same: an invalid input accepted, the echo unchecked."""
+    named = diagnose("echo-unchecked", sent, received, got)
+    return f"{CATALOGUE['invalid-input-accepted'].label.capitalize()}, {named}" if named else None
+
+
+def _copies_taken(sent: bytes, received: bytes, got: Any) -> str | None:
+    """Where the answer repeats the request (a write's echo), a function that took every copy off."""
+    sent, received = bytes(sent), bytes(received)
+    if (isinstance(got, (bytes, bytearray)) and received.count(sent) > 1
+            and bytes(got) == received.replace(sent, b"")):
+        return ("Your function took off every copy of the request, the answer's too: a write's answer "
+                "repeats its request byte for byte, so only the echo at the start comes off.")
+    return None

@@ -9,6 +9,7 @@ from ...security import course_roles
 from ..build import build_exercise
 from ..core import exercise, int_answer, show
 from ..diagnosis.misconceptions import diagnose, name
+from ..diagnosis.procedures import field_value_procedure
 
 #: The request of exercise 17.1, as a capture shows it.
 CAPTURED_WRITE = bytes.fromhex("00 07 00 00 00 06 01 06 00 0a 01 f4")
@@ -27,9 +28,9 @@ def _check_17_1(answer: Any) -> str | None:
         return got
     if got == 500:
         return None
-    named = diagnose("field-low-byte-first", got, 500) or diagnose("another-field", got, {
+    named = field_value_procedure(bytes.fromhex("01 F4"), "value", {
         "register address (00 0A)": 10, "function code": 6, "transaction id": 7, "length field": 6,
-        "unit identifier": 1})
+        "unit identifier": 1}, register=True).explain([((), got)])
     if named:
         return f"{named} It is not the value: the value is the last two bytes, after the address."
     return f"{show(got)} is not the value: read the last two bytes of the frame, high byte first."
@@ -109,6 +110,13 @@ def _viewer_only(pdu: bytes, role: str) -> bytes | None:
     return None if role != "viewer" or pdu[0] <= 4 else bytes([pdu[0] | 0x80, 0x01])
 
 
+def _common_only(pdu: bytes, role: str) -> bytes | None:
+    """A wrong answer: the engineer, too, refused the function codes above the common 1..24."""
+    if role == "engineer":
+        return None if pdu[0] <= 24 else bytes([pdu[0] | 0x80, 0x01])
+    return _reference(pdu, role)
+
+
 def _diagnose(args: Any, expected: Any, got: Any) -> str | None:
     pdu, role = args
     if isinstance(got, int) and not isinstance(got, bool):
@@ -140,7 +148,11 @@ build_exercise(
                 (_request(15, 0, 100), "operator"), (_request(16, 60000, 10), "engineer"),
                 (_request(4, 0, 1), "guest"),
                 # multiple coils past 99, and a quantity whose high byte counts (256 coils from 0)
-                (_request(15, 98, 3), "operator"), (_request(15, 0, 256), "operator")],
+                (_request(15, 98, 3), "operator"), (_request(15, 0, 256), "operator"),
+                # an engineer does everything: diagnostics (8), a user-defined code (65), above the 24 of
+                # the common functions; anyone else nothing, not even a device identification (43/14)
+                (bytes.fromhex("08 00 00 12 34"), "engineer"), (bytes.fromhex("41 00 00"), "engineer"),
+                (bytes.fromhex("2B 0E 01 00"), "guest")],
     hint=("pdu[0] is the function code; the address is in bytes 1-2 and, for 15 and 16, the quantity in "
           "bytes 3-4, both high byte first. A viewer reads (1-4); an operator reads, and writes (5, 6, 15, "
           "16) within 0..99; an engineer does everything; anyone else nothing.",
@@ -149,4 +161,4 @@ build_exercise(
           "an operator's FC 16 from 97 with quantity 3 writes 97, 98, 99: allowed; with quantity 4 it "
           "reaches 100: refused with 90 01."),
     diagnose=_diagnose,
-    refuses=[(_first_address_only, "first-address-only"), (_viewer_only, None)])
+    refuses=[(_first_address_only, "first-address-only"), (_viewer_only, None), (_common_only, None)])

@@ -3,10 +3,10 @@
 :func:`frame_procedure` reads the right frame's fields (its dissection by :func:`~modbus_edu.explain.explain`)
 and makes, for any frame of any exercise, the frames one step changed gives:
 
-* a **field** written wrong: a 2-byte field low byte first, in one byte, its decimal digits written as hex
-  or its hex digits read as decimal; an address counted from 1, less 1 twice, or given as its reference
-  number; the unit's or a byte's digits mixed up the same way; an exception's function code without its
-  top bit;
+* a **field** written wrong: a 2-byte field low byte first, in one byte, kept to its low byte, its decimal
+  digits written as hex or its hex digits read as decimal; an address counted from 1, less 1 twice, or
+  given as its reference number; the unit's or a byte's digits mixed up the same way; an exception's
+  function code without its top bit; a read's quantity counted in bytes;
 * the **envelope** changed: for an ASCII frame the LRC a plain sum, its one's complement, over the
   characters or the PDU alone, a CRC in its place or none, CR LF or ':' left out, LF alone, spaces between
   the bytes; for an RTU frame the CRC's bytes swapped, left out, over the PDU alone or one
@@ -31,6 +31,7 @@ from ...crc import crc16, lrc
 from ...errors import ModbusError
 from ...explain import explain, explain_pdu
 from .catalogue import detect
+from .crcsteps import CRC_STEPS, REGISTER_SLIPS, hex_as_decimal
 from .procedure import Choices, Perturbation, Procedure
 
 MODES = ("rtu", "tcp", "pdu", "ascii")
@@ -49,18 +50,15 @@ def _rows(expected: bytes, mode: str) -> list | None:
     return None
 
 
-def _hex_as_decimal(value: int) -> int | None:
-    text = f"{value:X}"
-    return int(text) if text.isdecimal() and int(text) != value else None
-
-
 def _decimal_as_hex(value: int) -> int | None:
     number = int(str(value), 16)
     return number if number != value else None
 
 
-def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> list[tuple]:
-    """The ways to write one field wrong: (key, step, misconception, new bytes)."""
+def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str,
+                   function: int | None = None) -> list[tuple]:
+    """The ways to write one field wrong: (key, step, misconception, new bytes); ``function`` is the
+    frame's function code."""
     value = int.from_bytes(raw, "big")
     mbap = mode == "tcp" and offset < 7
     where = f"the {name}"
@@ -70,15 +68,17 @@ def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> 
             changes.append(("low-first", f"{where} low byte first",
                             "mbap-little-endian" if mbap else "field-low-byte-first", raw[::-1]))
         if value < 256 and not (mbap and "length" in name):
-            changes.append(("one-byte", f"{where} in one byte",
-                            "mbap-length-missing" if mbap else "field-in-one-byte", raw[1:]))
+            changes.append(("one-byte", f"{where} in one byte", "field-in-one-byte", raw[1:]))
+        if value >= 256:
+            changes.append(("low-byte-kept", f"{where} kept to its low byte", "field-in-one-byte",
+                            bytes([0, raw[1]])))
     if not mbap or "transaction" in name:
         width = size
         for key, step, misconception, number in (
                 ("decimal-as-hex", f"{where}'s decimal digits written as hex", "decimal-written-as-hex",
                  _decimal_as_hex(value)),
                 ("hex-as-decimal", f"{where}'s hex digits read as decimal", "hex-read-as-decimal",
-                 _hex_as_decimal(value))):
+                 hex_as_decimal(value))):
             if number is not None and number < 256 ** width:
                 changes.append((key, step, misconception, number.to_bytes(width, "big")))
     if "address" in name and size == 2 and not mbap:
@@ -91,6 +91,9 @@ def _field_changes(offset: int, size: int, name: str, raw: bytes, mode: str) -> 
                  30001 + value)):
             if 0 <= number <= 0xFFFF:
                 changes.append((key, step, misconception, number.to_bytes(2, "big")))
+    if name == "quantity" and size == 2 and function in (3, 4) and 2 <= value <= 0x7FFF:  # 2 x 1 is 1 + 1
+        changes.append(("bytes", f"{where} counted in bytes, two a register", "bytes-for-registers",
+                        (2 * value).to_bytes(2, "big")))
     if name == "function code" and value >= 0x80:
         changes.append(("top-bit", "the function code without its top bit", "exception-bit-missing",
                         bytes([value - 0x80])))
@@ -115,6 +118,13 @@ def _rtu(body: bytes) -> bytes:
     return body + crc16(body).to_bytes(2, "little")
 
 
+def _with_register(body: bytes, register: Any) -> bytes | None:
+    """``body`` and a CRC register's value, low byte first (None: no 16-bit register)."""
+    if not isinstance(register, int) or not 0 <= register <= 0xFFFF:
+        return None
+    return body + register.to_bytes(2, "little")
+
+
 def _ascii(body: bytes) -> bytes:
     return b":" + (body + bytes([lrc(body)])).hex().upper().encode("ascii") + b"\r\n"
 
@@ -132,13 +142,16 @@ def _envelopes(mode: str, expected: bytes) -> list[Envelope]:
             ("crc-high-first", "the CRC's bytes swapped", "crc-swapped",
              lambda body, right: body + crc16(body).to_bytes(2, "big")),
             ("crc-left-out", "the CRC left out", "crc-forgotten", lambda body, right: body),
+            *[(f"crc-{key}", f"a CRC with {step}", misconception,
+               lambda body, right, compute=compute: _with_register(body, compute(body)))
+              for key, step, misconception, compute in CRC_STEPS if key in REGISTER_SLIPS],
             ("crc-over-pdu", "a CRC over the PDU alone", "checksum-without-address",
              lambda body, right: body + crc16(body[1:]).to_bytes(2, "little")),
             ("crc-one-byte", "one byte of the CRC", "crc-one-byte",
              lambda body, right: Choices([_rtu(body)[:-1], body + _rtu(body)[-1:]])),
             ("unit-left-out", "the slave address left out", "unit-missing",
              lambda body, right: Choices([_rtu(body[1:]), body[1:] + _rtu(body)[-2:]])),
-            ("pdu-only", "the PDU alone, without the slave address and the CRC around it", None,
+            ("pdu-only", "the PDU alone, without the slave address and the CRC around it", "unit-missing",
              lambda body, right: body[1:]),
             ("tcp-frame", "a Modbus/TCP frame (MBAP header, no CRC) where an RTU frame is asked",
              "tcp-frame-for-rtu", lambda body, right: ("tcp", body)),
@@ -173,18 +186,19 @@ def _envelopes(mode: str, expected: bytes) -> list[Envelope]:
             ("unit-left-out", "the slave address left out", "unit-missing",
              lambda body, right: _ascii(body[1:])),
             ("rtu-frame", "the RTU frame's bytes (with a CRC), where an ASCII frame's characters are asked",
-             None, lambda body, right: _rtu(body)),
+             "another-question", lambda body, right: _rtu(body)),
         ]
     if mode == "tcp":
         return [
             ("crc-added", "a CRC after the PDU", "crc-on-tcp",
              lambda body, right: Choices([body + crc16(body[6:]).to_bytes(2, "little"),
                                           _retold(body, 2) + crc16(body[6:]).to_bytes(2, "little")])),
-            ("mbap-left-out", "the unit and the PDU without the MBAP header in front", None,
+            ("mbap-left-out", "the unit and the PDU without the MBAP header in front", "part-of-answer",
              lambda body, right: body[6:]),
-            ("rtu-frame", "an RTU frame (unit, PDU, CRC) where a Modbus/TCP frame is asked", None,
-             lambda body, right: _rtu(body[6:])),
-            ("pdu-only", "the PDU alone, without the MBAP header", None, lambda body, right: body[7:]),
+            ("rtu-frame", "an RTU frame (unit, PDU, CRC) where a Modbus/TCP frame is asked",
+             "another-question", lambda body, right: _rtu(body[6:])),
+            ("pdu-only", "the PDU alone, without the MBAP header", "part-of-answer",
+             lambda body, right: body[7:]),
             ("unit-left-out", "the unit identifier left out", "unit-missing",
              lambda body, right: Choices([body[:6] + body[7:], _retold(body[:6] + body[7:], 0)])),
             ("length-left-out", "the length field left out", "mbap-length-missing",
@@ -255,8 +269,9 @@ def frame_procedure(expected: Any, mode: str) -> Procedure | None:
     if rows is None:
         return None
     right_body = _body(expected, mode)
+    function = next((raw[0] for _offset, _size, name, raw in rows if name == "function code"), None)
     fields = [change for offset, size, name, raw in rows if name != "crc" and offset + size <= len(right_body)
-              for change in _field_changes(offset, size, name, raw, mode)]
+              for change in _field_changes(offset, size, name, raw, mode, function)]
     steps: list[Perturbation] = []
     for change in fields:
         key, step, misconception, *_ = change
@@ -267,7 +282,8 @@ def frame_procedure(expected: Any, mode: str) -> Procedure | None:
             fields=_fields(change, right_body)))
     for key, step, misconception, make in _envelopes(mode, expected):
         steps.append(Perturbation(key, step, misconception,
-                                  lambda make=make: make(right_body, right_body)))
+                                  lambda make=make: make(right_body, right_body),
+                                  also="crc-forgotten" if (mode, key) == ("rtu", "pdu-only") else None))
         for change in fields:
             field_key, field_step, field_misconception, *_ = change
             steps.append(Perturbation(

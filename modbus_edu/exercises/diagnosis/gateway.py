@@ -14,8 +14,8 @@ from collections.abc import Callable
 from typing import Any
 
 from ...crc import crc16
+from .crcsteps import CRC_STEPS
 from .procedure import REFUSED, Perturbation, Procedure
-from .procedures import CRC_STEPS
 
 
 def _tcp(body: bytes, tid: int, *, tid_order: str = "big", more: int = 0) -> bytes:
@@ -49,7 +49,7 @@ def _crc_check(compute: Callable[[bytes], Any], order: str = "little") -> Callab
 _RIGHT_CHECK = _crc_check(crc16)
 
 CHECKS = ("initial-zero", "unreflected", "unreflected-right-shift", "final-xor", "address-left-out")
-"""The CRC's slips (:data:`.procedures.CRC_STEPS`) a gateway's CRC check may make."""
+"""The CRC's slips (:data:`.crcsteps.CRC_STEPS`) a gateway's CRC check may make."""
 
 
 def separating_frames(body: bytes) -> list[bytes]:

@@ -95,6 +95,40 @@ def crc16_unreflected(data: bytes) -> int:
     return register
 
 
+def crc_bit_loop(data: bytes, shifts: int = 8, test_after: bool = False, limit: int | None = None) -> int:
+    """CRC-16/MODBUS with its bit loop changed as a learner's slip changes it: ``shifts`` shifts a byte, the
+    bit tested after the shift (``test_after``), only the first ``limit`` bytes."""
+    register = 0xFFFF
+    for byte in bytes(data)[:limit]:
+        register ^= byte
+        for _ in range(shifts):
+            if test_after:
+                register >>= 1
+                register = register ^ 0xA001 if register & 1 else register
+            else:
+                register = (register >> 1) ^ 0xA001 if register & 1 else register >> 1
+    return register
+
+
+# --- the CRC's own loop (steps of the CRC procedure, :mod:`.crcsteps`) ------------------------------------
+
+@_entry("crc-bit-loop", "the CRC's bit loop changed", "data (bytes), got: the learner's CRC (int)",
+        "after each byte is XORed into the register's low byte come exactly 8 steps: test the lowest bit, "
+        "shift right by one, and XOR with 0xA001 when the bit tested was 1.")
+def _crc_bit_loop(data: Any, got: Any) -> bool:
+    return _int(got) and got != crc_bit_loop(data) and got in (
+        crc_bit_loop(data, shifts=7), crc_bit_loop(data, shifts=9), crc_bit_loop(data, test_after=True))
+
+
+@_entry("crc-not-every-byte", "not every byte in the CRC", "data (bytes), got: the learner's CRC (int)",
+        "the CRC runs over every byte of the data, whatever its length: the loop neither stops one byte "
+        "early nor stops at a frame's 256 bytes: data of more than 256 bytes has its CRC too.")
+def _crc_not_every_byte(data: Any, got: Any) -> bool:
+    data = bytes(data)
+    return _int(got) and any(got == crc16(data[:end]) != crc16(data) for end in (len(data) - 1, 255, 256)
+                             if 0 <= end < len(data))
+
+
 @_entry("crc-msb-first", "an unreflected CRC", "data (bytes), got: the learner's CRC (int)",
         "the polynomial 0x8005 as written (shifting left, most significant bit first) gives another CRC; "
         "Modbus's CRC is reflected: shift right and XOR with 0xA001, 0x8005's bits reversed.")
@@ -406,7 +440,7 @@ def _ascii_crlf(got: Any, expected: Any) -> bool:
         "request; a missing or damaged echo means the adapter or the line is at fault, so raise an error.")
 def _echo_unchecked(sent: Any, received: Any, got: Any) -> bool:
     sent, received = bytes(sent), bytes(received)
-    return _bytes(got) and bytes(got) == received[len(sent):] and received[:len(sent)] != sent
+    return _bytes(got) and received[:len(sent)] != sent
 
 
 @_entry("first-address-only", "a multiple write judged by its first address", "pdu: a write-multiple "

@@ -437,3 +437,27 @@ def _tcp_for_rtu(got: Any) -> bool:
         "the ASCII mode's.")
 def _ascii_for_rtu(got: Any) -> bool:
     return False  # named by the RTU frame's procedure, which rebuilds the ASCII frame
+
+
+# --- the answer's form and scope (what was asked, not how it is computed) ------------------------------
+
+@_entry("another-form", "the right value in another form", "form: the form the exercise asks for, in words",
+        "the value is right; write it as {form}.")
+def _another_form(form: Any) -> Any:
+    return {"form": form} if isinstance(form, str) and form else None
+
+
+@_entry("part-of-answer", "part of the answer", "got, expected: the learner's bytes and the asked bytes",
+        "your answer is {part}; the exercise asks for {whole}.")
+def _part_of_answer(got: Any, expected: Any) -> bool:
+    got, expected = bytes(got), bytes(expected)
+    return 0 < len(got) < len(expected) and got in expected
+
+
+@_entry("another-question", "the answer to another question", "got, expected: the learner's answer and "
+        "what another question (a neighbouring exercise, the request for the response, another mode) asks",
+        "reread what the exercise asks for (a request or its response, an RTU or a Modbus/TCP frame, a "
+        "whole frame or one of its fields) before working it out.")
+def _another_question(got: Any, other: Any) -> bool:
+    return got == other and not isinstance(got, bool)
+

@@ -19,67 +19,11 @@ from ...devices.arduino import expected_answered_fraction
 from ...framing import RtuFrame
 from ...links.wire import SerialTiming
 from ...values import ORDERS, decode_value
+from .crcsteps import CRC_STEPS, hex_as_decimal
 from .frames import frame_procedure
-from .misconceptions import crc16_reflected, crc16_unreflected
 from .procedure import Choices, Perturbation, Procedure
 
-
-def _swap16(value: int) -> int:
-    return (value & 0xFF) << 8 | value >> 8
-
-
-def _hex_as_decimal(value: int) -> int | None:
-    """``value``'s hex digits read as a decimal number (0x1234 as 1234), where they are all decimal."""
-    text = f"{value:X}"
-    return int(text) if text.isdecimal() and int(text) != value else None
-
-
 # --- the CRC -------------------------------------------------------------------------------------------
-
-CRC_STEPS = (
-    (
-        "initial-zero",
-        "the register started at 0 instead of 0xFFFF",
-        "crc-initial-zero",
-        lambda data: crc16_reflected(data, initial=0),
-    ),
-    ("unreflected", "the polynomial unreflected (0x8005, shifting left)", "crc-msb-first", crc16_unreflected),
-    (
-        "unreflected-right-shift",
-        "0x8005 XORed while shifting right",
-        "crc-msb-first",
-        lambda data: crc16_reflected(data, poly=0x8005),
-    ),
-    ("high-first", "the register's bytes swapped", "crc-swapped", lambda data: _swap16(crc16(data))),
-    ("final-xor", "a final XOR with 0xFFFF", None, lambda data: crc16(data) ^ 0xFFFF),
-    ("low-byte-only", "only the low byte", "crc-one-byte", lambda data: crc16(data) & 0xFF),
-    ("high-byte-only", "only the high byte", "crc-one-byte", lambda data: crc16(data) >> 8),
-    (
-        "address-left-out",
-        "the first byte (the address) left out",
-        "checksum-without-address",
-        lambda data: crc16(data[1:]) if data else None,
-    ),
-    (
-        "hex-as-decimal",
-        "the CRC's hex digits read as decimal",
-        "hex-read-as-decimal",
-        lambda data: _hex_as_decimal(crc16(data)),
-    ),
-    (
-        "as-bytes",
-        "the CRC's two bytes returned instead of the register",
-        "crc-as-bytes",
-        lambda data: crc16(data).to_bytes(2, "little"),
-    ),
-    (
-        "as-bytes-high-first",
-        "the register's two bytes, high first, returned instead of the register",
-        "crc-as-bytes",
-        lambda data: crc16(data).to_bytes(2, "big"),
-    ),
-)
-"""The CRC's perturbations: key, the change in words, its misconception, the changed procedure."""
 
 CRC = Procedure(
     "the CRC (the register value)",
@@ -112,7 +56,7 @@ CRC_WIRE = Procedure(
             Perturbation(
                 "frame-given",
                 "the whole frame given instead of its CRC",
-                None,
+                "another-question",
                 lambda data: data + crc16(data).to_bytes(2, "little"),
             ),
         ]
@@ -238,6 +182,18 @@ MBAP = Procedure(
             "the length in one byte",
             "mbap-length-missing",
             lambda tid, unit, pdu: tid.to_bytes(2, "big") + bytes(2) + bytes([len(pdu) + 1, unit]),
+        ),
+        Perturbation(
+            "protocol-one-byte",
+            "the protocol identifier in one byte",
+            "field-in-one-byte",
+            lambda tid, unit, pdu: _mbap(tid, unit, pdu)[:3] + _mbap(tid, unit, pdu)[4:],
+        ),
+        Perturbation(
+            "tid-low-byte-kept",
+            "the transaction id kept to its low byte",
+            "field-in-one-byte",
+            lambda tid, unit, pdu: _mbap(tid & 0xFF, unit, pdu) if tid > 0xFF else None,
         ),
         Perturbation(
             "unit-missing",
@@ -572,3 +528,72 @@ PROCEDURES = {
     "answered": ANSWERED,
 }
 """The procedures of fixed arguments, by concept (the frame's and the count's are made per exercise)."""
+
+
+# --- one field's value read from a frame ---------------------------------------------------------------
+
+
+def field_value_procedure(raw: bytes, name: str, others: dict[str, int], *,
+                          register: bool = False) -> Procedure:
+    """Reading the 2-byte field ``raw`` (called ``name``) out of a frame, and the values its slips give: the
+    field low byte first, its high or low byte alone, its hex digits read as decimal, or another field of
+    the frame (``others``: each field's name and value).  Where two of them give the same number (a high
+    byte of 01 and a unit of 1), the verdict names both candidates.  A ``register`` value read as one of its
+    bytes is "a register of one byte"; another 2-byte field, "a 2-byte field in one byte"."""
+    one_byte = "register-one-byte" if register else "field-in-one-byte"
+    value = int.from_bytes(raw, "big")
+    steps = [
+        Perturbation("low-first", f"the {name} low byte first", "field-low-byte-first",
+                     lambda: int.from_bytes(raw[::-1], "big") if raw[0] != raw[1] else None),
+        Perturbation("high-byte", f"the {name}'s high byte alone", one_byte,
+                     lambda: raw[0] if value > 0xFF else None),
+        Perturbation("low-byte", f"the {name}'s low byte alone", one_byte,
+                     lambda: raw[1] if value > 0xFF else None),
+        Perturbation("hex-as-decimal", f"the {name}'s hex digits read as decimal", "hex-read-as-decimal",
+                     lambda: hex_as_decimal(value)),
+    ]
+    steps += [Perturbation(f"field-{other}", f"the {other} ({number})", "another-field",
+                           lambda number=number: number, fields={"got": number, "field": other})
+              for other, number in others.items() if number != value]
+    return Procedure(f"the {name} read from a frame", lambda: value, tuple(steps))
+
+
+# --- the length of a read's response: an RTU frame's bytes, or the MBAP length field -------------------
+
+
+def response_length_procedure(count: int, *, mbap: bool) -> Procedure:
+    """The length of the response to a read of ``count`` registers (FC 3 or 4): the RTU frame's bytes, or
+    with ``mbap`` the MBAP length field (the bytes after it: unit, function, byte count, data), and what
+    its slips give: a register of one byte (or four), the byte count, the unit or the CRC left out, a CRC
+    counted on Modbus/TCP, the data alone, and the request's length given for the response's (the MBAP
+    length: also the length counting the PDU alone, the whole frame or itself)."""
+    def length(*, per_register: int = 2, byte_count: int = 1, unit: int = 1, crc: int = 0) -> int:
+        return unit + 1 + byte_count + per_register * count + crc
+
+    tail = 0 if mbap else 2
+    request = 6 if mbap else 8  # the request's length field (unit + 5), or its RTU frame's bytes
+    return Procedure(
+        "the MBAP length of a read's response" if mbap else "the length of a read's RTU response",
+        lambda: length(crc=tail),
+        (
+            Perturbation("one-byte", "one byte a register", "register-one-byte",
+                         lambda: length(per_register=1, crc=tail)),
+            Perturbation("four-bytes", "four bytes a register", None,
+                         lambda: length(per_register=4, crc=tail)),
+            *(() if mbap else (Perturbation("byte-count-left-out", "no byte for the byte count",
+                                            "byte-count-missing", lambda: length(byte_count=0, crc=tail)),
+                               Perturbation("unit-left-out", "the unit left out", "unit-missing",
+                                            lambda: length(unit=0, crc=tail)))),
+            Perturbation("crc", "a CRC counted on Modbus/TCP" if mbap else "the CRC left out",
+                         "crc-on-tcp" if mbap else "crc-forgotten", lambda: length(crc=2 - tail)),
+            Perturbation("data-only", "the data bytes alone", "data-bytes-only", lambda: 2 * count),
+            Perturbation("request", "the request's length, where the response's is asked", "another-question",
+                         lambda: request),
+            *((Perturbation("length-pdu", "a length that counts the PDU alone", "mbap-length",
+                            lambda: length(unit=0)),
+               Perturbation("length-frame", "a length that counts the whole frame", "mbap-length",
+                            lambda: length() + 6),
+               Perturbation("length-itself", "a length that counts itself too", "mbap-length",
+                            lambda: length() + 2)) if mbap else ()),
+        ),
+    )
