@@ -565,19 +565,27 @@ def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv:
     return runs
 
 
-def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
-                builds: list[Builds | None], user: int | None = None,
-                worker_argv: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
-    """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
-    worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
+def results_folder(folder: Path, user: int | None) -> Path:
+    """A new folder in ``folder`` (mode 0700) where a worker writes its runs: the grader's, or given to the
+    learner's worker (``user``) by its descriptor."""
     results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
-    dropped = {}
-    if user is not None:  # a new folder of the grader's, given to the learner's worker by its descriptor
+    if user is not None:
         handle = os.open(results, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
         try:
             os.fchown(handle, user, user)
         finally:
             os.close(handle)
+    return results
+
+
+def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
+                builds: list[Builds | None], user: int | None = None,
+                worker_argv: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
+    """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
+    worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
+    results = results_folder(folder, user)
+    dropped = {}
+    if user is not None:
         dropped = {"env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
         if worker_argv is None:
             dropped.update(user=user, group=user, extra_groups=[])

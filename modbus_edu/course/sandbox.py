@@ -29,7 +29,11 @@ which limits hold):
 
   Whatever runs, the grader writes no file in a folder a learner can write: the kernel's connection
   file, the ``/etc`` files and the notebook's copy are handed to bubblewrap through descriptors, and the
-  only host folder a kernel may write (its sockets) is the grader's, made fresh, removed by descriptor;
+  only host folder a kernel may write (its sockets) is the grader's, made fresh, removed by descriptor.
+  As root, a learner's folder of the grader's (its notebooks' copies, the launcher's settings) is 0750
+  of the learner's group, set through its descriptor, and its kernels' folder the learner's own, 0700:
+  a classmate's user id may neither list nor read anything of it.  Under one user id (rootless), the
+  boundary between classmates is bubblewrap's alone: no folder of the grader's is in a sandbox;
 * **limited** (no bubblewrap, or no user namespaces): each kernel in a process group of its own, with
   ``RLIMIT_AS`` and ``RLIMIT_NPROC``; a process that leaves the group is still found by the marker in
   its environment and killed, unless it cleared its environment;
@@ -312,21 +316,18 @@ class Seal:
             self.folder.parent.chmod(0o711)
             if self.sandbox.view or _blocked(str(self.folder.parent)):
                 self.view = view(self.sandbox.tool, writable=[str(self.folder.parent)])
-        self.folder.mkdir(mode=0o711)
-        (self.folder / "work").mkdir(mode=0o755)
+        _new_folder(self.folder, self.user, shared=True)
+        _new_folder(self.folder / "work", self.user, shared=True)
         for position, source in enumerate(notebooks):
             copy = self.folder / "work" / source.name
             if copy.exists():  # two notebooks of one name (from two folders): keep both
                 copy = self.folder / "work" / f"{source.stem}-{position}{source.suffix}"
-            shutil.copyfile(source, copy)
-            copy.chmod(0o644)
+            _new_file(copy, source, self.user)
             self.notebooks.append(copy)
-        _own_folder(self.folder / "run", self.user)
+        _new_folder(self.folder / "run", self.user)
         if self.sandbox.cgroup:
             self._make_cgroups()
-        handle = os.open(self.settings, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
-        with os.fdopen(handle, "w") as stream:
-            json.dump(self.config(), stream)
+        _new_file(self.settings, json.dumps(self.config()).encode(), self.user)
 
     @property
     def settings(self) -> Path:
@@ -476,15 +477,39 @@ class Seal:
         return pids | processes_marked(self.token)
 
 
-def _own_folder(path: Path, uid: int | None) -> None:
-    """A new folder ``path`` (mode 0700), given to ``uid`` through its descriptor when there is one."""
+def _new_folder(path: Path, uid: int | None, shared: bool = False) -> None:
+    """A new folder ``path``, mode 0700, which no other user may enter.  With a learner's ``uid`` it is
+    given to that learner through its descriptor (never by path): ``uid``'s own (the kernels' ``run``
+    folder, where they write), or, ``shared``, still the grader's but of the learner's group, 0750 (the
+    learner's folder and its ``work``, which only the learner's own worker reads: a classmate's user id
+    may neither list nor enter them)."""
     path.mkdir(mode=0o700)
     if uid is not None:
         handle = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
         try:
-            os.fchown(handle, uid, uid)
+            os.fchown(handle, -1 if shared else uid, uid)
+            os.fchmod(handle, 0o750 if shared else 0o700)
         finally:
             os.close(handle)
+
+
+def _new_file(path: Path, data: bytes | Path, uid: int | None) -> None:
+    """A new file ``path`` holding ``data`` (or a copy of the file ``data``), mode 0600: the grader's, and
+    with a learner's ``uid`` of its group, 0640 (set through the descriptor), which only the learner's
+    own worker (and launcher) reads."""
+    handle = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+    try:
+        if uid is not None:
+            os.fchown(handle, -1, uid)
+            os.fchmod(handle, 0o640)
+        with os.fdopen(os.dup(handle), "wb") as stream:
+            if isinstance(data, Path):
+                with data.open("rb") as source:
+                    shutil.copyfileobj(source, stream)
+            else:
+                stream.write(data)
+    finally:
+        os.close(handle)
 
 
 def processes_marked(token: str) -> set[int]:
