@@ -118,9 +118,8 @@ sandbox = detect()
 ada, bob = _seals(Path(sys.argv[1]), sandbox)
 try:
     paths = _walk(ada.folder)
-    done = __import__('subprocess').run(bob.command_argv([base_python(), '-I', '-S', '-c', PROBE,
-                                                         json.dumps(paths)]),
-                                        capture_output=True, text=True, timeout=60)
+    done = bob.run([base_python(), '-I', '-S', '-c', PROBE, json.dumps(paths)], capture_output=True,
+                   text=True, timeout=60)
     print(json.dumps({'note': sandbox.note, 'level': sandbox.level, 'uid': os.getuid(),
                       'sealed': json.loads(done.stdout or 'null'), 'err': done.stderr[-1000:],
                       'grader': json.loads(__import__('subprocess').run(

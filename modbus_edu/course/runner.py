@@ -48,6 +48,7 @@ from ..exercises import EXERCISES, judge, verdict
 from ..exercises.plain import MAX_WIRE, PlainError, from_json
 from ..exercises.submit import MIME
 from .archives import NOTEBOOK_LIMIT
+from .sandbox import kernel_spawn
 from .submissions import TITLE, without_marks
 
 RECORDER = "__modbus_edu_record__"
@@ -330,6 +331,20 @@ def connect_in(manager, runtime: Path, number: int = 1):
     return manager
 
 
+async def _launch(launch_kernel, kernel_cmd: list[str], **kw) -> None:
+    """jupyter_client's launch of a kernel (``launch_kernel``: its manager's, made for subclasses to
+    change), a sealed kernel's bubblewrap started straight from this worker (:func:`.sandbox.kernel_spawn`:
+    no launcher's Python between), its stdout and stderr to /dev/null."""
+    spawn = kernel_spawn(kernel_cmd)
+    if spawn is None:
+        return await launch_kernel(kernel_cmd, **kw)
+    kw.update(spawn.popen(), independent=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        return await launch_kernel(spawn.argv, **kw)
+    finally:
+        spawn.close()
+
+
 def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) -> NotebookRun:
     """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions.
 
@@ -384,6 +399,7 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
         class Client(NotebookClient):
             def create_kernel_manager(self):
                 manager = connect_in(super().create_kernel_manager(), runtime, next(_KERNELS))
+                manager._async_launch_kernel = functools.partial(_launch, manager._async_launch_kernel)
                 if hasattr(manager, "kernel_sockets"):
                     kernels.append(manager.kernel_sockets)
                 return manager
