@@ -11,7 +11,6 @@ import os
 import secrets
 import shutil
 import socket
-import subprocess
 import sys
 import tempfile
 import threading
@@ -227,8 +226,8 @@ def test_the_clean_rooms_boundary_holds_the_standard_library_and_the_copy_only(t
             "report['modbus_edu'] = importlib.util.find_spec('modbus_edu') is not None\n"
             "print(json.dumps(report))")
     try:
-        done = subprocess.run(seal.command_argv([base_python(), "-I", "-S", "-c", code], copy=copy),
-                              capture_output=True, text=True, timeout=120)
+        done = seal.run([base_python(), "-I", "-S", "-c", code], copy=copy, capture_output=True, text=True,
+                        timeout=120)  # as the grader runs a clean room: bubblewrap started straight
     finally:
         seal.close()
     assert done.returncode == 0, done.stderr

@@ -19,7 +19,7 @@ from test_grade import SETUP, right, write, wrong
 
 from modbus_edu.cli import main
 from modbus_edu.course import boundary
-from modbus_edu.course.sandbox import CGROUP_V1, LIBRARY, UID_BASE, detect, processes_marked
+from modbus_edu.course.sandbox import CGROUP_V1, LIBRARY, UID_BASE, detect, processes_marked, running
 from modbus_edu.exercises import EXERCISES
 from modbus_edu.exercises.submit import MIME
 
@@ -189,7 +189,7 @@ def leftovers() -> set[int]:
                 uid = entry.stat().st_uid
             except OSError:
                 continue
-            if low <= uid < low + 1000:
+            if low <= uid < low + 1000 and running(entry):  # a zombie, dead, waits for init to reap it
                 found.add(int(entry.name))
     return found
 

@@ -26,7 +26,16 @@ from test_grade import SETUP, right, write
 
 from modbus_edu.course import grade as grading
 from modbus_edu.course.boundary import base_python
-from modbus_edu.course.sandbox import DISK_MB, FORCE, LIBRARY, UID_BASE, Seal, detect, processes_marked
+from modbus_edu.course.sandbox import (
+    DISK_MB,
+    FORCE,
+    LIBRARY,
+    UID_BASE,
+    Seal,
+    detect,
+    processes_marked,
+    running,
+)
 
 NOTEBOOK = "03_rtu_and_crc"
 KEYS = ["03.1", "03.2", "03.5"]
@@ -277,7 +286,7 @@ def _learners_processes(token: str) -> set[int]:
     found = processes_marked(f"{token}-")  # root-mapped learners are root outside: found by their marker
     for entry in Path("/proc").iterdir():
         try:
-            if entry.name.isdigit() and low <= entry.stat().st_uid < low + 1000:
+            if entry.name.isdigit() and low <= entry.stat().st_uid < low + 1000 and running(entry):
                 found.add(int(entry.name))
         except OSError:
             continue
@@ -378,11 +387,15 @@ sys.exit(3)"""
 
 
 @ONLY_SEALED
-def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path):
+@pytest.mark.parametrize("started", ["straight", "by the launcher"])
+def test_command_argv_runs_a_command_in_the_learners_seal(tmp_path, started):
+    """A command sealed as the learner's: bubblewrap started straight by :meth:`Seal.run` (as a clean
+    room is), or by the launcher script of :meth:`Seal.command_argv`; the same seal either way."""
     classmate, seal = _seal(tmp_path, 1), _seal(tmp_path)
+    argv = [base_python(), "-c", PROBE, LEFT, str(DISK_MB)]
     try:
-        done = subprocess.run(seal.command_argv([base_python(), "-c", PROBE, LEFT, str(DISK_MB)]),
-                              input=b"hello", capture_output=True, timeout=60)
+        done = seal.run(argv, input=b"hello", capture_output=True, timeout=60) if started == "straight" else \
+            subprocess.run(seal.command_argv(argv), input=b"hello", capture_output=True, timeout=60)
         assert done.returncode == 3, done.stderr
         assert done.stderr.decode().strip().endswith("to stderr")
         seen, full = map(json.loads, done.stdout.splitlines())
@@ -416,11 +429,9 @@ def test_a_command_reads_its_copy_of_the_library_and_never_the_library_s_own_pac
     probe = ("import os, sys; print(os.path.exists(sys.argv[1]), os.path.exists(sys.argv[2]), "
              "os.path.exists(sys.argv[3]))")
     try:
-        done = subprocess.run(seal.command_argv([base_python(), "-I", "-S", "-c", probe,
-                                                 str(copy / "modbus_edu" / "crc.py"),
-                                                 str(package / "crc.py"), str(package / "__init__.py")],
-                                                copy=copy),
-                              capture_output=True, text=True, timeout=60)
+        done = seal.run([base_python(), "-I", "-S", "-c", probe, str(copy / "modbus_edu" / "crc.py"),
+                         str(package / "crc.py"), str(package / "__init__.py")], copy=copy,
+                        capture_output=True, text=True, timeout=60)
     finally:
         seal.close()
     assert done.returncode == 0, done.stderr
@@ -434,8 +445,8 @@ def test_command_argv_at_the_limited_level(tmp_path, monkeypatch):
     monkeypatch.setenv(FORCE, "limited")
     seal = _seal(tmp_path, 1)
     try:
-        done = subprocess.run(seal.command_argv([sys.executable, "-c", "import os; print(os.getcwd())"]),
-                              capture_output=True, text=True, timeout=60)
+        done = seal.run([sys.executable, "-c", "import os; print(os.getcwd())"], capture_output=True,
+                        text=True, timeout=60)
         assert done.returncode == 0 and done.stdout.strip() == str(seal.folder / "work")
         assert seal.inside(seal.notebooks[0]) == str(seal.notebooks[0])
     finally:

@@ -23,7 +23,7 @@ patches the library or the grader, an ``%env`` or a file written by the notebook
 room.  So the function must work from what the notebook defines at its top level above the check.
 
 **The room** (:func:`run_room`).  The installation's own Python (``-I -S``: no environment variables, no
-site-packages), run as the learner (:meth:`~.sandbox.Seal.command_argv`) in a fresh empty room of its own
+site-packages), run as the learner (:meth:`~.sandbox.Seal.run`) in a fresh empty room of its own
 that holds the standard library and the stripped copy only (no site-packages, so no pymodbus; nothing a
 kernel or an earlier room wrote), gets the module's source and the argument
 tuples, as plain data (:mod:`~modbus_edu.exercises.plain`), on its stdin; the grader drew them from its
@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import ast
 import builtins
+import compileall
 import functools
 import importlib
 import shutil
@@ -478,6 +479,8 @@ def stripped_copy(key: str, folder: Path) -> Path:
             path = package.joinpath(*module.split(".")[1:])
             path = path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
             path.write_text(_strip(path.read_text(encoding="utf-8"), qualnames, module), encoding="utf-8")
+        # compiled here, once: a room sees its copy read-only, and would compile every module it imports
+        compileall.compile_dir(work, quiet=2)
         for path in [work, *work.rglob("*")]:
             path.chmod(0o755 if path.is_dir() else 0o644)
         work.rename(target)
@@ -499,10 +502,10 @@ def room_argv(library: Path) -> list[str]:
 
 def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_limit: float,
              follow_plans: list | None = None,
-             seal: Callable[[list[str]], list[str]] | None = None) -> dict:
+             seal: Callable[..., subprocess.CompletedProcess] | None = None) -> dict:
     """The trace of the function ``taken`` on ``arguments``, run in a room on the stripped copy
-    ``library``; ``seal`` turns the room's command line into one that runs it as the learner
-    (:meth:`~.sandbox.Seal.command_argv`).  Never raises: a room that fails gives a trace that says so."""
+    ``library``; ``seal`` runs the room's command line as the learner, as ``subprocess.run`` runs it
+    (:meth:`~.sandbox.Seal.run`).  Never raises: a room that fails gives a trace that says so."""
     if taken.library:
         return {"library": taken.library}
     if taken.problem:
@@ -512,13 +515,11 @@ def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_li
                        "arguments": plain([tuple(args) for args in arguments]), "plans": follow_plans})
     except PlainError as exc:
         return {"name": taken.name, "unloadable": f"the grader could not send the inputs ({exc})"}
-    argv = room_argv(library)
-    if seal is not None:
-        argv = seal(argv, copy=library)
+    options = {"input": job.encode("utf-8"), "stdout": subprocess.PIPE, "stderr": subprocess.DEVNULL,
+               "timeout": ROOM_TIMEOUT, "start_new_session": True, "cwd": library}
     try:
-        done = subprocess.run(argv, input=job.encode("utf-8"), stdout=subprocess.PIPE,
-                              stderr=subprocess.DEVNULL, timeout=ROOM_TIMEOUT, start_new_session=True,
-                              cwd=library)
+        done = seal(room_argv(library), copy=library, **options) if seal else subprocess.run(
+            room_argv(library), **options)
     except subprocess.TimeoutExpired:
         return {"name": taken.name, "calls": [], "stopped": True}
     except OSError as exc:
@@ -535,7 +536,7 @@ def run_room(taken: Taken, arguments: Sequence[tuple], *, library: Path, time_li
 
 
 def room_trace(key: str, taken: Taken, seed: str, *, folder: Path,
-               seal: Callable[[list[str]], list[str]] | None = None) -> tuple[dict, list]:
+               seal: Callable[..., subprocess.CompletedProcess] | None = None) -> tuple[dict, list]:
     """Exercise ``key``'s function, taken from the notebook, traced in its room on the inputs of
     ``seed``; the trace and the cases (arguments, expected) the grader judges it against."""
     checker = EXERCISES[key].checker
@@ -548,7 +549,8 @@ def room_trace(key: str, taken: Taken, seed: str, *, folder: Path,
 
 
 def trace_built(run: NotebookRun, *, source: Path, seed: str, rooms: Path,
-                seal: Callable[[list[str]], list[str]] | None = None) -> dict[str, tuple[dict, list]]:
+                seal: Callable[..., subprocess.CompletedProcess] | None = None
+                ) -> dict[str, tuple[dict, list]]:
     """Each of the run's build exercises traced in its clean room: the function taken from ``source``
     (the handed-in notebook file), the inputs drawn from ``seed``, the room's copy of the library made in
     ``rooms``; key -> (trace, cases)."""

@@ -154,7 +154,7 @@ def _grade_learner(sandbox: Sandbox, index: int, notebooks: list[Path], scratch:
     runs = []
     try:
         builds = [functools.partial(trace_built, source=original, seed=seed, rooms=rooms,
-                                    seal=seal.command_argv) for original in notebooks]
+                                    seal=seal.run) for original in notebooks]
         runs = run_isolated(seal.notebooks, timeout, memory_mb, seal.kernel_argv(timeout), seal.folder,
                             builds=builds, user=seal.user, worker=seal.worker_argv)
         for original, run in zip(notebooks, runs):

@@ -48,6 +48,7 @@ from ..exercises import EXERCISES, judge, verdict
 from ..exercises.plain import MAX_WIRE, PlainError, from_json
 from ..exercises.submit import MIME
 from .archives import NOTEBOOK_LIMIT
+from .sandbox import kernel_spawn
 from .submissions import TITLE, without_marks
 
 RECORDER = "__modbus_edu_record__"
@@ -330,6 +331,20 @@ def connect_in(manager, runtime: Path, number: int = 1):
     return manager
 
 
+async def _launch(launch_kernel, kernel_cmd: list[str], **kw) -> None:
+    """jupyter_client's launch of a kernel (``launch_kernel``: its manager's, made for subclasses to
+    change), a sealed kernel's bubblewrap started straight from this worker (:func:`.sandbox.kernel_spawn`:
+    no launcher's Python between), its stdout and stderr to /dev/null."""
+    spawn = kernel_spawn(kernel_cmd)
+    if spawn is None:
+        return await launch_kernel(kernel_cmd, **kw)
+    kw.update(spawn.popen(), independent=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        return await launch_kernel(spawn.argv, **kw)
+    finally:
+        spawn.close()
+
+
 def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) -> NotebookRun:
     """Run one notebook from the top in a fresh kernel started by ``argv``; its submissions.
 
@@ -384,6 +399,7 @@ def run_notebook(path: Path, timeout: float, argv: list[str], memory_mb: int) ->
         class Client(NotebookClient):
             def create_kernel_manager(self):
                 manager = connect_in(super().create_kernel_manager(), runtime, next(_KERNELS))
+                manager._async_launch_kernel = functools.partial(_launch, manager._async_launch_kernel)
                 if hasattr(manager, "kernel_sockets"):
                     kernels.append(manager.kernel_sockets)
                 return manager
@@ -565,19 +581,27 @@ def run_isolated(paths: list[Path], timeout: float, memory_mb: int, kernel_argv:
     return runs
 
 
-def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
-                builds: list[Builds | None], user: int | None = None,
-                worker_argv: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
-    """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
-    worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
+def results_folder(folder: Path, user: int | None) -> Path:
+    """A new folder in ``folder`` (mode 0700) where a worker writes its runs: the grader's, or given to the
+    learner's worker (``user``) by its descriptor."""
     results = Path(tempfile.mkdtemp(prefix="runs-", dir=folder))
-    dropped = {}
-    if user is not None:  # a new folder of the grader's, given to the learner's worker by its descriptor
+    if user is not None:
         handle = os.open(results, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
         try:
             os.fchown(handle, user, user)
         finally:
             os.close(handle)
+    return results
+
+
+def _one_worker(paths: list[Path], timeout: float, memory_mb: int, kernel_argv: list[str], folder: Path,
+                builds: list[Builds | None], user: int | None = None,
+                worker_argv: Callable[[list[str]], list[str]] | None = None) -> list[NotebookRun]:
+    """The runs of ``paths`` by one worker, up to and including the first it could not finish; the
+    worker runs as ``user`` when one is given (the grader, as root, never drives a learner's kernel)."""
+    results = results_folder(folder, user)
+    dropped = {}
+    if user is not None:
         dropped = {"env": dict(os.environ, HOME=str(paths[0].parent.parent / "run"))}
         if worker_argv is None:
             dropped.update(user=user, group=user, extra_groups=[])

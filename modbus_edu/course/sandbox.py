@@ -29,7 +29,11 @@ which limits hold):
 
   Whatever runs, the grader writes no file in a folder a learner can write: the kernel's connection
   file, the ``/etc`` files and the notebook's copy are handed to bubblewrap through descriptors, and the
-  only host folder a kernel may write (its sockets) is the grader's, made fresh, removed by descriptor;
+  only host folder a kernel may write (its sockets) is the grader's, made fresh, removed by descriptor.
+  As root, a learner's folder of the grader's (its notebooks' copies, the launcher's settings) is 0750
+  of the learner's group, set through its descriptor, and its kernels' folder the learner's own, 0700:
+  a classmate's user id may neither list nor read anything of it.  Under one user id (rootless), the
+  boundary between classmates is bubblewrap's alone: no folder of the grader's is in a sandbox;
 * **limited** (no bubblewrap, or no user namespaces): each kernel in a process group of its own, with
   ``RLIMIT_AS`` and ``RLIMIT_NPROC``; a process that leaves the group is still found by the marker in
   its environment and killed, unless it cleared its environment;
@@ -41,8 +45,11 @@ Every process carries ``MODBUS_EDU_GRADE_RUN=<token>`` in its environment (and, 
 environment, only :data:`KEPT`); a kernel's stdout and stderr go to ``/dev/null`` once ipykernel has
 caught them.  :meth:`Seal.command_argv` runs any command the same way, its standard streams passed.
 
-Run as a script (``python sandbox.py SETTINGS kernel CPU CONNECTION_FILE`` or ``python sandbox.py
-SETTINGS command CPU COPY -- ARGV...``) this module is the launcher; it imports nothing but the standard
+Sealed, bubblewrap is started straight by the process that needs it, no Python between (:class:`Spawn`):
+a kernel by the learner's worker (:func:`kernel_spawn`), a clean room by the grader (:meth:`Seal.run`).
+Run as a script (``python sandbox.py SETTINGS kernel|command CPU ...``) this module is the launcher that
+does the same in a process of its own (the limited and container levels; :meth:`Seal.command_argv`), and
+``--user UID TOKEN -- ARGV`` starts a learner's worker under its user id; it imports only the standard
 library and :mod:`.boundary`, so that it starts fast.
 """
 
@@ -269,8 +276,9 @@ def detect(container: str | None = None) -> Sandbox:
 class Seal:
     """One learner's seal: a folder of the grader's, a user id, cgroups; :meth:`close` ends them all.
 
-    :meth:`kernel_argv` starts a kernel in it, :meth:`command_argv` any command (both through the same
-    launcher, so with the same user, namespaces, cgroups and limits, each in a room of its own)."""
+    :meth:`kernel_argv` starts a kernel in it, :meth:`run` (or :meth:`command_argv`) any command (both
+    built by :func:`sealed_spawn`, so with the same user, namespaces, cgroups and limits, each in a room
+    of its own)."""
 
     sandbox: Sandbox
     index: int
@@ -312,21 +320,18 @@ class Seal:
             self.folder.parent.chmod(0o711)
             if self.sandbox.view or _blocked(str(self.folder.parent)):
                 self.view = view(self.sandbox.tool, writable=[str(self.folder.parent)])
-        self.folder.mkdir(mode=0o711)
-        (self.folder / "work").mkdir(mode=0o755)
+        _new_folder(self.folder, self.user, shared=True)
+        _new_folder(self.folder / "work", self.user, shared=True)
         for position, source in enumerate(notebooks):
             copy = self.folder / "work" / source.name
             if copy.exists():  # two notebooks of one name (from two folders): keep both
                 copy = self.folder / "work" / f"{source.stem}-{position}{source.suffix}"
-            shutil.copyfile(source, copy)
-            copy.chmod(0o644)
+            _new_file(copy, source, self.user)
             self.notebooks.append(copy)
-        _own_folder(self.folder / "run", self.user)
+        _new_folder(self.folder / "run", self.user)
         if self.sandbox.cgroup:
             self._make_cgroups()
-        handle = os.open(self.settings, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
-        with os.fdopen(handle, "w") as stream:
-            json.dump(self.config(), stream)
+        _new_file(self.settings, json.dumps(self.config()).encode(), self.user)
 
     @property
     def settings(self) -> Path:
@@ -401,13 +406,35 @@ class Seal:
         library), at its own path.  stdin, stdout and stderr are passed through; the exit status is the
         command's.  Its processes end with it, and with the seal (:meth:`close`)."""
         argv = self._launcher("command", timeout, [str(copy or ""), "--", *map(str, argv)])
-        if self.user is None:
-            return argv
-        shown = self.view
+        return argv if self.user is None else [*self._shown(copy), *argv]
+
+    def _shown(self, copy: Path | str | None) -> list[str]:
         if copy and _blocked(str(copy)):  # a copy below a folder no other user may enter: shown too
-            shown = view(self.sandbox.tool, [python_home(), sys.prefix, str(LIBRARY), str(copy)],
-                         writable=[str(self.folder.parent)])
-        return [*shown, *argv]
+            return view(self.sandbox.tool, [python_home(), sys.prefix, str(LIBRARY), str(copy)],
+                        writable=[str(self.folder.parent)])
+        return self.view
+
+    def run(self, argv: list[str], *, cpu: float = 300, copy: Path | str | None = None,
+            **kwargs) -> subprocess.CompletedProcess:
+        """:meth:`command_argv`'s command run as ``subprocess.run`` (``kwargs``) runs it, bubblewrap started
+        straight from here (:class:`Spawn`); through a view (as root), ``setpriv`` leaves root and bash execs
+        bubblewrap as ``bwrap`` (the launcher, where either is missing)."""
+        shown = self._shown(copy) if self.user is not None else []
+        helpers = [shutil.which("setpriv"), shutil.which("bash")] if shown else []
+        if self.sandbox.level != "sealed" or not all(helpers):
+            return subprocess.run(self.command_argv(argv, cpu, copy), **kwargs)
+        spawn = sealed_spawn(dict(self.config(), mode="command", cpu=int(cpu) + 10,
+                                  rest=[str(copy or ""), "--", *map(str, argv)]))
+        options, command = spawn.popen(), spawn.argv
+        if shown:
+            spawn.config["setuid"] = False
+            options["executable"] = None
+            command = [*shown, helpers[0], f"--reuid={self.uid}", f"--regid={self.uid}", "--clear-groups",
+                       "--", helpers[1], "-c", 'exec -a bwrap "$0" "$@"', self.sandbox.tool, *spawn.argv[1:]]
+        try:
+            return subprocess.run(command, **options, **kwargs)
+        finally:
+            spawn.close()
 
     def inside(self, path: Path | str) -> str:
         """Where one of the learner's notebooks is seen from inside a sealed kernel (``/tmp/work/...``)."""
@@ -463,7 +490,8 @@ class Seal:
 
     def _processes(self) -> set[int]:
         """The learner's processes: its cgroups', those marked with its token, and (as root) every process
-        of its user id, an orphan not yet reaped included."""
+        of its user id that still runs, an orphan included (not a zombie: the PID 1 of a sandbox that
+        bubblewrap left to the system's init, dead, waits there to be reaped, which may take a second)."""
         pids = set()
         for group in self.cgroups:
             try:
@@ -472,19 +500,40 @@ class Seal:
                 pass
         if self.user is not None:
             pids.update(int(entry.name) for entry in Path("/proc").iterdir()
-                        if entry.name.isdigit() and _owner(entry) == self.uid)
+                        if entry.name.isdigit() and _owner(entry) == self.uid and running(entry))
         return pids | processes_marked(self.token)
 
 
-def _own_folder(path: Path, uid: int | None) -> None:
-    """A new folder ``path`` (mode 0700), given to ``uid`` through its descriptor when there is one."""
+def _new_folder(path: Path, uid: int | None, shared: bool = False) -> None:
+    """A new folder ``path``, mode 0700.  With a learner's ``uid``, through its descriptor (never by path):
+    ``uid``'s own (``run``, where its kernels write), or, ``shared``, the grader's but of the learner's
+    group, 0750 (its folder and ``work``, which only its own worker reads: no classmate's user id)."""
     path.mkdir(mode=0o700)
     if uid is not None:
         handle = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
         try:
-            os.fchown(handle, uid, uid)
+            os.fchown(handle, -1 if shared else uid, uid)
+            os.fchmod(handle, 0o750 if shared else 0o700)
         finally:
             os.close(handle)
+
+
+def _new_file(path: Path, data: bytes | Path, uid: int | None) -> None:
+    """A new file ``path`` holding ``data`` (or a copy of the file ``data``), mode 0600; with a learner's
+    ``uid``, of its group, 0640 (through the descriptor), which only the learner's own worker reads."""
+    handle = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+    try:
+        if uid is not None:
+            os.fchown(handle, -1, uid)
+            os.fchmod(handle, 0o640)
+        with os.fdopen(os.dup(handle), "wb") as stream:
+            if isinstance(data, Path):
+                with data.open("rb") as source:
+                    shutil.copyfileobj(source, stream)
+            else:
+                stream.write(data)
+    finally:
+        os.close(handle)
 
 
 def processes_marked(token: str) -> set[int]:
@@ -540,11 +589,10 @@ def _quiet() -> None:
 
 
 def _memory(name: str, data: bytes) -> int:
-    """A descriptor reading ``data`` from its start (a memory file the child inherits)."""
-    handle = os.memfd_create(name, 0)
+    """A descriptor reading ``data`` from its start (a memory file, closed on exec: passed on by name)."""
+    handle = os.memfd_create(name)
     os.write(handle, data)
     os.lseek(handle, 0, os.SEEK_SET)
-    os.set_inheritable(handle, True)
     return handle
 
 
@@ -565,26 +613,70 @@ def _kernel_connection(config: dict) -> tuple[dict, str]:
     return info, sockets
 
 
-def _sealed(config: dict) -> None:
-    """Sealed: join the learner's cgroups, set the limits, leave root where the seal says so, then become
-    bubblewrap, whose arguments (every place of the boundary, the files it writes) come through
-    descriptors: PID 1 of the sandbox shows ``bwrap --args N`` and no path."""
-    for procs in config["procs"]:
-        Path(procs).write_text(str(os.getpid()))
+@dataclass
+class Spawn:
+    """A sealed kernel or command ready to start: bubblewrap's command line (shown as ``bwrap --args N``,
+    every argument in a memory file), its environment, the descriptors it reads (closed by :meth:`close`
+    once it started), and :meth:`enter`, what its process does before it becomes bubblewrap."""
+
+    argv: list[str]
+    env: dict[str, str]
+    fds: list[int]
+    config: dict
+    quiet: bool = False  # a kernel: stdout and stderr to /dev/null (ipykernel catches what it prints)
+
+    def enter(self) -> None:
+        """Between fork and exec (system calls only): join the learner's cgroups, leave root where the seal
+        says so (no groups, no capability), set the limits; lower the priority where no cgroup shares."""
+        config = self.config
+        for procs in config["procs"]:
+            handle = os.open(procs, os.O_WRONLY)
+            try:
+                os.write(handle, str(os.getpid()).encode())
+            finally:
+                os.close(handle)
+        if config["setuid"]:
+            os.setgroups([])
+            os.setgid(config["uid"])
+            os.setuid(config["uid"])
+        _limits(config, config["nproc"])
+        if not config["procs"]:
+            os.nice(NICE)
+
+    def popen(self) -> dict:
+        """``subprocess.Popen``'s keywords that start it (``argv`` as the command line)."""
+        return {"executable": self.config["tool"], "env": self.env, "pass_fds": tuple(self.fds),
+                "preexec_fn": self.enter}
+
+    def close(self) -> None:
+        for handle in self.fds:
+            os.close(handle)
+        self.fds = []
+
+
+def sealed_spawn(config: dict) -> Spawn:
+    """The sealed kernel or command of the launcher's ``config`` (with ``mode``, ``cpu`` and ``rest``):
+    bubblewrap, its arguments (every place of the boundary, the files it writes) in descriptors, so that
+    PID 1 of the sandbox shows ``bwrap --args N`` and no path.  Made by the process that starts it."""
     kernel = config["mode"] == "kernel"
     uid = config["uid"]
     root = os.geteuid() == 0
-    if root and config["drop"]:
-        os.setgroups([])
-        os.setgid(uid)
-        os.setuid(uid)
-    nproc = None if root else _own_processes(os.getuid()) + MAX_PROCESSES
-    _limits(config, nproc)
-    if not config["procs"]:
-        os.nice(NICE)
+    if kernel and root and config["drop"]:  # it would read the learner's run folder as root
+        raise OSError("a learner's kernel is started by its worker, under its own user id, never by root")
     inside = uid if root and not config["drop"] else None  # root-mapped: the learner's id in its namespace
-    shown = inside if inside is not None else os.getuid()
+    shown = inside if inside is not None else uid if root and config["drop"] else os.getuid()
+    config = dict(config, setuid=root and config["drop"],
+                  nproc=None if root else _own_processes(os.getuid()) + MAX_PROCESSES)
     data = {path: _memory(path, text.encode()) for path, text in etc_files(shown, shown).items()}
+    try:
+        return _spawn(config, data, kernel, inside)
+    except BaseException:
+        for handle in data.values():
+            os.close(handle)
+        raise
+
+
+def _spawn(config: dict, data: dict[str, int], kernel: bool, inside: int | None) -> Spawn:
     if kernel:
         info, sockets = _kernel_connection(config)
         data["/kernel.json"] = _memory("kernel.json", json.dumps(info).encode())
@@ -600,10 +692,31 @@ def _sealed(config: dict) -> None:
     argv = [inside_path(item, places) if item.startswith("/") else item for item in argv]
     arguments = bwrap_arguments(places, data, uid=inside, chdir="/tmp/work" if kernel else "/tmp")
     handle = _memory("arguments", "\0".join(arguments).encode() + b"\0")
-    if kernel:
+    return Spawn(["bwrap", "--args", str(handle), "--", *argv], _environment(config, "/tmp/home", path),
+                 [*data.values(), handle], config, quiet=kernel)
+
+
+def kernel_spawn(kernel_cmd: list[str]) -> Spawn | None:
+    """The kernel's :class:`Spawn` for a command line of :meth:`Seal.kernel_argv` (its connection file
+    filled in) at the sealed level, which the learner's worker starts itself; None for any other."""
+    if len(kernel_cmd) != 7 or kernel_cmd[2] != str(SCRIPT) or kernel_cmd[4] != "kernel":
+        return None
+    with open(kernel_cmd[3], encoding="utf-8") as stream:
+        config = json.load(stream)
+    if config["level"] != "sealed":
+        return None
+    return sealed_spawn(dict(config, mode="kernel", cpu=int(kernel_cmd[5]), rest=kernel_cmd[6:]))
+
+
+def _sealed(config: dict) -> None:
+    """Sealed, run as the launcher: the :class:`Spawn` made here, entered, then exec'd."""
+    spawn = sealed_spawn(config)
+    spawn.enter()
+    for handle in spawn.fds:
+        os.set_inheritable(handle, True)
+    if spawn.quiet:
         _quiet()
-    os.execve(config["tool"], ["bwrap", "--args", str(handle), "--", *argv],
-              _environment(config, "/tmp/home", path))
+    os.execve(config["tool"], spawn.argv, spawn.env)
 
 
 def _container(config: dict) -> None:
@@ -642,6 +755,14 @@ def _limit(config: dict) -> None:
         os.chdir(Path(config["folder"]) / "work")
         argv = config["rest"][2:]
     os.execvpe(argv[0], argv, env)
+
+
+def running(entry: Path) -> bool:
+    """True if the process of ``/proc/PID`` still runs (it is neither gone nor a zombie)."""
+    try:
+        return (entry / "stat").read_bytes().rpartition(b")")[2].split()[0] not in (b"Z", b"X")
+    except (OSError, IndexError):
+        return False
 
 
 def _owner(entry: Path) -> int:
