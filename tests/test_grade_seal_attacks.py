@@ -251,6 +251,17 @@ def test_200_busy_loops_cost_an_honest_classmate_no_more_than_a_fair_share(tmp_p
     assert beside <= 2.5 * alone + 1.0, (alone, beside)
 
 
+def as_nobody(argv: list[str]) -> list[str]:
+    """``argv`` run as user 65534 with no capability where the tests run as root, shown the Python
+    installation by the view a learner's worker gets; as it is where they do not."""
+    if os.geteuid() != 0:
+        return argv
+    tool = bubblewrap()
+    if tool is None:
+        pytest.skip("no bubblewrap to show user 65534 the Python installation")
+    return as_user(Sandbox("sealed", "", view=view(tool)), 65534, argv)
+
+
 def test_a_whole_class_graded_by_an_unprivileged_user():
     """The grader itself unprivileged (as root: user 65534, no capability, shown the Python installation
     by the same view a learner's worker gets where it lies in a folder no other user may enter), and the
@@ -258,11 +269,7 @@ def test_a_whole_class_graded_by_an_unprivileged_user():
     work = Path(tempfile.mkdtemp(prefix="modbus-edu-nobody-", dir="/tmp"))  # not below pytest's 0700 folder
     argv = [sys.executable, "-m", "modbus_edu", "grade", str(work / "class"), "--out", str(work / "grades"),
             "--timeout", "60", "--jobs", "2", "-q"]
-    if os.geteuid() == 0:
-        tool = bubblewrap()
-        if tool is None:
-            pytest.skip("no bubblewrap to show user 65534 the Python installation")
-        argv = as_user(Sandbox("sealed", "", view=view(tool)), 65534, argv)
+    argv = as_nobody(argv)
     try:
         for name, answer in (("ada", right), ("bob", lambda key: f"answer = 0\ncheck({key!r}, answer)")):
             write(work / "class" / name, "03_rtu_and_crc", [SETUP, answer("03.1"), answer("03.5")])
