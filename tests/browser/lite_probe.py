@@ -35,6 +35,14 @@ RUN_ALL = f"""(() => {{
   if (n === 0 || cells.cells[n - 1].getSource() !== source) {{
     cells.insertCell(cells.cells.length, {{cell_type: "code", source: source}});
   }}
+  // the last moment the kernel was seen anything but idle (a widget that renders after the last cell
+  // sends its model a message, and the kernel is busy again for a moment): see DONE
+  if (window.mbeBusyAt === undefined) {{
+    window.mbeBusyAt = Date.now();
+    w.sessionContext.statusChanged.connect((_, status) => {{
+      if (status !== "idle") window.mbeBusyAt = Date.now();
+    }});
+  }}
   // Run All once the notebook has made the new cell's widget
   setTimeout(() => window.jupyterapp.commands.execute("notebook:run-all-cells"), 250);
   return true;
@@ -51,12 +59,13 @@ DONE = f"""(() => {{
   const shown = !!last.node.querySelector(
     ".mbe-webserial, .mbe-webserial-picture, .jp-OutputArea-output pre, " +
     '[data-mime-type="application/vnd.jupyter.stderr"]');
-  return kernel.status === "idle" && !running && cells[0].model.executionCount !== null &&
+  const settled = Date.now() - (window.mbeBusyAt || 0) >= 2000;
+  return kernel.status === "idle" && settled && !running && cells[0].model.executionCount !== null &&
     ((last.model.executionCount !== null && shown) ||
      !!w.content.node.querySelector('[data-mime-type="application/vnd.jupyter.stderr"]'));
 }})()"""
 """True once Run All has finished (every cell ran and the last one shows its output, or one cell stopped
-it) and the kernel is idle."""
+it) and the kernel has been idle for 2 s (the widgets' own messages answered)."""
 
 def web_serial(root: str) -> str:
     """An expression: what the Web Serial panels in the outputs under ``root`` (a JavaScript expression
