@@ -247,19 +247,6 @@ def test_tls_round_trip_and_a_viewer_refused_a_write(secure, pki):
     viewer.link.close()
 
 
-def test_a_refusal_that_arrives_as_the_request_leaves_is_still_told(secure, pki):
-    """TLS 1.3: the server's alert can arrive just after the link looked for it before sending; the
-    send then fails with a bare EOF, and the alert, still in the socket, says why."""
-    server, _, _ = secure
-    link = _master(server, pki, certificate=False).link
-    link._connect()
-    assert _wait_for(lambda: server.counters.tls_refused >= 1)
-    time.sleep(0.3)  # a real socket: the server's alert and its close reach us
-    link._drop_stale = lambda: None  # the look before the send found nothing yet
-    with pytest.raises(LinkError, match="showed none"):
-        link.send(bytes.fromhex("000100000006010600000001"))  # write single register 0 := 1
-
-
 @pytest.mark.parametrize("kind, client_says, server_says", [
     ("none", "showed none", "no certificate"),
     ("foreign", "does not trust the authority", "authority that is not trusted"),

@@ -192,25 +192,7 @@ class TcpLink(Link):
             self._sock.settimeout(self.timeout)
             self._sock.sendall(frame)
         except OSError as exc:
-            alert = self._alert_behind(exc)
-            if alert is not None:
-                raise self._refused(alert) from exc
             raise self._lost(f"sending failed ({_why(exc)})") from exc
-
-    def _alert_behind(self, exc: OSError) -> OSError | None:
-        """TLS 1.3: a server that refuses our certificate after the handshake sends an alert and closes.
-        If the alert arrives just after :meth:`_drop_stale` looked, the send fails with a bare EOF while
-        the alert waits, still readable, in the socket: read it (within 0.2 s) to say why."""
-        if not isinstance(exc, SSLError) or self._sock is None:
-            return None
-        try:
-            self._sock.settimeout(0.2)
-            self._sock.recv(READ_CHUNK)
-        except SSLError as alert:
-            return alert if "ALERT" in (getattr(alert, "reason", None) or "") else None
-        except OSError:
-            return None
-        return None
 
     def receive(self, timeout: float) -> bytes | None:
         """The next complete frame from the server, or None if none is complete within ``timeout`` s."""
